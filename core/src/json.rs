@@ -1,0 +1,272 @@
+//! Reading and writing the numbers, intervals and boxes of the JSON formats
+//! (spec/formats.md), with the JSON path of every bad value in errors.
+
+use crate::error::InputError;
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use serde_json::{Map, Value};
+
+/// `path` + `.field` (or `field` at the root).
+pub fn field_path(path: &str, field: &str) -> String {
+    if path.is_empty() {
+        field.to_string()
+    } else {
+        format!("{path}.{field}")
+    }
+}
+
+/// `path` + `[i]`.
+pub fn index_path(path: &str, i: usize) -> String {
+    format!("{path}[{i}]")
+}
+
+/// Short description of a JSON value's type, for messages.
+pub fn kind(v: &Value) -> &'static str {
+    match v {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
+/// The value as an object, or an error naming `path`.
+pub fn object<'a>(v: &'a Value, path: &str) -> Result<&'a Map<String, Value>, InputError> {
+    v.as_object()
+        .ok_or_else(|| InputError::new(path, format!("expected an object, found {}", kind(v))))
+}
+
+/// The value as an array, or an error naming `path`.
+pub fn array<'a>(v: &'a Value, path: &str) -> Result<&'a Vec<Value>, InputError> {
+    v.as_array()
+        .ok_or_else(|| InputError::new(path, format!("expected an array, found {}", kind(v))))
+}
+
+/// Rejects fields of `obj` not in `allowed` (typos must not pass silently).
+pub fn check_fields(
+    obj: &Map<String, Value>,
+    allowed: &[&str],
+    path: &str,
+) -> Result<(), InputError> {
+    for key in obj.keys() {
+        if !allowed.contains(&key.as_str()) {
+            return Err(InputError::new(
+                field_path(path, key),
+                format!(
+                    "unknown field `{key}` (expected one of: {})",
+                    allowed.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A required field.
+pub fn required<'a>(
+    obj: &'a Map<String, Value>,
+    field: &str,
+    path: &str,
+) -> Result<&'a Value, InputError> {
+    obj.get(field)
+        .ok_or_else(|| InputError::new(field_path(path, field), "missing required field"))
+}
+
+/// A finite number.
+pub fn number(v: &Value, path: &str) -> Result<f64, InputError> {
+    match v.as_f64() {
+        Some(x) if x.is_finite() => Ok(x),
+        _ => Err(InputError::new(
+            path,
+            format!("expected a finite number, found {}", kind(v)),
+        )),
+    }
+}
+
+/// A non-negative integer no larger than `max`.
+pub fn integer(v: &Value, path: &str, max: u64) -> Result<u64, InputError> {
+    match v.as_u64() {
+        Some(x) if x <= max => Ok(x),
+        Some(x) => Err(InputError::new(
+            path,
+            format!("{x} is above the limit {max}"),
+        )),
+        None => Err(InputError::new(
+            path,
+            format!("expected a non-negative integer, found {}", describe(v)),
+        )),
+    }
+}
+
+fn describe(v: &Value) -> String {
+    match v {
+        Value::Number(n) => n.to_string(),
+        _ => kind(v).to_string(),
+    }
+}
+
+/// A bound: a number or the strings `"-inf"` / `"inf"`.
+pub fn bound(v: &Value, path: &str) -> Result<f64, InputError> {
+    match v {
+        Value::Number(n) => match n.as_f64() {
+            Some(x) if x.is_finite() => Ok(x),
+            _ => Err(InputError::new(path, "number out of range")),
+        },
+        Value::String(s) if s == "inf" || s == "+inf" => Ok(f64::INFINITY),
+        Value::String(s) if s == "-inf" => Ok(f64::NEG_INFINITY),
+        _ => Err(InputError::new(
+            path,
+            format!("expected a number, \"-inf\" or \"inf\", found {}", kind(v)),
+        )),
+    }
+}
+
+/// An interval: `[lo, hi]` with `lo <= hi`, or a bare number `x` = `[x, x]`.
+pub fn interval(v: &Value, path: &str) -> Result<Interval, InputError> {
+    match v {
+        Value::Array(a) => {
+            if a.len() != 2 {
+                return Err(InputError::new(
+                    path,
+                    format!(
+                        "an interval is [lo, hi]: expected 2 bounds, found {}",
+                        a.len()
+                    ),
+                ));
+            }
+            let lo = bound(&a[0], &index_path(path, 0))?;
+            let hi = bound(&a[1], &index_path(path, 1))?;
+            if lo > hi {
+                return Err(InputError::new(
+                    path,
+                    format!(
+                        "lower bound {} is above upper bound {}",
+                        fmt_bound(lo),
+                        fmt_bound(hi)
+                    ),
+                ));
+            }
+            let x = Interval::new(lo, hi);
+            if x.is_empty() {
+                return Err(InputError::new(path, "an interval must hold a real number"));
+            }
+            Ok(x)
+        }
+        Value::Number(_) => {
+            let x = number(v, path)?;
+            Ok(Interval::point(x))
+        }
+        Value::String(s) if s == "empty" => {
+            Err(InputError::new(path, "an input interval may not be empty"))
+        }
+        _ => Err(InputError::new(
+            path,
+            format!(
+                "expected an interval [lo, hi] or a number, found {}",
+                kind(v)
+            ),
+        )),
+    }
+}
+
+/// A box of `dim` axes (any dimension >= 1 when `dim` is `None`).
+pub fn ibox(v: &Value, path: &str, dim: Option<usize>) -> Result<IntervalBox, InputError> {
+    let a = match v {
+        Value::Array(a) => a,
+        Value::String(s) if s == "empty" => {
+            return Err(InputError::new(path, "an input box may not be empty"))
+        }
+        _ => {
+            return Err(InputError::new(
+                path,
+                format!("expected a box (an array of intervals), found {}", kind(v)),
+            ))
+        }
+    };
+    if let Some(d) = dim {
+        if a.len() != d {
+            return Err(InputError::new(
+                path,
+                format!("expected a box of dimension {d}, found {} axes", a.len()),
+            ));
+        }
+    } else if a.is_empty() {
+        return Err(InputError::new(path, "a box needs at least one axis"));
+    }
+    let mut axes = Vec::with_capacity(a.len());
+    for (i, x) in a.iter().enumerate() {
+        axes.push(interval(x, &index_path(path, i))?);
+    }
+    Ok(IntervalBox::new(&axes))
+}
+
+fn fmt_bound(x: f64) -> String {
+    if x == f64::INFINITY {
+        "inf".into()
+    } else if x == f64::NEG_INFINITY {
+        "-inf".into()
+    } else {
+        format!("{x}")
+    }
+}
+
+/// A bound as JSON: a number, or `"inf"` / `"-inf"`.
+pub fn bound_to_json(x: f64) -> Value {
+    if x.is_finite() {
+        Value::from(x)
+    } else if x > 0.0 {
+        Value::from("inf")
+    } else {
+        Value::from("-inf")
+    }
+}
+
+/// An interval as JSON: `[lo, hi]` or `"empty"`.
+pub fn interval_to_json(x: Interval) -> Value {
+    if x.is_empty() {
+        Value::from("empty")
+    } else {
+        Value::Array(vec![bound_to_json(x.lo()), bound_to_json(x.hi())])
+    }
+}
+
+/// A box as JSON: an array of intervals, or `"empty"`.
+pub fn box_to_json(b: &IntervalBox) -> Value {
+    if b.is_empty() {
+        Value::from("empty")
+    } else {
+        Value::Array(b.axes().iter().map(|&x| interval_to_json(x)).collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn interval_errors_name_the_path() {
+        let e = interval(&json!([5, 4]), "detections[12].range").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "detections[12].range: lower bound 5 is above upper bound 4"
+        );
+        let e = interval(&json!([1, "x"]), "r").unwrap_err();
+        assert_eq!(e.path, "r[1]");
+    }
+
+    #[test]
+    fn infinite_bounds_round_trip() {
+        let x = interval(&json!(["-inf", 3]), "").unwrap();
+        assert_eq!(interval_to_json(x), json!(["-inf", 3.0]));
+        assert!(interval(&json!(["inf", "inf"]), "").is_err());
+    }
+
+    #[test]
+    fn box_dimension_is_checked() {
+        let e = ibox(&json!([[0, 1]]), "b", Some(2)).unwrap_err();
+        assert!(e.message.contains("dimension 2"));
+    }
+}

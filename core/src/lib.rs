@@ -1,0 +1,16 @@
+//! nvector-core: sound interval arithmetic, contractors and the nvector
+//! global constraint (Chabert, Jaulin, Lorca, CP 2009) for set-membership
+//! localization and mapping.
+//!
+//! The crate is pure: no I/O, no clock, no threads, no platform maths
+//! (`libm` only), so native and wasm32 builds give the same bits.
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod ibox;
+pub mod interval;
+pub mod json;
+
+pub use error::InputError;
+pub use ibox::IntervalBox;
+pub use interval::Interval;

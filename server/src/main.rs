@@ -1,0 +1,5 @@
+//! The `nvector` command-line tool and HTTP service.
+
+fn main() {
+    println!("nvector");
+}
