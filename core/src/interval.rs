@@ -13,6 +13,10 @@
 //! and `[-inf, -inf]` are not intervals (real numbers only) and constructors
 //! turn them into the empty interval.
 
+// Inherent `add`, `mul`, ... are kept beside the operator traits so that
+// interval code can be written in method-chain form.
+#![allow(clippy::should_implement_trait)]
+
 use std::fmt;
 
 /// A closed interval `[lo, hi]` of real numbers, possibly unbounded, or empty.
@@ -113,7 +117,7 @@ impl Interval {
     /// symmetric error bound). Tightness: within one ulp per bound.
     #[inline]
     pub fn centered(x: f64, r: f64) -> Interval {
-        if !(r >= 0.0) {
+        if r.is_nan() || r < 0.0 {
             return Interval::EMPTY;
         }
         if r == 0.0 {
@@ -189,9 +193,7 @@ impl Interval {
     /// unbounded. An upper bound of the exact width.
     #[inline]
     pub fn width(self) -> f64 {
-        if self.is_empty() {
-            0.0
-        } else if self.lo == self.hi {
+        if self.is_empty() || self.lo == self.hi {
             0.0
         } else {
             add_up(self.hi, -self.lo)

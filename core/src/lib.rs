@@ -10,6 +10,8 @@ pub mod error;
 pub mod ibox;
 pub mod interval;
 pub mod json;
+pub mod nvector;
+pub mod slam;
 
 pub use error::InputError;
 pub use ibox::IntervalBox;

@@ -1,5 +1,73 @@
-//! The `nvector` command-line tool and HTTP service.
+//! The `nvector` command-line tool and HTTP service (spec/formats.md,
+//! "Command-line contract"). Exit status: 0 success, 1 bad input, 2 usage.
 
-fn main() {
-    println!("nvector");
+mod cli;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Guaranteed interval SLAM with the nvector global constraint.
+#[derive(Parser)]
+#[command(name = "nvector", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// The HTTP service and the web UI.
+    Serve(cli::serve::Args),
+    /// One SLAM job, locally.
+    Run(cli::run::Args),
+    /// One atmost_nvector contraction: request JSON on stdin, response on stdout.
+    Contract {
+        /// nvalue, projection, independent, exact or best (overrides the request).
+        #[arg(long)]
+        contractor: Option<String>,
+    },
+    /// A simulated mission with truth.
+    Simulate(cli::simulate::Args),
+    /// A mission from sensor logs (CSV).
+    Import(cli::import::Args),
+    /// A figure like the paper's Figure 9.
+    Plot(cli::plot::Args),
+    /// The performance table of BENCHMARKS.md, as JSON lines.
+    Bench {
+        /// Smaller sizes, for a smoke test (names end in `_quick`).
+        #[arg(long)]
+        quick: bool,
+        /// Only the measures whose name contains this.
+        #[arg(long)]
+        only: Option<String>,
+    },
+}
+
+/// A CLI failure: bad input (exit 1) with a message naming what is wrong.
+pub struct CliError(pub String);
+
+impl<E: std::fmt::Display> From<E> for CliError {
+    fn from(e: E) -> Self {
+        CliError(e.to_string())
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Serve(a) => cli::serve::run(a),
+        Command::Run(a) => cli::run::run(a),
+        Command::Contract { contractor } => cli::contract::run(contractor.as_deref()),
+        Command::Simulate(a) => cli::simulate::run(a),
+        Command::Import(a) => cli::import::run(a),
+        Command::Plot(a) => cli::plot::run(a),
+        Command::Bench { quick, only } => cli::bench::run(quick, only.as_deref()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(CliError(msg)) => {
+            eprintln!("nvector: {msg}");
+            ExitCode::from(1)
+        }
+    }
 }

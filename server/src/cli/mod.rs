@@ -1,0 +1,9 @@
+//! Subcommands, one file each.
+
+pub mod bench;
+pub mod contract;
+pub mod import;
+pub mod plot;
+pub mod run;
+pub mod serve;
+pub mod simulate;
