@@ -2,12 +2,15 @@
 SHELL := /bin/bash
 .SHELLFLAGS := -euo pipefail -c
 
-.PHONY: run test setup lint wasm test-rust
+.PHONY: run test setup lint web test-rust test-web
 
 setup:
 	@scripts/setup.sh
 
-run: setup
+web: setup
+	scripts/web.sh build
+
+run: setup web
 	cargo build --release -p nvector-server
 	./target/release/nvector serve --addr 127.0.0.1:8080
 
@@ -16,7 +19,10 @@ lint:
 	cargo clippy --workspace --all-targets -- -D warnings
 	cargo clippy -p nvector-core -p nvector-web --target wasm32-unknown-unknown -- -D warnings
 
-test-rust:
+test-rust: web
 	cargo test --workspace
 
-test: setup lint test-rust
+test-web: web
+	scripts/web.sh test
+
+test: setup lint test-rust test-web
