@@ -1,0 +1,309 @@
+//! Containment of every interval operation, checked against exact rational
+//! arithmetic (num-rational over big integers): points are drawn inside the
+//! input intervals, the exact real result is computed independently of the
+//! floating-point code, and it must lie in the computed interval.
+//!
+//! Why not `inari`: its fast path needs `-C target-cpu=haswell` for the whole
+//! test build (a second full build of the workspace in CI) and its tight
+//! transcendental functions need GMP/MPFR built from source (minutes on two
+//! cores). Exact rationals are a stronger oracle for + - * / sqr sqrt (no
+//! rounding at all) and a rigorous Taylor enclosure serves for sin and cos.
+//!
+//! Case count: `NVECTOR_PROPTEST_CASES` (default 4000 per property).
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, Zero};
+use nvector_core::Interval;
+use proptest::prelude::*;
+
+fn cases() -> u32 {
+    std::env::var("NVECTOR_PROPTEST_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4000)
+}
+
+fn config() -> ProptestConfig {
+    ProptestConfig {
+        cases: cases(),
+        failure_persistence: None,
+        max_global_rejects: 100_000,
+        ..ProptestConfig::default()
+    }
+}
+
+/// The trigonometric oracle sums big-rational Taylor series, about a
+/// hundred times slower than the others: fewer cases for those.
+fn trig_config() -> ProptestConfig {
+    ProptestConfig {
+        cases: (cases() / 10).max(50),
+        ..config()
+    }
+}
+
+fn rat(x: f64) -> BigRational {
+    BigRational::from_float(x).expect("finite")
+}
+
+/// Whether the exact value `v` lies in `x` (bounds compared exactly).
+fn holds(x: Interval, v: &BigRational) -> bool {
+    if x.is_empty() {
+        return false;
+    }
+    let lo_ok = x.lo() == f64::NEG_INFINITY || (x.lo().is_finite() && rat(x.lo()) <= *v);
+    let hi_ok = x.hi() == f64::INFINITY || (x.hi().is_finite() && *v <= rat(x.hi()));
+    lo_ok && hi_ok
+}
+
+/// Finite f64 of every magnitude: small integers, ordinary values, tiny and
+/// huge ones, near overflow, and signed zeros.
+fn finite() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        (-20i32..20).prop_map(f64::from),
+        -1e3..1e3f64,
+        (-1.0..1.0f64, -300i32..300).prop_map(|(m, e)| m * 10f64.powi(e)),
+        (0.5..1.0f64).prop_map(|m| m * f64::MAX),
+        (-1.0..-0.5f64).prop_map(|m| m * f64::MAX),
+        Just(0.0),
+        Just(-0.0),
+        Just(f64::MIN_POSITIVE),
+        Just(5e-324),
+    ]
+}
+
+/// A bounded interval with a point inside it.
+fn interval_and_point() -> impl Strategy<Value = (Interval, f64)> {
+    (finite(), finite(), 0.0..=1.0f64, 0u8..4).prop_map(|(a, b, t, pick)| {
+        let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+        let x = match pick {
+            0 => lo,
+            1 => hi,
+            _ => {
+                let p = lo + t * (hi - lo);
+                if p.is_finite() {
+                    p.clamp(lo, hi)
+                } else {
+                    lo * (1.0 - t) + hi * t
+                }
+            }
+        };
+        let x = if x.is_finite() { x.clamp(lo, hi) } else { lo };
+        (Interval::new(lo, hi), x)
+    })
+}
+
+/// An interval, possibly unbounded on one or both sides, with a finite point.
+fn any_interval_and_point() -> impl Strategy<Value = (Interval, f64)> {
+    (interval_and_point(), 0u8..6).prop_map(|((x, p), open)| {
+        let x = match open {
+            0 => Interval::new(f64::NEG_INFINITY, x.hi()),
+            1 => Interval::new(x.lo(), f64::INFINITY),
+            2 => Interval::ENTIRE,
+            _ => x,
+        };
+        (x, p)
+    })
+}
+
+/// sin or cos of an exact rational by its Taylor series, with the
+/// remainder bound: returns an interval [s - r, s + r] of rationals that
+/// holds the true value (alternating series, |x| <= 8 so terms decrease
+/// after a few steps; we sum until the term is below 2^-120).
+fn taylor(x: &BigRational, cosine: bool) -> (BigRational, BigRational) {
+    let eps = BigRational::new(BigInt::one(), BigInt::one() << 120);
+    let x2 = x * x;
+    let mut term = if cosine {
+        BigRational::one()
+    } else {
+        x.clone()
+    };
+    let mut k: i64 = if cosine { 0 } else { 1 };
+    let mut sum = BigRational::zero();
+    loop {
+        sum += &term;
+        let next = -(&term * &x2) / BigRational::from_integer(BigInt::from((k + 1) * (k + 2)));
+        k += 2;
+        // Once terms decrease in magnitude, the tail of an alternating
+        // series is bounded by the next term.
+        if next.abs() < eps && BigInt::from(k) > x.abs().to_integer() {
+            let r = next.abs();
+            return (&sum - &r, &sum + &r);
+        }
+        term = next;
+    }
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn add_contains((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
+        let z = x + y;
+        prop_assert!(holds(z, &(rat(a) + rat(b))), "{:?} + {:?} = {:?} misses {} + {}", x, y, z, a, b);
+    }
+
+    #[test]
+    fn sub_contains((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
+        let z = x - y;
+        prop_assert!(holds(z, &(rat(a) - rat(b))), "{:?} - {:?} = {:?}", x, y, z);
+    }
+
+    #[test]
+    fn mul_contains((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
+        let z = x * y;
+        prop_assert!(holds(z, &(rat(a) * rat(b))), "{:?} * {:?} = {:?} misses {} * {}", x, y, z, a, b);
+    }
+
+    #[test]
+    fn div_contains((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
+        prop_assume!(b != 0.0);
+        let z = x / y;
+        prop_assert!(holds(z, &(rat(a) / rat(b))), "{:?} / {:?} = {:?} misses {} / {}", x, y, z, a, b);
+    }
+
+    #[test]
+    fn recip_contains((x, a) in any_interval_and_point()) {
+        prop_assume!(a != 0.0);
+        let z = x.recip();
+        prop_assert!(holds(z, &(BigRational::one() / rat(a))), "1 / {:?} = {:?}", x, z);
+    }
+
+    #[test]
+    fn sqr_contains((x, a) in any_interval_and_point()) {
+        let z = x.sqr();
+        prop_assert!(holds(z, &(rat(a) * rat(a))), "{:?}^2 = {:?}", x, z);
+        prop_assert!(z.lo() >= 0.0);
+    }
+
+    #[test]
+    fn sqrt_contains((x, a) in any_interval_and_point()) {
+        let (x, a) = (x.abs(), a.abs());
+        let z = x.sqrt();
+        // sqrt(a) in [lo, hi] <=> lo^2 <= a <= hi^2 for 0 <= lo <= hi.
+        prop_assert!(!z.is_empty() && z.lo() >= 0.0);
+        prop_assert!(rat(z.lo()) * rat(z.lo()) <= rat(a), "sqrt {:?} = {:?}", x, z);
+        prop_assert!(z.hi() == f64::INFINITY || rat(a) <= rat(z.hi()) * rat(z.hi()), "sqrt {:?} = {:?}", x, z);
+    }
+
+    #[test]
+    fn neg_abs_hull_intersect((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
+        prop_assert!(holds(x.neg(), &-rat(a)));
+        prop_assert!(holds(x.abs(), &rat(a).abs()));
+        prop_assert!(holds(x.hull(y), &rat(a)) && holds(x.hull(y), &rat(b)));
+        if y.contains(a) {
+            prop_assert!(holds(x.intersect(y), &rat(a)));
+        }
+        prop_assert!(x.width() >= 0.0);
+        if x.is_bounded() && x.width().is_finite() {
+            prop_assert!(rat(x.width()) >= rat(x.hi()) - rat(x.lo()));
+        }
+        prop_assert!(x.contains(x.mid()));
+    }
+
+    #[test]
+    fn add_rev_keeps_solutions((x, a) in interval_and_point(), (y, b) in interval_and_point(), s in 0.0..1.0f64) {
+        // z: an interval holding the exact a + b, with some slack.
+        let exact = Interval::point(a) + Interval::point(b);
+        prop_assume!(exact.is_bounded());
+        let z = Interval::new(exact.lo() - s, exact.hi() + s);
+        prop_assume!(!z.is_empty());
+        let (x2, y2) = Interval::add_rev(z, x, y);
+        prop_assert!(x2.contains(a) && y2.contains(b), "add_rev({:?}, {:?}, {:?}) = {:?}, {:?}", z, x, y, x2, y2);
+        let exact = Interval::point(a) - Interval::point(b);
+        prop_assume!(exact.is_bounded());
+        let (x3, y3) = Interval::sub_rev(exact, x, y);
+        prop_assert!(x3.contains(a) && y3.contains(b));
+    }
+
+    #[test]
+    fn mul_rev_keeps_solutions((x, a) in interval_and_point(), (y, b) in interval_and_point()) {
+        let z = Interval::point(a) * Interval::point(b);
+        prop_assume!(z.is_bounded());
+        let (x2, y2) = Interval::mul_rev(z, x, y);
+        prop_assert!(x2.contains(a) && y2.contains(b), "mul_rev({:?}, {:?}, {:?}) = {:?}, {:?}", z, x, y, x2, y2);
+    }
+
+    #[test]
+    fn sqr_rev_keeps_solutions((x, a) in interval_and_point()) {
+        let z = Interval::point(a).sqr();
+        let x2 = Interval::sqr_rev(z, x);
+        prop_assert!(x2.contains(a), "sqr_rev({:?}, {:?}) = {:?} loses {}", z, x, x2, a);
+        prop_assert!(x2.is_subset(x));
+    }
+
+    #[test]
+    fn centered_contains(c in finite(), r in 0.0..1e6f64) {
+        let x = Interval::centered(c, r);
+        let (rc, rr) = (rat(c), rat(r));
+        if x.is_bounded() {
+            prop_assert!(holds(x, &(&rc - &rr)) && holds(x, &(&rc + &rr)));
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(trig_config())]
+
+    #[test]
+    fn sin_cos_contain(lo in -8.0..8.0f64, w in prop_oneof![Just(0.0), 0.0..1e-6f64, 0.0..4.0f64], t in 0.0..=1.0f64) {
+        let hi = (lo + w).min(8.0);
+        let x = Interval::new(lo, hi);
+        let a = (lo + t * (hi - lo)).clamp(lo, hi);
+        let ra = rat(a);
+        for cosine in [false, true] {
+            let z = if cosine { x.cos() } else { x.sin() };
+            let (l, h) = taylor(&ra, cosine);
+            prop_assert!(holds(z, &l) && holds(z, &h), "{} {:?} = {:?} misses the value at {}", if cosine { "cos" } else { "sin" }, x, z, a);
+            prop_assert!(z.lo() >= -1.0 && z.hi() <= 1.0);
+        }
+    }
+
+    #[test]
+    fn sin_cos_extrema_near_multiples_of_half_pi(k in -5i32..5, d in -1e-12..1e-12f64) {
+        // Intervals that end right next to an extremum: the extremum must be
+        // included whenever it lies inside.
+        let c = f64::from(k) * std::f64::consts::FRAC_PI_2 + d;
+        let x = Interval::new(c - 1e-3, c + 1e-3);
+        for cosine in [false, true] {
+            let z = if cosine { x.cos() } else { x.sin() };
+            for p in [x.lo(), c, x.hi()] {
+                let (l, h) = taylor(&rat(p), cosine);
+                prop_assert!(holds(z, &l) && holds(z, &h));
+            }
+        }
+    }
+}
+
+#[test]
+fn empty_propagates_and_is_never_nan() {
+    let e = Interval::EMPTY;
+    let x = Interval::new(1.0, 2.0);
+    for z in [
+        e + x,
+        x - e,
+        e * x,
+        x / e,
+        e.sqr(),
+        e.sqrt(),
+        e.sin(),
+        e.cos(),
+        e.abs(),
+    ] {
+        assert!(z.is_empty());
+        assert!(!z.lo().is_nan() && !z.hi().is_nan());
+    }
+    // Zero times an unbounded interval is exactly zero-ish, never NaN.
+    let z = Interval::ZERO * Interval::ENTIRE;
+    assert!(z.contains(0.0) && !z.lo().is_nan() && z.is_bounded());
+}
+
+#[test]
+fn overflow_goes_to_infinity_not_nan() {
+    let big = Interval::new(f64::MAX, f64::MAX);
+    let s = big + big;
+    assert_eq!(s.hi(), f64::INFINITY);
+    assert_eq!(s.lo(), f64::MAX);
+    let p = big * big;
+    assert!(p.hi() == f64::INFINITY && !p.lo().is_nan());
+}
