@@ -3,6 +3,7 @@
 use crate::CliError;
 
 /// Runs the benchmarks.
-pub fn run(_quick: bool, _only: Option<&str>) -> Result<(), CliError> {
+pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
+    super::bench_slam::run(quick, only, &mut |line| println!("{line}"));
     Err(CliError("`nvector bench` is not implemented yet".into()))
 }
