@@ -1,12 +1,31 @@
 //! The nvector global constraint atmost_nvector(n, {d(1)..d(k)}) and its
 //! contractors (Chabert, Jaulin, Lorca, CP 2009).
 //!
-//! OWNER: helper A. This file fixes the API that the rest of the code calls.
+//! [`atmost_nvector`] runs one of the contractors of [`Mode`] to a fixpoint:
+//! - `nvalue` ([`nvalue`]): atmost_nvalue on each axis projection (an
+//!   axis needs at most n values when the vectors are at most n).
+//! - `projection` (paper, section 5): when an axis needs exactly n values,
+//!   the map from vectors to their values on that axis is a bijection, so the
+//!   boxes of a group on that axis are equal *as vectors*: whole boxes are
+//!   intersected. Iterated over the axes.
+//! - `independent` ([`independent`]): pairwise-disjoint witnesses in full
+//!   dimension, with `projection`.
+//! - `exact` ([`hitting_set`]): exact bound consistency, k <= 40.
+//!
+//! Groups are proved equalities, merged across axes and rounds with a
+//! union-find (equality is transitive and a sound contraction keeps every
+//! solution, so a proof made at any round holds for the input boxes).
 
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use independent::IndependentScratch;
+use nvalue::{NValue, NValueScratch};
 
 pub mod contract;
+pub mod hitting_set;
+pub mod independent;
+pub mod nvalue;
 
 /// Which contractor enforces atmost_nvector.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -78,20 +97,343 @@ pub struct Outcome {
     pub rounds: u32,
 }
 
-/// Contracts `boxes` (all of one dimension) under atmost_nvector(n, boxes).
-/// Never removes a vector tuple satisfying the constraint.
+/// Most fixpoint rounds (each round is one pass over the axes and, for
+/// `independent`, one witness pass); a round that changes nothing stops.
+const MAX_ROUNDS: u32 = 64;
+
+/// Union-find over box indices: the groups proved so far.
+struct Groups {
+    parent: Vec<u32>,
+}
+
+impl Groups {
+    fn new(k: usize) -> Groups {
+        Groups {
+            parent: (0..k as u32).collect(),
+        }
+    }
+
+    fn find(&mut self, i: u32) -> u32 {
+        let mut r = i;
+        while self.parent[r as usize] != r {
+            r = self.parent[r as usize];
+        }
+        let mut j = i;
+        while self.parent[j as usize] != r {
+            let next = self.parent[j as usize];
+            self.parent[j as usize] = r;
+            j = next;
+        }
+        r
+    }
+
+    /// Merges; returns whether the two were apart.
+    fn union(&mut self, a: u32, b: u32) -> bool {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra == rb {
+            return false;
+        }
+        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+        self.parent[hi as usize] = lo;
+        true
+    }
+
+    /// The partition: sorted members, groups ordered by smallest index.
+    fn partition(&mut self) -> Vec<Vec<usize>> {
+        let k = self.parent.len();
+        let mut slot = vec![usize::MAX; k];
+        let mut out: Vec<Vec<usize>> = Vec::new();
+        for i in 0..k {
+            let r = self.find(i as u32) as usize;
+            if slot[r] == usize::MAX {
+                slot[r] = out.len();
+                out.push(Vec::new());
+            }
+            out[slot[r]].push(i);
+        }
+        out
+    }
+}
+
+/// Intersects the boxes of every group of size >= 2; returns whether any
+/// box changed.
+fn intersect_groups(boxes: &mut [IntervalBox], groups: &mut Groups) -> bool {
+    let k = boxes.len();
+    let mut has_group = false;
+    for i in 0..k {
+        if groups.find(i as u32) != i as u32 {
+            has_group = true;
+            break;
+        }
+    }
+    if !has_group {
+        return false;
+    }
+    let mut common: Vec<Option<IntervalBox>> = vec![None; k];
+    for (i, b) in boxes.iter().enumerate() {
+        let r = groups.find(i as u32) as usize;
+        common[r] = Some(match common[r].take() {
+            None => b.clone(),
+            Some(c) => c.intersect(b),
+        });
+    }
+    let mut changed = false;
+    for (i, b) in boxes.iter_mut().enumerate() {
+        let r = groups.find(i as u32) as usize;
+        if let Some(c) = &common[r] {
+            if c != b {
+                *b = c.clone();
+                changed = true;
+            }
+        }
+    }
+    changed
+}
+
+/// An upper bound of the minimum number of distinct vectors: the size of a
+/// hitting set built greedily (each box joins the first cell it meets, the
+/// cell shrinking to the intersection; a point of each cell hits its boxes).
+/// Past 256 cells the remaining boxes are counted one point each, so the
+/// cost stays O(256 k d).
+fn greedy_hitting_set(boxes: &[IntervalBox]) -> usize {
+    let mut order: Vec<usize> = (0..boxes.len()).collect();
+    order.sort_by(|&a, &b| {
+        boxes[a][0]
+            .hi()
+            .total_cmp(&boxes[b][0].hi())
+            .then(a.cmp(&b))
+    });
+    let mut cells: Vec<IntervalBox> = Vec::new();
+    let mut extra = 0usize;
+    for i in order {
+        let b = &boxes[i];
+        if let Some(c) = cells.iter_mut().find(|c| c.meets(b)) {
+            c.intersect_with(b);
+        } else if cells.len() < 256 {
+            cells.push(b.clone());
+        } else {
+            extra += 1;
+        }
+    }
+    cells.len() + extra
+}
+
+fn infeasible(boxes: &mut [IntervalBox], reason: String, lower: usize, rounds: u32) -> Outcome {
+    let k = boxes.len();
+    for b in boxes.iter_mut() {
+        b.set_empty();
+    }
+    Outcome {
+        status: Status::Infeasible { reason },
+        groups: (0..k).map(|i| vec![i]).collect(),
+        min_distinct_lower: lower,
+        min_distinct_upper: k,
+        rounds,
+    }
+}
+
+/// Contracts `boxes` (all of one dimension) under atmost_nvector(n, boxes)
+/// with the contractor `mode`, to a fixpoint. Never removes a vector tuple
+/// satisfying the constraint. Errors: n = 0, boxes of different dimensions
+/// or of dimension 0, `exact` with more than 40 boxes.
 pub fn atmost_nvector(
     n: usize,
     boxes: &mut [IntervalBox],
     mode: Mode,
 ) -> Result<Outcome, InputError> {
-    let _ = (n, mode);
     let k = boxes.len();
+    if n == 0 {
+        return Err(InputError::new("n", "n must be at least 1"));
+    }
+    if k == 0 {
+        return Ok(Outcome {
+            status: Status::Unchanged,
+            groups: Vec::new(),
+            min_distinct_lower: 0,
+            min_distinct_upper: 0,
+            rounds: 0,
+        });
+    }
+    let dim = boxes[0].dim();
+    if dim == 0 {
+        return Err(InputError::new("boxes[0]", "a box needs at least one axis"));
+    }
+    if let Some(i) = boxes.iter().position(|b| b.dim() != dim) {
+        return Err(InputError::new(
+            format!("boxes[{i}]"),
+            format!(
+                "expected a box of dimension {dim} like boxes[0], found {} axes",
+                boxes[i].dim()
+            ),
+        ));
+    }
+    if mode == Mode::Exact && k > hitting_set::MAX_K {
+        return Err(InputError::new(
+            "boxes",
+            format!(
+                "the exact contractor is exponential and accepts at most {} boxes, found {k}",
+                hitting_set::MAX_K
+            ),
+        ));
+    }
+    if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
+        return Ok(infeasible(boxes, format!("box {i} is empty"), 0, 0));
+    }
+    let original: Vec<IntervalBox> = boxes.to_vec();
+    let mut groups = Groups::new(k);
+    let mut lower = 1usize;
+    let mut rounds = 0u32;
+    let mut nv = NValueScratch::default();
+    let mut ind = IndependentScratch::default();
+    let mut domains: Vec<Interval> = Vec::with_capacity(k);
+    let mut sole = Vec::new();
+    let whole_boxes = mode != Mode::Nvalue;
+    let with_witnesses = matches!(mode, Mode::Independent | Mode::Best | Mode::Exact);
+    loop {
+        rounds += 1;
+        let mut changed = false;
+        for axis in 0..dim {
+            domains.clear();
+            domains.extend(boxes.iter().map(|b| b[axis]));
+            match nvalue::atmost_nvalue(n, &mut domains, &mut nv) {
+                NValue::Infeasible { m } => {
+                    let reason = format!("axis {axis} needs at least {m} distinct values, n = {n}");
+                    return Ok(infeasible(boxes, reason, m, rounds));
+                }
+                NValue::Slack { m } => lower = lower.max(m),
+                NValue::Kernels { changed: c } => {
+                    lower = lower.max(n);
+                    if c {
+                        changed = true;
+                        for (b, &x) in boxes.iter_mut().zip(domains.iter()) {
+                            b[axis] = x;
+                        }
+                    }
+                    // Boxes meeting one kernel on this axis share its value,
+                    // hence (m = n) the same vector.
+                    let mut first_of = vec![u32::MAX; nv.kernels.len()];
+                    for (i, &g) in nv.group_of.iter().enumerate() {
+                        if g == u32::MAX {
+                            continue;
+                        }
+                        let f = &mut first_of[g as usize];
+                        if *f == u32::MAX {
+                            *f = i as u32;
+                        } else if groups.union(*f, i as u32) {
+                            changed = true;
+                        }
+                    }
+                }
+            }
+            if whole_boxes {
+                changed |= intersect_groups(boxes, &mut groups);
+            }
+            if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
+                let reason =
+                    format!("box {i} emptied on axis {axis}: its group has no common vector");
+                return Ok(infeasible(boxes, reason, lower, rounds));
+            }
+        }
+        if with_witnesses {
+            let witnesses = independent::find_independent(n, boxes, &mut ind);
+            lower = lower.max(witnesses.len());
+            if witnesses.len() > n {
+                let list: Vec<String> = witnesses.iter().map(|w| w.to_string()).collect();
+                let reason = format!(
+                    "boxes {} are pairwise disjoint: at least {} distinct vectors, n = {n}",
+                    list.join(", "),
+                    witnesses.len()
+                );
+                return Ok(infeasible(boxes, reason, witnesses.len(), rounds));
+            }
+            if witnesses.len() == n {
+                changed |= independent::contract_with_witnesses(boxes, &witnesses, &mut sole);
+                for (i, &w) in sole.iter().enumerate() {
+                    if w != u32::MAX && groups.union(w, i as u32) {
+                        changed = true;
+                    }
+                }
+                changed |= intersect_groups(boxes, &mut groups);
+                if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
+                    let reason = format!("box {i} meets no witness of the {n} distinct vectors");
+                    return Ok(infeasible(boxes, reason, lower, rounds));
+                }
+            }
+        }
+        if !changed || rounds >= MAX_ROUNDS {
+            break;
+        }
+    }
+    let mut upper = greedy_hitting_set(boxes).max(lower);
+    if mode == Mode::Exact {
+        let snapshot = boxes.to_vec();
+        let mut hs = hitting_set::HittingSet::new(&snapshot);
+        let all = hs.all();
+        let m = hs.min_cover(all);
+        if m > n {
+            let reason = format!(
+                "the boxes need at least {m} distinct vectors (minimum hitting set), n = {n}"
+            );
+            return Ok(infeasible(boxes, reason, m, rounds));
+        }
+        lower = m;
+        upper = m;
+        for (i, b) in boxes.iter_mut().enumerate() {
+            *b = hs.consistent_box(n, i);
+        }
+        if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
+            return Ok(infeasible(
+                boxes,
+                format!("box {i} has no consistent value"),
+                lower,
+                rounds,
+            ));
+        }
+    }
+    let status = if boxes.iter().zip(&original).any(|(a, b)| a != b) {
+        Status::Contracted
+    } else {
+        Status::Unchanged
+    };
     Ok(Outcome {
-        status: Status::Unchanged,
-        groups: (0..k).map(|i| vec![i]).collect(),
-        min_distinct_lower: usize::from(k > 0),
-        min_distinct_upper: k,
-        rounds: 0,
+        status,
+        groups: groups.partition(),
+        min_distinct_lower: lower.min(upper),
+        min_distinct_upper: upper,
+        rounds,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn b2(x0: f64, x1: f64, y0: f64, y1: f64) -> IntervalBox {
+        IntervalBox::new(&[Interval::new(x0, x1), Interval::new(y0, y1)])
+    }
+
+    #[test]
+    fn spec_example() {
+        // The contract example of spec/formats.md.
+        for mode in [
+            Mode::Nvalue,
+            Mode::Projection,
+            Mode::Independent,
+            Mode::Exact,
+            Mode::Best,
+        ] {
+            let mut boxes = vec![
+                b2(0.0, 2.0, 0.0, 2.0),
+                b2(1.0, 3.0, 1.0, 3.0),
+                b2(5.0, 6.0, 5.0, 6.0),
+            ];
+            let out = atmost_nvector(2, &mut boxes, mode).unwrap();
+            assert_eq!(out.status, Status::Contracted, "{mode:?}");
+            assert_eq!(boxes[0], b2(1.0, 2.0, 1.0, 2.0));
+            assert_eq!(boxes[1], b2(1.0, 2.0, 1.0, 2.0));
+            assert_eq!(boxes[2], b2(5.0, 6.0, 5.0, 6.0));
+            assert_eq!(out.groups, vec![vec![0, 1], vec![2]]);
+            assert_eq!((out.min_distinct_lower, out.min_distinct_upper), (2, 2));
+        }
+    }
 }

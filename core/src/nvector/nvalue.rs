@@ -1,0 +1,287 @@
+//! `AtMostNValue` on intervals: bound consistency of
+//! atmost_nvalue(n, {x_1..x_k}) — "the k real variables take at most n
+//! distinct values" — with x_i in closed intervals (Beldiceanu, "Pruning
+//! for the minimum constraint family and for the number of distinct values
+//! constraint family", CP 2001; Chabert, Jaulin, Lorca, CP 2009, section 3).
+//!
+//! # Math
+//!
+//! - *Left greedy.* Visit the intervals by increasing upper bound; keep the
+//!   last point placed `p` (initially none); an interval with `lo > p` is
+//!   not stabbed, so place a new point at its upper bound. This is the
+//!   classical minimum stabbing of intervals: it places the minimum number
+//!   `m` of points, `p_1 < ... < p_m`, each as late as possible.
+//! - *Right greedy.* The mirror image (decreasing lower bounds, new point at
+//!   the lower bound) gives `q_1 < ... < q_m`, each as early as possible.
+//! - `m > n`: no assignment uses at most n values: infeasible.
+//!   `m < n`: every value of every domain extends to a solution (give it its
+//!   own value, stab the rest with m points): nothing to prune.
+//! - `m = n`: every solution uses exactly n values `v_1 < ... < v_n` and
+//!   `q_j <= v_j <= p_j`. (Proof of `v_j <= p_j`: the interval I that created
+//!   `p_j` has `lo(I) > p_{j-1} >= v_{j-1}`, by induction, so it is stabbed by
+//!   some `v_i` with `i >= j`, hence `v_j <= v_i <= hi(I) = p_j`; mirror
+//!   argument for `q_j`.) So the *kernels* `K_j = [q_j, p_j]` hold every value
+//!   a solution uses, and each domain can be replaced by
+//!   `hull(x ∩ (K_1 ∪ ... ∪ K_n))`.
+//! - A domain that meets exactly one kernel `K_j` must take `v_j` in every
+//!   solution: the domains meeting only `K_j` form *group j*; they are all
+//!   equal, so each becomes their common intersection (with `K_j`), and
+//!   `K_j` shrinks to it.
+//!
+//! # Soundness
+//!
+//! Only the two facts above are used: every value taken lies in some kernel,
+//! and a domain meeting one kernel takes that kernel's value. Comparisons are
+//! exact on f64 bounds (no arithmetic), so no rounding is involved.
+//!
+//! # Complexity
+//!
+//! Two sorts, O(k log k); the pruning pass locates each domain among the
+//! sorted kernels by binary search, O(k log n). Buffers are reused through
+//! [`NValueScratch`].
+
+use crate::interval::Interval;
+
+/// Reusable buffers for [`atmost_nvalue`] (no allocation after warm-up).
+#[derive(Debug, Default, Clone)]
+pub struct NValueScratch {
+    order: Vec<(f64, u32)>,
+    latest: Vec<f64>,
+    earliest: Vec<f64>,
+    /// Kernels of the last call (valid when it returned `Kernels`).
+    pub kernels: Vec<Interval>,
+    /// For each domain, the kernel of its group, or `u32::MAX` when it meets
+    /// several kernels (valid when the last call returned `Kernels`).
+    pub group_of: Vec<u32>,
+}
+
+/// What atmost_nvalue proved on one set of intervals.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NValue {
+    /// More than n values are needed (`m` = the minimum).
+    Infeasible {
+        /// Minimum number of distinct values.
+        m: usize,
+    },
+    /// `m < n`: nothing can be pruned.
+    Slack {
+        /// Minimum number of distinct values.
+        m: usize,
+    },
+    /// `m = n`: kernels and groups were computed (see [`NValueScratch`]),
+    /// and the domains were contracted; `changed` says whether any moved.
+    Kernels {
+        /// Whether a domain was contracted.
+        changed: bool,
+    },
+}
+
+/// The minimum number of distinct values of the intervals (left greedy),
+/// without pruning. Empty intervals are not allowed. O(k log k).
+pub fn min_values(domains: &[Interval], scratch: &mut NValueScratch) -> usize {
+    let order = &mut scratch.order;
+    order.clear();
+    order.extend(domains.iter().enumerate().map(|(i, x)| (x.hi(), i as u32)));
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    left_greedy(domains, order, None)
+}
+
+/// Left greedy over `order` (sorted by upper bound): number of points, and
+/// the points themselves pushed to `points` when given.
+fn left_greedy(
+    domains: &[Interval],
+    order: &[(f64, u32)],
+    mut points: Option<&mut Vec<f64>>,
+) -> usize {
+    let mut m = 0;
+    let mut p = f64::NEG_INFINITY;
+    let mut placed = false;
+    for &(hi, i) in order {
+        let lo = domains[i as usize].lo();
+        if !placed || lo > p {
+            p = hi;
+            placed = true;
+            m += 1;
+            if let Some(pts) = points.as_deref_mut() {
+                pts.push(hi);
+            }
+            if p == f64::INFINITY {
+                // Every later interval has hi = +inf and is stabbed by a
+                // large enough point: one more point covers them all.
+                break;
+            }
+        }
+    }
+    m
+}
+
+/// Contracts `domains` under atmost_nvalue(n): see the module documentation.
+/// `domains` must be non-empty intervals. On `Kernels`, `scratch.kernels`
+/// and `scratch.group_of` describe the groups.
+pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScratch) -> NValue {
+    let k = domains.len();
+    let NValueScratch {
+        order,
+        latest,
+        earliest,
+        kernels,
+        group_of,
+    } = scratch;
+    // Left greedy: latest points.
+    order.clear();
+    order.extend(domains.iter().enumerate().map(|(i, x)| (x.hi(), i as u32)));
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    kernels.clear();
+    latest.clear();
+    let m = left_greedy(domains, order, Some(latest));
+    if m > n {
+        return NValue::Infeasible { m };
+    }
+    if m < n {
+        return NValue::Slack { m };
+    }
+    // Right greedy: earliest points, on decreasing lower bounds.
+    order.clear();
+    order.extend(domains.iter().enumerate().map(|(i, x)| (x.lo(), i as u32)));
+    order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    let mut q = f64::INFINITY;
+    let mut placed = false;
+    earliest.clear();
+    for &(lo, i) in order.iter() {
+        let hi = domains[i as usize].hi();
+        if !placed || hi < q {
+            q = lo;
+            placed = true;
+            earliest.push(lo);
+            if q == f64::NEG_INFINITY {
+                break;
+            }
+        }
+    }
+    debug_assert_eq!(earliest.len(), m, "both greedies find the minimum");
+    earliest.reverse();
+    for j in 0..m.min(earliest.len()) {
+        kernels.push(Interval::new(earliest[j], latest[j]));
+    }
+    // Each domain: hull of its intersections with the kernels; group when it
+    // meets exactly one. Kernels are sorted and disjoint, so the kernels a
+    // domain meets form a contiguous run found by binary search.
+    group_of.clear();
+    group_of.resize(k, u32::MAX);
+    let mut changed = false;
+    for (i, x) in domains.iter_mut().enumerate() {
+        // First kernel whose upper bound is >= x.lo.
+        let first = kernels.partition_point(|kj| kj.hi() < x.lo());
+        let mut last = first;
+        while last < kernels.len() && kernels[last].lo() <= x.hi() {
+            last += 1;
+        }
+        if first == last {
+            // Cannot happen for a correct greedy (every domain is stabbed by
+            // some p_j in K_j); treat as a proof of emptiness to stay total.
+            *x = Interval::EMPTY;
+            changed = true;
+            continue;
+        }
+        let lo = x.intersect(kernels[first]).lo();
+        let hi = x.intersect(kernels[last - 1]).hi();
+        let y = Interval::new(lo, hi);
+        if y != *x {
+            *x = y;
+            changed = true;
+        }
+        if last - first == 1 {
+            group_of[i] = first as u32;
+        }
+    }
+    // Groups: every member takes v_j, so all become their common
+    // intersection with K_j.
+    let common = kernels;
+    for (i, x) in domains.iter().enumerate() {
+        let g = group_of[i];
+        if g != u32::MAX {
+            common[g as usize] = common[g as usize].intersect(*x);
+        }
+    }
+    for (i, x) in domains.iter_mut().enumerate() {
+        let g = group_of[i];
+        if g != u32::MAX {
+            let c = common[g as usize];
+            if c != *x {
+                *x = c;
+                changed = true;
+            }
+        }
+    }
+    NValue::Kernels { changed }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn iv(lo: f64, hi: f64) -> Interval {
+        Interval::new(lo, hi)
+    }
+
+    #[test]
+    fn two_clusters_are_grouped() {
+        // [0,2] [1,3] need one value in [1,2]; [5,6] another.
+        let mut d = vec![iv(0.0, 2.0), iv(1.0, 3.0), iv(5.0, 6.0)];
+        let mut s = NValueScratch::default();
+        assert_eq!(
+            atmost_nvalue(2, &mut d, &mut s),
+            NValue::Kernels { changed: true }
+        );
+        assert_eq!(d, vec![iv(1.0, 2.0), iv(1.0, 2.0), iv(5.0, 6.0)]);
+        assert_eq!(s.group_of, vec![0, 0, 1]);
+    }
+
+    #[test]
+    fn infeasible_and_slack() {
+        let mut d = vec![iv(0.0, 1.0), iv(2.0, 3.0), iv(4.0, 5.0)];
+        let mut s = NValueScratch::default();
+        assert_eq!(
+            atmost_nvalue(2, &mut d, &mut s),
+            NValue::Infeasible { m: 3 }
+        );
+        assert_eq!(atmost_nvalue(4, &mut d, &mut s), NValue::Slack { m: 3 });
+    }
+
+    #[test]
+    fn touching_intervals_share_a_value() {
+        let mut d = vec![iv(0.0, 1.0), iv(1.0, 2.0)];
+        let mut s = NValueScratch::default();
+        assert_eq!(
+            atmost_nvalue(1, &mut d, &mut s),
+            NValue::Kernels { changed: true }
+        );
+        assert_eq!(d, vec![iv(1.0, 1.0), iv(1.0, 1.0)]);
+    }
+
+    #[test]
+    fn straddling_domain_is_hulled_not_grouped() {
+        // Kernels [0,1] and [9,10]; [0.5, 9.5] meets both: it keeps [0.5, 9.5]
+        // (hull of the two pieces) and is in no group.
+        let mut d = vec![iv(0.0, 1.0), iv(9.0, 10.0), iv(0.5, 9.5), iv(-5.0, 20.0)];
+        let mut s = NValueScratch::default();
+        assert_eq!(
+            atmost_nvalue(2, &mut d, &mut s),
+            NValue::Kernels { changed: true }
+        );
+        assert_eq!(d[2], iv(0.5, 9.5));
+        assert_eq!(d[3], iv(0.0, 10.0));
+        assert_eq!(s.group_of[2], u32::MAX);
+    }
+
+    #[test]
+    fn unbounded_domains() {
+        let mut d = vec![iv(f64::NEG_INFINITY, 1.0), iv(0.0, f64::INFINITY)];
+        let mut s = NValueScratch::default();
+        assert_eq!(
+            atmost_nvalue(1, &mut d, &mut s),
+            NValue::Kernels { changed: true }
+        );
+        assert_eq!(d, vec![iv(0.0, 1.0), iv(0.0, 1.0)]);
+    }
+}
