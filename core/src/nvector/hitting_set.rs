@@ -121,7 +121,16 @@ impl<'a> HittingSet<'a> {
         let k = boxes.len();
         assert!(k <= MAX_K);
         let d = boxes.first().map_or(0, |b| b.dim());
-        let axes: Vec<Vec<f64>> = (0..d).map(|a| axis_bounds(boxes, a, true)).collect();
+        // The lower corner of an intersection is a grid point of lower
+        // bounds, unless a box is unbounded below on that axis: then the
+        // intersection may reach -inf there and its upper end (an upper
+        // bound) is used instead, so all bounds enter the grid.
+        let axes: Vec<Vec<f64>> = (0..d)
+            .map(|a| {
+                let unbounded_below = boxes.iter().any(|b| b[a].lo() == f64::NEG_INFINITY);
+                axis_bounds(boxes, a, !unbounded_below)
+            })
+            .collect();
         let mut masks: Vec<u64> = Vec::new();
         if d > 0 {
             for_each_grid_point(&axes, &mut |v| {
@@ -356,5 +365,23 @@ mod tests {
         for i in 0..3 {
             assert_eq!(h.consistent_box(1, i), b2(1.0, 2.0, 1.0, 2.0));
         }
+    }
+
+    /// Regression (found by the planted-solution property test): with boxes
+    /// unbounded below, the clique {0, 1} meets only at x <= 0, whose lower
+    /// corner is -inf; the candidate grid missed it, the exact contractor
+    /// thought 3 vectors were needed through x = 5 and cut the planted
+    /// point of box 2.
+    #[test]
+    fn regression_unbounded_below_cliques_are_found() {
+        let boxes = vec![
+            b2(f64::NEG_INFINITY, 3.0, 0.0, 0.0),
+            b2(f64::NEG_INFINITY, 0.0, -1.0, 0.0),
+            b2(f64::NEG_INFINITY, 5.0, 0.0, 0.0),
+            b2(3.0, 5.0, 0.0, 0.0),
+        ];
+        let mut h = HittingSet::new(&boxes);
+        assert_eq!(h.min_cover(0b0011), 1);
+        assert!(h.consistent_box(2, 2).contains(&[5.0, 0.0]));
     }
 }
