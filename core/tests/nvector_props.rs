@@ -11,6 +11,9 @@
 //!
 //! Case count: `NVECTOR_PROPTEST_CASES` (default 3000).
 
+// Index loops compare several parallel vectors of boxes: clearer as ranges.
+#![allow(clippy::needless_range_loop)]
+
 use nvector_core::nvector::{atmost_nvector, Mode, Status};
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
