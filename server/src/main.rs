@@ -23,8 +23,8 @@ enum Command {
     /// One atmost_nvector contraction: request JSON on stdin, response on stdout.
     Contract {
         /// nvalue, projection, independent, exact or best (overrides the request).
-        #[arg(long)]
-        contractor: Option<String>,
+        #[arg(long, value_parser = cli::contract::parse_mode)]
+        contractor: Option<nvector_core::nvector::Mode>,
     },
     /// A simulated mission with truth.
     Simulate(cli::simulate::Args),
@@ -57,7 +57,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Serve(a) => cli::serve::run(a),
         Command::Run(a) => cli::run::run(a),
-        Command::Contract { contractor } => cli::contract::run(contractor.as_deref()),
+        Command::Contract { contractor } => cli::contract::run(contractor),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Import(a) => cli::import::run(a),
         Command::Plot(a) => cli::plot::run(a),

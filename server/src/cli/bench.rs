@@ -1,9 +1,226 @@
-//! `nvector bench`: one JSON line per measure.
+//! `nvector bench`: the performance table of BENCHMARKS.md, one JSON line
+//! per measure (spec/formats.md, "Benchmark lines"). Each measure is the
+//! median of repeated runs; a baseline, when given, is measured in the same
+//! run so that the ratio does not depend on the machine.
 
 use crate::CliError;
+use nvector_core::nvector::nvalue::{atmost_nvalue, NValueScratch};
+use nvector_core::nvector::{atmost_nvector, Mode};
+use nvector_core::{Interval, IntervalBox};
+use serde_json::{json, Value};
+use std::time::Instant;
+
+/// A small deterministic generator (splitmix64) so that instances are the
+/// same on every run.
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
+
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+}
+
+/// Median wall time in milliseconds of `runs` calls of `f`, each after a
+/// fresh `setup` (not timed).
+pub fn median_ms<S, T>(
+    runs: usize,
+    mut setup: impl FnMut() -> S,
+    mut f: impl FnMut(S) -> T,
+) -> f64 {
+    let mut times: Vec<f64> = (0..runs)
+        .map(|_| {
+            let input = setup();
+            let t = Instant::now();
+            std::hint::black_box(f(input));
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn line(name: &str, ms: f64, baseline: Option<(&str, f64)>, goal: Option<f64>) -> Value {
+    let mut v = json!({"name": name, "ms": round3(ms)});
+    if let Some((b, bms)) = baseline {
+        v["baseline"] = json!(b);
+        v["baseline_ms"] = json!(round3(bms));
+        v["ratio"] = json!(round3(ms / bms));
+    }
+    if let Some(g) = goal {
+        v["goal"] = json!(g);
+    }
+    v
+}
+
+fn round3(x: f64) -> f64 {
+    (x * 1000.0).round() / 1000.0
+}
+
+fn sort_baseline(rng: &mut Rng, k: usize, runs: usize) -> f64 {
+    let data: Vec<f64> = (0..k).map(|_| rng.range(-1e3, 1e3)).collect();
+    median_ms(
+        runs,
+        || data.clone(),
+        |mut v| {
+            v.sort_unstable_by(|a, b| a.total_cmp(b));
+            v
+        },
+    )
+}
+
+/// `k` intervals in `n` clusters: every interval of cluster j holds the
+/// cluster's centre, clusters are apart, so exactly n values are needed and
+/// the kernel pass (not the early exit) is measured.
+fn clustered_intervals(rng: &mut Rng, k: usize, n: usize) -> Vec<Interval> {
+    (0..k)
+        .map(|_| {
+            let j = (rng.next_u64() % n as u64) as f64;
+            let c = j * 10.0;
+            Interval::new(c - rng.range(0.0, 4.0), c + rng.range(0.0, 4.0))
+        })
+        .collect()
+}
+
+/// `k` boxes of dimension `d` in `n` clusters (paper-like: detections of n
+/// landmarks with position uncertainty), centres on a jittered grid.
+pub fn clustered_boxes(
+    rng: &mut Rng,
+    k: usize,
+    n: usize,
+    d: usize,
+    spread: f64,
+) -> Vec<IntervalBox> {
+    let centres: Vec<Vec<f64>> = (0..n)
+        .map(|j| {
+            (0..d)
+                .map(|a| {
+                    (j as f64) * 10.0
+                        + if a % 2 == 1 {
+                            rng.range(-3.0, 3.0)
+                        } else {
+                            0.0
+                        }
+                })
+                .collect()
+        })
+        .collect();
+    (0..k)
+        .map(|_| {
+            let c = &centres[(rng.next_u64() % n as u64) as usize];
+            let axes: Vec<Interval> = c
+                .iter()
+                .map(|&x| Interval::new(x - rng.range(0.0, spread), x + rng.range(0.0, spread)))
+                .collect();
+            IntervalBox::new(&axes)
+        })
+        .collect()
+}
 
 /// Runs the benchmarks.
 pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
-    super::bench_slam::run(quick, only, &mut |line| println!("{line}"));
-    Err(CliError("`nvector bench` is not implemented yet".into()))
+    let mut emit = |v: Value| println!("{v}");
+    let suffix = if quick { "_quick" } else { "" };
+    let wanted = |name: &str| only.is_none_or(|o| name.contains(o));
+    let runs = if quick { 3 } else { 7 };
+    let mut rng = Rng::new(2009);
+
+    let name = format!("nvalue_1e6{suffix}");
+    if wanted(&name) {
+        let k = if quick { 100_000 } else { 1_000_000 };
+        let base = sort_baseline(&mut rng, k, runs);
+        let domains = clustered_intervals(&mut rng, k, 1000);
+        let mut scratch = NValueScratch::default();
+        let ms = median_ms(
+            runs,
+            || domains.clone(),
+            |mut d| atmost_nvalue(1000, &mut d, &mut scratch),
+        );
+        emit(line(
+            &name,
+            ms,
+            Some((&format!("sort_f64_1e6{suffix}"), base)),
+            Some(2.5),
+        ));
+    }
+
+    let name = format!("nvector_projection_1e5_3d{suffix}");
+    if wanted(&name) {
+        let k = if quick { 10_000 } else { 100_000 };
+        let base = sort_baseline(&mut rng, k, runs);
+        let boxes = clustered_boxes(&mut rng, k, 100, 3, 4.0);
+        let ms = median_ms(
+            runs,
+            || boxes.clone(),
+            |mut b| atmost_nvector(100, &mut b, Mode::Projection),
+        );
+        emit(line(
+            &name,
+            ms,
+            Some((&format!("sort_f64_1e5{suffix}"), base)),
+            Some(10.0),
+        ));
+    }
+
+    let name = format!("nvector_independent_1e4_2d{suffix}");
+    if wanted(&name) {
+        let k = if quick { 1_000 } else { 10_000 };
+        let boxes = clustered_boxes(&mut rng, k, 50, 2, 4.0);
+        let ms = median_ms(
+            runs,
+            || boxes.clone(),
+            |mut b| atmost_nvector(50, &mut b, Mode::Independent),
+        );
+        let mut v = line(&name, ms, None, None);
+        v["aim_ms"] = json!(50);
+        emit(v);
+    }
+
+    let name = format!("exact_max_k_1s{suffix}");
+    if wanted(&name) {
+        // Paper-like: 4 landmarks, k detections with overlapping boxes in 2-D.
+        let limit_ms = if quick { 100.0 } else { 1000.0 };
+        let mut best = 0usize;
+        let mut best_ms = 0.0;
+        for k in (4..=40).step_by(4) {
+            let boxes = clustered_boxes(&mut rng, k, 4, 2, 6.0);
+            let ms = median_ms(
+                3,
+                || boxes.clone(),
+                |mut b| atmost_nvector(4, &mut b, Mode::Exact),
+            );
+            if ms < limit_ms {
+                best = k;
+                best_ms = ms;
+            } else {
+                break;
+            }
+        }
+        let mut v = line(&name, best_ms, None, None);
+        v["k"] = json!(best);
+        v["limit_ms"] = json!(limit_ms);
+        emit(v);
+    }
+
+    super::bench_slam::run(quick, only, &mut emit);
+    Ok(())
 }

@@ -1,0 +1,82 @@
+//! `nvector contract` through the real binary: stdin -> stdout, errors on
+//! stderr naming the JSON path, exit codes 0 / 1 / 2.
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+fn contract(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nvector"))
+        .arg("contract")
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run nvector");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
+const SPEC_EXAMPLE: &str = r#"{
+  "format": "nvector-contract/1",
+  "n": 2,
+  "boxes": [[[0, 2], [0, 2]], [[1, 3], [1, 3]], [[5, 6], [5, 6]]],
+  "contractor": "projection"
+}"#;
+
+#[test]
+fn spec_example_gives_the_spec_response() {
+    let out = contract(&[], SPEC_EXAMPLE);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["format"], "nvector-contract-result/1");
+    assert_eq!(v["status"], "contracted");
+    assert_eq!(v["groups"], serde_json::json!([[0, 1], [2]]));
+    assert_eq!(v["boxes"][0], serde_json::json!([[1.0, 2.0], [1.0, 2.0]]));
+    assert!(v["stats"]["elapsed_us"].is_u64());
+}
+
+#[test]
+fn contractor_flag_overrides_and_is_validated() {
+    let out = contract(&["--contractor", "exact"], SPEC_EXAMPLE);
+    assert!(out.status.success());
+    let out = contract(&["--contractor", "fastest"], SPEC_EXAMPLE);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "unknown contractor is a usage error"
+    );
+}
+
+#[test]
+fn bad_input_exits_1_naming_the_path() {
+    let bad = r#"{"format": "nvector-contract/1", "n": 2, "boxes": [[[0, 1]], [[5, 4]]]}"#;
+    let out = contract(&[], bad);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("boxes[1][0]: lower bound 5 is above upper bound 4"),
+        "{err}"
+    );
+    let out = contract(&[], "{not json");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("invalid JSON"));
+}
+
+#[test]
+fn infeasible_is_a_result_not_an_error() {
+    let req = r#"{"format": "nvector-contract/1", "n": 1, "boxes": [[[0, 1]], [[2, 3]]]}"#;
+    let out = contract(&[], req);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["status"], "infeasible");
+}
