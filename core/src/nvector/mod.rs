@@ -156,34 +156,41 @@ impl Groups {
 }
 
 /// Intersects the boxes of every group of size >= 2; returns whether any
-/// box changed.
-fn intersect_groups(boxes: &mut [IntervalBox], groups: &mut Groups) -> bool {
+/// box changed. Works axis by axis on flat bound arrays (no box clones).
+/// Marks in `dirty` the axes on which a bound moved.
+fn intersect_groups(
+    boxes: &mut [IntervalBox],
+    groups: &mut Groups,
+    common: &mut Vec<Interval>,
+    dirty: &mut [bool],
+) -> bool {
     let k = boxes.len();
-    let mut has_group = false;
-    for i in 0..k {
-        if groups.find(i as u32) != i as u32 {
-            has_group = true;
-            break;
-        }
-    }
-    if !has_group {
+    let roots: Vec<u32> = (0..k as u32).map(|i| groups.find(i)).collect();
+    if roots.iter().enumerate().all(|(i, &r)| r == i as u32) {
         return false;
     }
-    let mut common: Vec<Option<IntervalBox>> = vec![None; k];
-    for (i, b) in boxes.iter().enumerate() {
-        let r = groups.find(i as u32) as usize;
-        common[r] = Some(match common[r].take() {
-            None => b.clone(),
-            Some(c) => c.intersect(b),
-        });
-    }
+    let dim = boxes[0].dim();
     let mut changed = false;
-    for (i, b) in boxes.iter_mut().enumerate() {
-        let r = groups.find(i as u32) as usize;
-        if let Some(c) = &common[r] {
-            if c != b {
-                *b = c.clone();
+    for axis in 0..dim {
+        common.clear();
+        common.resize(k, Interval::ENTIRE);
+        for (b, &r) in boxes.iter().zip(&roots) {
+            let c = &mut common[r as usize];
+            *c = c.intersect(b[axis]);
+        }
+        for (b, &r) in boxes.iter_mut().zip(&roots) {
+            let c = common[r as usize];
+            if b[axis] != c {
+                b[axis] = c;
                 changed = true;
+                dirty[axis] = true;
+            }
+        }
+    }
+    if changed {
+        for b in boxes.iter_mut() {
+            if b.is_empty() {
+                b.set_empty();
             }
         }
     }
@@ -193,29 +200,27 @@ fn intersect_groups(boxes: &mut [IntervalBox], groups: &mut Groups) -> bool {
 /// An upper bound of the minimum number of distinct vectors: the size of a
 /// hitting set built greedily (each box joins the first cell it meets, the
 /// cell shrinking to the intersection; a point of each cell hits its boxes).
-/// Past 256 cells the remaining boxes are counted one point each, so the
-/// cost stays O(256 k d).
+/// O(k log k + 8 k d).
 fn greedy_hitting_set(boxes: &[IntervalBox]) -> usize {
-    let mut order: Vec<usize> = (0..boxes.len()).collect();
-    order.sort_by(|&a, &b| {
-        boxes[a][0]
-            .hi()
-            .total_cmp(&boxes[b][0].hi())
-            .then(a.cmp(&b))
-    });
+    let mut order: Vec<(f64, u32)> = boxes
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b[0].hi(), i as u32))
+        .collect();
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    // Cells visited last are the likeliest to meet the next box (boxes come
+    // by increasing upper bound on axis 0): only the 8 most recent are tried.
     let mut cells: Vec<IntervalBox> = Vec::new();
-    let mut extra = 0usize;
-    for i in order {
-        let b = &boxes[i];
-        if let Some(c) = cells.iter_mut().find(|c| c.meets(b)) {
+    for (_, i) in order {
+        let b = &boxes[i as usize];
+        let start = cells.len().saturating_sub(8);
+        if let Some(c) = cells[start..].iter_mut().rev().find(|c| c.meets(b)) {
             c.intersect_with(b);
-        } else if cells.len() < 256 {
-            cells.push(b.clone());
         } else {
-            extra += 1;
+            cells.push(b.clone());
         }
     }
-    cells.len() + extra
+    cells.len()
 }
 
 fn infeasible(boxes: &mut [IntervalBox], reason: String, lower: usize, rounds: u32) -> Outcome {
@@ -287,12 +292,21 @@ pub fn atmost_nvector(
     let mut ind = IndependentScratch::default();
     let mut domains: Vec<Interval> = Vec::with_capacity(k);
     let mut sole = Vec::new();
+    let mut common: Vec<Interval> = Vec::with_capacity(k);
     let whole_boxes = mode != Mode::Nvalue;
     let with_witnesses = matches!(mode, Mode::Independent | Mode::Best | Mode::Exact);
+    // Axes whose bounds moved since their last atmost_nvalue pass (the pass
+    // is idempotent: bound consistency), and whether anything moved since
+    // the last witness pass.
+    let mut dirty = vec![true; dim];
+    let mut witness_dirty = true;
     loop {
         rounds += 1;
-        let mut changed = false;
         for axis in 0..dim {
+            if !dirty[axis] {
+                continue;
+            }
+            dirty[axis] = false;
             domains.clear();
             domains.extend(boxes.iter().map(|b| b[axis]));
             match nvalue::atmost_nvalue(n, &mut domains, &mut nv) {
@@ -301,10 +315,10 @@ pub fn atmost_nvector(
                     return Ok(infeasible(boxes, reason, m, rounds));
                 }
                 NValue::Slack { m } => lower = lower.max(m),
-                NValue::Kernels { changed: c } => {
+                NValue::Kernels { changed } => {
                     lower = lower.max(n);
-                    if c {
-                        changed = true;
+                    if changed {
+                        witness_dirty = true;
                         for (b, &x) in boxes.iter_mut().zip(domains.iter()) {
                             b[axis] = x;
                         }
@@ -319,14 +333,14 @@ pub fn atmost_nvector(
                         let f = &mut first_of[g as usize];
                         if *f == u32::MAX {
                             *f = i as u32;
-                        } else if groups.union(*f, i as u32) {
-                            changed = true;
+                        } else {
+                            groups.union(*f, i as u32);
                         }
                     }
                 }
             }
-            if whole_boxes {
-                changed |= intersect_groups(boxes, &mut groups);
+            if whole_boxes && intersect_groups(boxes, &mut groups, &mut common, &mut dirty) {
+                witness_dirty = true;
             }
             if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
                 let reason =
@@ -334,7 +348,8 @@ pub fn atmost_nvector(
                 return Ok(infeasible(boxes, reason, lower, rounds));
             }
         }
-        if with_witnesses {
+        if with_witnesses && witness_dirty {
+            witness_dirty = false;
             let witnesses = independent::find_independent(n, boxes, &mut ind);
             lower = lower.max(witnesses.len());
             if witnesses.len() > n {
@@ -347,20 +362,26 @@ pub fn atmost_nvector(
                 return Ok(infeasible(boxes, reason, witnesses.len(), rounds));
             }
             if witnesses.len() == n {
-                changed |= independent::contract_with_witnesses(boxes, &witnesses, &mut sole);
+                let mut changed =
+                    independent::contract_with_witnesses(boxes, &witnesses, &mut sole);
                 for (i, &w) in sole.iter().enumerate() {
-                    if w != u32::MAX && groups.union(w, i as u32) {
-                        changed = true;
+                    if w != u32::MAX {
+                        groups.union(w, i as u32);
                     }
                 }
-                changed |= intersect_groups(boxes, &mut groups);
+                if changed {
+                    dirty.iter_mut().for_each(|d| *d = true);
+                }
+                changed |= intersect_groups(boxes, &mut groups, &mut common, &mut dirty);
+                witness_dirty = changed;
                 if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
                     let reason = format!("box {i} meets no witness of the {n} distinct vectors");
                     return Ok(infeasible(boxes, reason, lower, rounds));
                 }
             }
         }
-        if !changed || rounds >= MAX_ROUNDS {
+        let pending = dirty.iter().any(|&d| d) || (with_witnesses && witness_dirty);
+        if !pending || rounds >= MAX_ROUNDS {
             break;
         }
     }
