@@ -600,7 +600,8 @@ mod tests {
 
     #[test]
     fn bad_inputs_name_their_path() {
-        let cases: Vec<(fn(&mut Value), &str)> = vec![
+        type Edit = fn(&mut Value);
+        let cases: Vec<(Edit, &str)> = vec![
             (
                 |v| v["inputs"]["speed"]["value"] = json!([1.0]),
                 "inputs.speed.value: expected 2 values",
