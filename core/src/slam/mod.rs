@@ -1,10 +1,11 @@
 //! Set-membership SLAM: missions, the model, the physics-guided propagator,
-//! simulation and scoring. OWNER: helper B. The signatures below are the API
-//! the server and the web facade call.
+//! simulation and scoring.
 
 pub mod bearing;
 pub mod distance;
 pub mod mission;
+pub mod model;
 pub mod motion_chain;
 pub mod propagator;
+pub mod result;
 pub mod simulate;

@@ -47,7 +47,7 @@ pub struct SimulateOptions {
     pub scenario: Scenario,
     /// Seed.
     pub seed: u64,
-    /// Steps (None: the scenario's default: 3000 for paper, 60,000 for auv).
+    /// Steps (None: the scenario's default: 10,000 for paper, 60,000 for auv).
     pub steps: Option<usize>,
     /// Landmarks (None: 4 for paper; auv always uses the 6 seamarks).
     pub landmarks: Option<usize>,
@@ -137,43 +137,60 @@ fn closest_approaches(dist: &[f64], threshold: f64) -> Vec<usize> {
 
 fn paper(o: &SimulateOptions) -> Value {
     let mut rng = Rng::new(o.seed);
-    let steps = o.steps.unwrap_or(3000).max(2);
+    let steps = o.steps.unwrap_or(10_000).max(2);
     let n_landmarks = o.landmarks.unwrap_or(4).max(1);
     let dt = 0.1;
     let noise = o.noise.max(0.0);
     let speed_err = 0.03 * noise;
     let heading_err = 0.02 * noise;
     let range_err = 0.1 * noise;
-    let bearing_err: f64 = 0.35;
-    let threshold = 9.0;
-    // Landmarks spread on a ring around the start, angles jittered by seed.
+    let bearing_err: f64 = 0.1;
+    let threshold = 6.0;
+    // Landmarks spread around the start, 10 m apart along x and alternating
+    // north and south (as in the paper's Figure 9, their projections on the
+    // first axis are apart, so that the per-axis contractors can work too).
     let landmarks: Vec<[f64; 2]> = (0..n_landmarks)
         .map(|j| {
-            let a =
-                2.0 * std::f64::consts::PI * (j as f64 + 0.5) / n_landmarks as f64 + rng.sym(0.3);
-            let r = 14.0 + rng.sym(3.0);
-            [r * libm::cos(a), r * libm::sin(a)]
+            let x = 10.0 * (j as f64 - (n_landmarks as f64 - 1.0) / 2.0) + rng.sym(1.0);
+            let y = if j % 2 == 0 { 10.0 } else { -10.0 } + rng.sym(2.0);
+            [x, y]
         })
         .collect();
-    // Feedback loop: the robot chases a target point turning slowly on a
-    // circle around the start; being faster than the target it loops
-    // around it (a cycloid-like path around the start).
-    let (mut x, mut y, mut h) = (0.0f64, 0.0f64, rng.sym(3.0));
-    let target_radius = 12.0;
-    let target_rate = 0.02 + rng.sym(0.004);
+    // Feedback loop: the robot pursues a point running along an epicycle
+    // around the start (small loops whose centre turns on a circle): the
+    // robot loops around its start in a cycloid-like path, passing by every
+    // landmark once per turn.
+    let (big_r, big_w) = (
+        11.0 + rng.sym(1.0),
+        2.0 * std::f64::consts::PI / (110.0 + rng.sym(10.0)),
+    );
+    let (small_r, small_w) = (
+        4.0 + rng.sym(0.5),
+        2.0 * std::f64::consts::PI / (24.0 + rng.sym(2.0)),
+    );
     let phase = rng.sym(3.0);
+    let path = |t: f64| {
+        [
+            big_r * libm::cos(big_w * t + phase) + small_r * libm::cos(small_w * t),
+            big_r * libm::sin(big_w * t + phase) + small_r * libm::sin(small_w * t),
+        ]
+    };
+    let p0 = path(0.0);
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    let mut h = libm::atan2(p0[1], p0[0]);
     let mut positions = vec![[x, y]];
     let (mut speed_meas, mut heading_meas) = (Vec::with_capacity(steps), Vec::with_capacity(steps));
     let mut headings = Vec::with_capacity(steps);
     for i in 0..steps {
+        // The pursued point starts at the start and joins the epicycle.
         let t = i as f64 * dt;
-        let tx = target_radius * libm::cos(target_rate * t + phase);
-        let ty = target_radius * libm::sin(target_rate * t + phase);
-        let want = libm::atan2(ty - y, tx - x);
-        let v = 1.0 + 0.2 * libm::sin(0.05 * t);
-        // Turn at most 0.5 rad/s towards the target: loops around it.
-        let turn = wrap(want - h).clamp(-0.5 * dt, 0.5 * dt);
-        h = wrap(h + turn + 0.15 * dt);
+        let blend = (t / 10.0).min(1.0);
+        let q = path(t + 1.0);
+        let target = [blend * q[0], blend * q[1]];
+        let want = libm::atan2(target[1] - y, target[0] - x);
+        let turn = wrap(want - h).clamp(-1.2 * dt, 1.2 * dt);
+        h = wrap(h + turn);
+        let v = libm::hypot(target[0] - x, target[1] - y).clamp(0.3, 2.0);
         headings.push(h);
         speed_meas.push(v + rng.sym(speed_err));
         heading_meas.push(h + rng.sym(heading_err));
@@ -215,7 +232,7 @@ fn paper(o: &SimulateOptions) -> Value {
         // with a bound that holds it (checked: widen when the approach is
         // not exactly abeam, e.g. at the start of the run).
         let off = wrap(beta - side).abs();
-        let half = bearing_err.max(off + 0.05);
+        let half = bearing_err.max(off + 0.02);
         d["bearing"] = interval_json(side - half, side + half);
         if o.operator {
             d["landmark"] = json!(j);

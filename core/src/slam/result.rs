@@ -1,0 +1,153 @@
+//! `nvector-result/1`: the boxes, matching, metrics and score of a solved
+//! mission (spec/formats.md, "Result").
+
+use super::mission::Mission;
+use super::model::Model;
+use super::propagator::SolveOptions;
+use crate::ibox::IntervalBox;
+use crate::json::box_to_json;
+use serde_json::{json, Map, Value};
+
+/// How propagation ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SolveStatus {
+    /// Fixpoint reached, no empty domain.
+    Consistent,
+    /// A domain became empty; the reason names the constraint and variable.
+    Infeasible(String),
+    /// `max_rounds` or cancellation before the fixpoint (boxes still sound).
+    Stopped,
+}
+
+/// A solved mission: domains and what was proved.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// Consistent, infeasible or stopped.
+    pub status: SolveStatus,
+    /// Groups (size >= 2) of detections proved to be the same landmark.
+    pub matching: Vec<Vec<usize>>,
+    /// Propagation rounds.
+    pub rounds: u32,
+    /// Contractor calls and swept steps.
+    pub contractions: u64,
+    /// Final domains.
+    pub model: Model,
+}
+
+impl Solution {
+    /// One box per matching group (the common intersection), in the order
+    /// of `matching`.
+    pub fn landmarks(&self) -> Vec<IntervalBox> {
+        self.matching
+            .iter()
+            .map(|g| {
+                let mut b = self.model.det[g[0]].clone();
+                for &j in &g[1..] {
+                    b.intersect_with(&self.model.det[j]);
+                }
+                b
+            })
+            .collect()
+    }
+}
+
+/// Score against the mission's truth: (truth_inside, matching_errors,
+/// matching_recall).
+pub fn score(mission: &Mission, s: &Solution) -> Option<(bool, usize, f64)> {
+    let truth = mission.truth.as_ref()?;
+    let m = &s.model;
+    let mut inside = truth
+        .positions
+        .iter()
+        .enumerate()
+        .all(|(i, p)| m.position(i).contains(p));
+    for (j, b) in m.det.iter().enumerate() {
+        inside &= b.contains(&truth.landmarks[truth.matching[j]]);
+    }
+    for (g, b) in s.matching.iter().zip(s.landmarks()) {
+        inside &= b.contains(&truth.landmarks[truth.matching[g[0]]]);
+    }
+    let mut errors = 0;
+    for g in &s.matching {
+        for (x, &a) in g.iter().enumerate() {
+            for &b in &g[x + 1..] {
+                if truth.matching[a] != truth.matching[b] {
+                    errors += 1;
+                }
+            }
+        }
+    }
+    let grouped: usize = s.matching.iter().map(|g| g.len()).sum();
+    let recall = if mission.detections.is_empty() {
+        1.0
+    } else {
+        grouped as f64 / mission.detections.len() as f64
+    };
+    Some((inside, errors, recall))
+}
+
+fn finite_or_inf(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        json!("inf")
+    }
+}
+
+/// The result JSON (`metrics.elapsed_ms` = 0; the caller measures time).
+pub fn result_json(mission: &Mission, options: &SolveOptions, s: &Solution) -> Value {
+    let m = &s.model;
+    let mut o = Map::new();
+    o.insert("format".into(), "nvector-result/1".into());
+    o.insert("mission".into(), mission.name.clone().into());
+    let status = match &s.status {
+        SolveStatus::Consistent => "consistent",
+        SolveStatus::Infeasible(_) => "infeasible",
+        SolveStatus::Stopped => "stopped",
+    };
+    o.insert("status".into(), status.into());
+    if let SolveStatus::Infeasible(r) = &s.status {
+        o.insert("reason".into(), r.clone().into());
+    }
+    o.insert(
+        "options".into(),
+        json!({
+            "contractor": options.association.name(),
+            "max_rounds": options.max_rounds,
+            "tolerance": options.tolerance,
+        }),
+    );
+    let trajectory: Vec<Value> = (0..=m.steps).map(|i| box_to_json(&m.position(i))).collect();
+    o.insert("trajectory".into(), Value::Array(trajectory));
+    o.insert(
+        "detections".into(),
+        Value::Array(m.det.iter().map(box_to_json).collect()),
+    );
+    o.insert(
+        "landmarks".into(),
+        Value::Array(s.landmarks().iter().map(box_to_json).collect()),
+    );
+    o.insert("matching".into(), json!(s.matching));
+    let (max_d, mean_d) = m.trajectory_diameters();
+    let max_det = m.det.iter().map(|b| b.diameter()).fold(0.0, f64::max);
+    let matched: usize = s.matching.iter().map(|g| g.len()).sum();
+    o.insert(
+        "metrics".into(),
+        json!({
+            "max_trajectory_diameter": finite_or_inf(max_d),
+            "mean_trajectory_diameter": finite_or_inf(mean_d),
+            "max_detection_diameter": finite_or_inf(max_det),
+            "matched_detections": matched,
+            "rounds": s.rounds,
+            "contractions": s.contractions,
+            "elapsed_ms": 0.0,
+        }),
+    );
+    if let Some((inside, errors, recall)) = score(mission, s) {
+        o.insert(
+            "score".into(),
+            json!({"truth_inside": inside, "matching_errors": errors, "matching_recall": recall}),
+        );
+    }
+    Value::Object(o)
+}

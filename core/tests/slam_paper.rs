@@ -1,0 +1,102 @@
+//! The paper's experiment end to end: simulated missions run through every
+//! association mode; the truth stays inside every box and no two
+//! detections of different landmarks are grouped.
+
+use nvector_core::nvector::Mode;
+use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagator::{solve, Association, SolveOptions};
+use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use std::sync::atomic::AtomicBool;
+
+fn run(mission: &Mission, association: Association) -> serde_json::Value {
+    let options = SolveOptions {
+        association,
+        ..SolveOptions::default()
+    };
+    solve(mission, &options, &mut |_| {}, &AtomicBool::new(false))
+}
+
+const MODES: [Association; 5] = [
+    Association::None,
+    Association::NVector(Mode::Nvalue),
+    Association::NVector(Mode::Projection),
+    Association::NVector(Mode::Independent),
+    Association::NVector(Mode::Best),
+];
+
+#[test]
+fn paper_scenario_truth_inside_and_no_matching_error() {
+    for seed in 1..=3 {
+        let mut o = SimulateOptions::new(Scenario::Paper, seed);
+        o.steps = None;
+        let mission = Mission::from_value(&simulate(&o)).expect("simulated missions are valid");
+        for assoc in MODES {
+            let r = run(&mission, assoc);
+            assert_eq!(
+                r["status"], "consistent",
+                "seed {seed} {assoc:?}: {}",
+                r["reason"]
+            );
+            assert_eq!(r["score"]["truth_inside"], true, "seed {seed} {assoc:?}");
+            assert_eq!(r["score"]["matching_errors"], 0, "seed {seed} {assoc:?}");
+            eprintln!(
+                "seed {seed} {:12} max diam {:8.3} recall {:.2} rounds {}",
+                assoc.name(),
+                r["metrics"]["max_trajectory_diameter"]
+                    .as_f64()
+                    .unwrap_or(f64::INFINITY),
+                r["score"]["matching_recall"],
+                r["metrics"]["rounds"]
+            );
+        }
+    }
+}
+
+#[test]
+fn operator_matching_run() {
+    let mut o = SimulateOptions::new(Scenario::Paper, 4);
+    o.steps = Some(3000);
+    o.operator = true;
+    let mission = Mission::from_value(&simulate(&o)).unwrap();
+    let r = run(&mission, Association::None);
+    assert_eq!(r["score"]["truth_inside"], true);
+    assert_eq!(r["score"]["matching_errors"], 0);
+    assert_eq!(r["score"]["matching_recall"], 1.0);
+}
+
+#[test]
+#[ignore]
+fn debug_paper() {
+    let mut o = SimulateOptions::new(Scenario::Paper, 1);
+    o.steps = None;
+    let v = simulate(&o);
+    let mission = Mission::from_value(&v).unwrap();
+    eprintln!(
+        "detections {} landmarks {:?}",
+        mission.detections.len(),
+        v["truth"]["landmarks"]
+    );
+    let m: Vec<_> = v["truth"]["matching"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap())
+        .collect();
+    eprintln!("matching {:?}", m);
+    let steps: Vec<_> = mission.detections.iter().map(|d| d.step).collect();
+    eprintln!("steps {:?}", steps);
+    let r = run(&mission, Association::NVector(Mode::Independent));
+    for (j, d) in r["detections"].as_array().unwrap().iter().enumerate() {
+        eprintln!("det {j} {}", d);
+    }
+    eprintln!(
+        "matching {} score {} metrics {}",
+        r["matching"], r["score"], r["metrics"]
+    );
+    let r0 = run(&mission, Association::None);
+    eprintln!("basic metrics {}", r0["metrics"]);
+    let pos = v["truth"]["positions"].as_array().unwrap();
+    for i in (0..pos.len()).step_by(300) {
+        eprintln!("p{i} {} box {}", pos[i], r["trajectory"][i]);
+    }
+}
