@@ -61,42 +61,15 @@ fn operator_matching_run() {
     let r = run(&mission, Association::None);
     assert_eq!(r["score"]["truth_inside"], true);
     assert_eq!(r["score"]["matching_errors"], 0);
-    assert_eq!(r["score"]["matching_recall"], 1.0);
-}
-
-#[test]
-#[ignore]
-fn debug_paper() {
-    let mut o = SimulateOptions::new(Scenario::Paper, 1);
-    o.steps = None;
-    let v = simulate(&o);
-    let mission = Mission::from_value(&v).unwrap();
-    eprintln!(
-        "detections {} landmarks {:?}",
-        mission.detections.len(),
-        v["truth"]["landmarks"]
-    );
-    let m: Vec<_> = v["truth"]["matching"]
-        .as_array()
-        .unwrap()
+    // With the operator's matching, exactly the detections of landmarks
+    // seen at least twice are grouped.
+    let t = mission.truth.as_ref().unwrap();
+    let seen_twice = t
+        .matching
         .iter()
-        .map(|x| x.as_u64().unwrap())
-        .collect();
-    eprintln!("matching {:?}", m);
-    let steps: Vec<_> = mission.detections.iter().map(|d| d.step).collect();
-    eprintln!("steps {:?}", steps);
-    let r = run(&mission, Association::NVector(Mode::Independent));
-    for (j, d) in r["detections"].as_array().unwrap().iter().enumerate() {
-        eprintln!("det {j} {}", d);
-    }
-    eprintln!(
-        "matching {} score {} metrics {}",
-        r["matching"], r["score"], r["metrics"]
-    );
-    let r0 = run(&mission, Association::None);
-    eprintln!("basic metrics {}", r0["metrics"]);
-    let pos = v["truth"]["positions"].as_array().unwrap();
-    for i in (0..pos.len()).step_by(300) {
-        eprintln!("p{i} {} box {}", pos[i], r["trajectory"][i]);
-    }
+        .filter(|&&l| t.matching.iter().filter(|&&m| m == l).count() >= 2)
+        .count();
+    let expected = seen_twice as f64 / t.matching.len() as f64;
+    assert_eq!(r["score"]["matching_recall"].as_f64().unwrap(), expected);
+    assert_eq!(r["metrics"]["matched_detections"], seen_twice);
 }
