@@ -280,7 +280,7 @@ fn auv(o: &SimulateOptions) -> Value {
     let steps = o.steps.unwrap_or(60_000).max(2);
     let dt = 0.1;
     let noise = o.noise.max(0.0);
-    let (angle_err, yaw_err, vel_err) = (0.002 * noise, 0.005 * noise, 0.02 * noise);
+    let (angle_err, yaw_err, vel_err) = (0.001 * noise, 0.002 * noise, 0.004 * noise);
     let range_err = 0.2 * noise;
     let sonar_range = 60.0;
     let auv_depth = 5.0;
@@ -303,11 +303,11 @@ fn auv(o: &SimulateOptions) -> Value {
     let mut ch: [Vec<f64>; 6] = Default::default();
     for _ in 0..steps {
         let target = waypoints[wp.min(waypoints.len() - 1)];
-        if libm::hypot(target[0] - p[0], target[1] - p[1]) < 5.0 && wp + 1 < waypoints.len() {
+        if libm::hypot(target[0] - p[0], target[1] - p[1]) < 10.0 && wp + 1 < waypoints.len() {
             wp += 1;
         }
         let want = libm::atan2(target[1] - p[1], target[0] - p[0]);
-        yaw = wrap(yaw + wrap(want - yaw).clamp(-0.05 * dt, 0.05 * dt) + 0.0);
+        yaw = wrap(yaw + wrap(want - yaw).clamp(-0.3 * dt, 0.3 * dt));
         let roll = 0.02 * libm::sin(0.3 * positions.len() as f64 * dt);
         let pitch = 0.01 * libm::cos(0.2 * positions.len() as f64 * dt);
         let v = [1.5, 0.05 * libm::sin(0.01 * positions.len() as f64), 0.0];
