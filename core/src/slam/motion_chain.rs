@@ -88,32 +88,42 @@ pub enum Sweep {
 /// Forward sweep from step `from`: `p(i+1) ∩= p(i) + D(i)` for i = from..,
 /// stopping at the first step whose bounds move by at most `tol` (with
 /// `tol = 0`: do not move at all). `pos` has (N+1)·dim entries, `disp` N·dim.
-pub fn sweep_forward(
-    pos: &mut [Interval],
-    disp: &[Interval],
-    dim: usize,
-    from: usize,
-    tol: f64,
-) -> Sweep {
-    let steps = disp.len() / dim;
+pub fn sweep_forward(pos: &mut [Interval], disp: &[Interval], dim: usize, from: usize, tol: f64) -> Sweep {
+    let steps = (disp.len() / dim).min((pos.len() / dim).saturating_sub(1));
+    if from >= steps {
+        return Sweep::Done(0);
+    }
+    // The box of the current step is carried in registers.
+    let mut cur = [Interval::EMPTY; 3];
+    let big = dim > 3;
+    if !big {
+        cur[..dim].copy_from_slice(&pos[from * dim..(from + 1) * dim]);
+    }
     let mut visited = 0;
     for i in from..steps {
-        let (head, tail) = pos.split_at_mut((i + 1) * dim);
-        let cur = &head[i * dim..];
-        let next = &mut tail[..dim];
-        let d = &disp[i * dim..(i + 1) * dim];
+        let base = (i + 1) * dim;
         let mut moved = 0.0f64;
+        let mut changed = false;
         for a in 0..dim {
-            let old = next[a];
-            let new = old.intersect(cur[a] + d[a]);
-            if new.is_empty() {
-                return Sweep::Empty(i + 1);
+            let c = if big { pos[i * dim + a] } else { cur[a] };
+            let old = pos[base + a];
+            let new = old.intersect(c + disp[i * dim + a]);
+            if new != old {
+                if new.is_empty() {
+                    return Sweep::Empty(i + 1);
+                }
+                changed = true;
+                if tol > 0.0 {
+                    moved = moved.max(shrinkage(old, new));
+                }
+                pos[base + a] = new;
             }
-            moved = moved.max(shrinkage(old, new));
-            next[a] = new;
+            if !big {
+                cur[a] = new;
+            }
         }
         visited += 1;
-        if moved <= tol {
+        if !changed || moved <= tol && tol > 0.0 {
             break;
         }
     }
@@ -122,31 +132,41 @@ pub fn sweep_forward(
 
 /// Backward sweep from step `from` down: `p(i) ∩= p(i+1) - D(i)` for
 /// i = from-1 down to 0, with the same stopping rule.
-pub fn sweep_backward(
-    pos: &mut [Interval],
-    disp: &[Interval],
-    dim: usize,
-    from: usize,
-    tol: f64,
-) -> Sweep {
+pub fn sweep_backward(pos: &mut [Interval], disp: &[Interval], dim: usize, from: usize, tol: f64) -> Sweep {
+    let from = from.min(disp.len() / dim).min((pos.len() / dim).saturating_sub(1));
+    if from == 0 {
+        return Sweep::Done(0);
+    }
+    let mut next = [Interval::EMPTY; 3];
+    let big = dim > 3;
+    if !big {
+        next[..dim].copy_from_slice(&pos[from * dim..(from + 1) * dim]);
+    }
     let mut visited = 0;
-    for i in (0..from.min(disp.len() / dim)).rev() {
-        let (head, tail) = pos.split_at_mut((i + 1) * dim);
-        let cur = &mut head[i * dim..];
-        let next = &tail[..dim];
-        let d = &disp[i * dim..(i + 1) * dim];
+    for i in (0..from).rev() {
+        let base = i * dim;
         let mut moved = 0.0f64;
+        let mut changed = false;
         for a in 0..dim {
-            let old = cur[a];
-            let new = old.intersect(next[a] - d[a]);
-            if new.is_empty() {
-                return Sweep::Empty(i);
+            let nx = if big { pos[base + dim + a] } else { next[a] };
+            let old = pos[base + a];
+            let new = old.intersect(nx - disp[base + a]);
+            if new != old {
+                if new.is_empty() {
+                    return Sweep::Empty(i);
+                }
+                changed = true;
+                if tol > 0.0 {
+                    moved = moved.max(shrinkage(old, new));
+                }
+                pos[base + a] = new;
             }
-            moved = moved.max(shrinkage(old, new));
-            cur[a] = new;
+            if !big {
+                next[a] = new;
+            }
         }
         visited += 1;
-        if moved <= tol {
+        if !changed || moved <= tol && tol > 0.0 {
             break;
         }
     }

@@ -1,4 +1,162 @@
-//! SLAM measures of `nvector bench` (sweep, paper scenario, AUV). OWNER: helper B.
+//! SLAM measures of `nvector bench`: one forward+backward sweep of the
+//! motion chain against a plain summing pass, the paper scenario to the
+//! fixpoint, the Redermor-scale AUV survey end to end, and the paper's
+//! experiment over seeds 1..10 (diameter ratios, truth inside, matching).
+
+use super::bench::median_ms;
+use nvector_core::nvector::Mode;
+use nvector_core::slam::mission::Mission;
+use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward};
+use nvector_core::slam::propagator::{solve, Association, SolveOptions};
+use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::Interval;
+use serde_json::{json, Value};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+fn solve_with(m: &Mission, a: Association) -> Value {
+    let o = SolveOptions {
+        association: a,
+        ..SolveOptions::default()
+    };
+    solve(m, &o, &mut |_| {}, &AtomicBool::new(false))
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
 
 /// Runs the SLAM measures, handing each JSON line to `emit`.
-pub fn run(_quick: bool, _only: Option<&str>, _emit: &mut dyn FnMut(serde_json::Value)) {}
+pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
+    let suffix = if quick { "_quick" } else { "" };
+    let wanted = |name: &str| only.is_none_or(|o| name.contains(o));
+    let runs = if quick { 3 } else { 15 };
+
+    let name = format!("sweep_1e6_2d{suffix}");
+    if wanted(&name) {
+        let n = if quick { 100_000 } else { 1_000_000 };
+        let dim = 2;
+        let disp: Vec<Interval> = (0..n * dim)
+            .map(|i| {
+                let x = ((i * 7919) % 1000) as f64 * 1e-3;
+                Interval::new(x, x + 0.01)
+            })
+            .collect();
+        let mut fresh = vec![Interval::ENTIRE; (n + 1) * dim];
+        fresh[0] = Interval::ZERO;
+        fresh[1] = Interval::ZERO;
+        // Baseline: one pass summing the same arrays (both bounds of the
+        // displacements and of the positions).
+        let base = median_ms(
+            runs,
+            || (),
+            |_| {
+                let mut s = 0.0f64;
+                for x in disp.iter().chain(&fresh) {
+                    s += x.lo() + x.hi();
+                }
+                s
+            },
+        );
+        let mut pos = fresh.clone();
+        // Bounded positions first (dead reckoning), then the measured sweep
+        // moves every step: both directions visit all N steps.
+        sweep_forward(&mut pos, &disp, dim, 0, 0.0);
+        let start = pos.clone();
+        let ms = median_ms(
+            runs,
+            || {
+                let mut p = start.clone();
+                let last = n * dim;
+                p[last] = p[last].intersect(Interval::new(p[last].lo(), p[last].lo() + 0.005));
+                p[last + 1] = p[last + 1].intersect(Interval::new(p[last + 1].lo(), p[last + 1].lo() + 0.005));
+                p
+            },
+            |mut p| {
+                sweep_backward(&mut p, &disp, dim, n, 0.0);
+                sweep_forward(&mut p, &disp, dim, 0, 0.0);
+                p
+            },
+        );
+        emit(json!({"name": name, "ms": ms, "baseline": format!("sum_pass_1e6_2d{suffix}"), "baseline_ms": base, "ratio": ms / base, "goal": 3.0}));
+    }
+
+    let name = format!("paper_fixpoint{suffix}");
+    if wanted(&name) {
+        let m = Mission::from_value(&simulate(&SimulateOptions::new(Scenario::Paper, 1))).expect("valid mission");
+        let ms = median_ms(runs, || (), |_| solve_with(&m, Association::NVector(Mode::Best)));
+        emit(json!({"name": name, "ms": ms, "steps": m.steps, "detections": m.detections.len(), "goal_ms": 50.0}));
+    }
+
+    let name = format!("auv_60k_total{suffix}");
+    if wanted(&name) {
+        let mut o = SimulateOptions::new(Scenario::Auv, 1);
+        if quick {
+            o.steps = Some(6000);
+        }
+        let text = simulate(&o).to_string();
+        let ms = median_ms(
+            runs.min(5),
+            || (),
+            |_| {
+                let v: Value = serde_json::from_str(&text).expect("json");
+                let m = Mission::from_value(&v).expect("valid mission");
+                solve_with(&m, Association::NVector(Mode::Best))
+            },
+        );
+        emit(json!({"name": name, "ms": ms, "goal_ms": 1000.0, "what": "parse + precompute + fixpoint, best contractor"}));
+    }
+
+    let name = format!("paper_seeds_1_10{suffix}");
+    if wanted(&name) {
+        let seeds: Vec<u64> = if quick { (1..=3).collect() } else { (1..=10).collect() };
+        let modes = [
+            ("none", Association::None),
+            ("projection", Association::NVector(Mode::Projection)),
+            ("independent", Association::NVector(Mode::Independent)),
+        ];
+        let mut diam: Vec<Vec<f64>> = vec![Vec::new(); modes.len() + 1];
+        let mut recall: Vec<Vec<f64>> = vec![Vec::new(); modes.len() + 1];
+        let mut all_inside = true;
+        let mut errors = 0u64;
+        let mut ms = Vec::new();
+        for &seed in &seeds {
+            let mut o = SimulateOptions::new(Scenario::Paper, seed);
+            let m = Mission::from_value(&simulate(&o)).expect("valid mission");
+            o.operator = true;
+            let mo = Mission::from_value(&simulate(&o)).expect("valid mission");
+            for (i, (_, a)) in modes.iter().chain([("operator", Association::None)].iter()).enumerate() {
+                let t = Instant::now();
+                let r = if i == modes.len() { solve_with(&mo, *a) } else { solve_with(&m, *a) };
+                ms.push(t.elapsed().as_secs_f64() * 1e3);
+                diam[i].push(r["metrics"]["max_trajectory_diameter"].as_f64().unwrap_or(f64::INFINITY));
+                recall[i].push(r["score"]["matching_recall"].as_f64().unwrap_or(0.0));
+                all_inside &= r["score"]["truth_inside"] == true && r["status"] == "consistent";
+                errors += r["score"]["matching_errors"].as_u64().unwrap_or(u64::MAX);
+            }
+        }
+        let med: Vec<f64> = diam.iter().map(|d| median(d.clone())).collect();
+        let ratios = |k: usize| -> Vec<f64> { diam[0].iter().zip(&diam[k]).map(|(b, x)| b / x).collect() };
+        emit(json!({
+            "name": name,
+            "seeds": seeds.len(),
+            "median_max_diameter": {"none": med[0], "projection": med[1], "independent": med[2], "operator": med[3]},
+            "median_ratio_basic_over_projection": median(ratios(1)),
+            "median_ratio_basic_over_independent": median(ratios(2)),
+            "min_ratio_basic_over_projection": ratios(1).into_iter().fold(f64::INFINITY, f64::min),
+            "median_operator_over_projection": median(diam[3].iter().zip(&diam[1]).map(|(o, x)| o / x).collect()),
+            "median_operator_over_independent": median(diam[3].iter().zip(&diam[2]).map(|(o, x)| o / x).collect()),
+            "median_recall": {"projection": median(recall[1].clone()), "independent": median(recall[2].clone())},
+            "truth_inside_everywhere": all_inside,
+            "matching_errors": errors,
+            "goal": 10.0,
+            "ms": median(ms),
+        }));
+    }
+}
