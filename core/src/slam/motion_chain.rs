@@ -88,7 +88,13 @@ pub enum Sweep {
 /// Forward sweep from step `from`: `p(i+1) ∩= p(i) + D(i)` for i = from..,
 /// stopping at the first step whose bounds move by at most `tol` (with
 /// `tol = 0`: do not move at all). `pos` has (N+1)·dim entries, `disp` N·dim.
-pub fn sweep_forward(pos: &mut [Interval], disp: &[Interval], dim: usize, from: usize, tol: f64) -> Sweep {
+pub fn sweep_forward(
+    pos: &mut [Interval],
+    disp: &[Interval],
+    dim: usize,
+    from: usize,
+    tol: f64,
+) -> Sweep {
     let steps = (disp.len() / dim).min((pos.len() / dim).saturating_sub(1));
     if from >= steps {
         return Sweep::Done(0);
@@ -132,8 +138,16 @@ pub fn sweep_forward(pos: &mut [Interval], disp: &[Interval], dim: usize, from: 
 
 /// Backward sweep from step `from` down: `p(i) ∩= p(i+1) - D(i)` for
 /// i = from-1 down to 0, with the same stopping rule.
-pub fn sweep_backward(pos: &mut [Interval], disp: &[Interval], dim: usize, from: usize, tol: f64) -> Sweep {
-    let from = from.min(disp.len() / dim).min((pos.len() / dim).saturating_sub(1));
+pub fn sweep_backward(
+    pos: &mut [Interval],
+    disp: &[Interval],
+    dim: usize,
+    from: usize,
+    tol: f64,
+) -> Sweep {
+    let from = from
+        .min(disp.len() / dim)
+        .min((pos.len() / dim).saturating_sub(1));
     if from == 0 {
         return Sweep::Done(0);
     }

@@ -75,7 +75,8 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
                 let mut p = start.clone();
                 let last = n * dim;
                 p[last] = p[last].intersect(Interval::new(p[last].lo(), p[last].lo() + 0.005));
-                p[last + 1] = p[last + 1].intersect(Interval::new(p[last + 1].lo(), p[last + 1].lo() + 0.005));
+                p[last + 1] = p[last + 1]
+                    .intersect(Interval::new(p[last + 1].lo(), p[last + 1].lo() + 0.005));
                 p
             },
             |mut p| {
@@ -84,14 +85,23 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
                 p
             },
         );
-        emit(json!({"name": name, "ms": ms, "baseline": format!("sum_pass_1e6_2d{suffix}"), "baseline_ms": base, "ratio": ms / base, "goal": 3.0}));
+        emit(
+            json!({"name": name, "ms": ms, "baseline": format!("sum_pass_1e6_2d{suffix}"), "baseline_ms": base, "ratio": ms / base, "goal": 3.0}),
+        );
     }
 
     let name = format!("paper_fixpoint{suffix}");
     if wanted(&name) {
-        let m = Mission::from_value(&simulate(&SimulateOptions::new(Scenario::Paper, 1))).expect("valid mission");
-        let ms = median_ms(runs, || (), |_| solve_with(&m, Association::NVector(Mode::Best)));
-        emit(json!({"name": name, "ms": ms, "steps": m.steps, "detections": m.detections.len(), "goal_ms": 50.0}));
+        let m = Mission::from_value(&simulate(&SimulateOptions::new(Scenario::Paper, 1)))
+            .expect("valid mission");
+        let ms = median_ms(
+            runs,
+            || (),
+            |_| solve_with(&m, Association::NVector(Mode::Best)),
+        );
+        emit(
+            json!({"name": name, "ms": ms, "steps": m.steps, "detections": m.detections.len(), "goal_ms": 50.0}),
+        );
     }
 
     let name = format!("auv_60k_total{suffix}");
@@ -110,12 +120,18 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
                 solve_with(&m, Association::NVector(Mode::Best))
             },
         );
-        emit(json!({"name": name, "ms": ms, "goal_ms": 1000.0, "what": "parse + precompute + fixpoint, best contractor"}));
+        emit(
+            json!({"name": name, "ms": ms, "goal_ms": 1000.0, "what": "parse + precompute + fixpoint, best contractor"}),
+        );
     }
 
     let name = format!("paper_seeds_1_10{suffix}");
     if wanted(&name) {
-        let seeds: Vec<u64> = if quick { (1..=3).collect() } else { (1..=10).collect() };
+        let seeds: Vec<u64> = if quick {
+            (1..=3).collect()
+        } else {
+            (1..=10).collect()
+        };
         let modes = [
             ("none", Association::None),
             ("projection", Association::NVector(Mode::Projection)),
@@ -131,18 +147,31 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
             let m = Mission::from_value(&simulate(&o)).expect("valid mission");
             o.operator = true;
             let mo = Mission::from_value(&simulate(&o)).expect("valid mission");
-            for (i, (_, a)) in modes.iter().chain([("operator", Association::None)].iter()).enumerate() {
+            for (i, (_, a)) in modes
+                .iter()
+                .chain([("operator", Association::None)].iter())
+                .enumerate()
+            {
                 let t = Instant::now();
-                let r = if i == modes.len() { solve_with(&mo, *a) } else { solve_with(&m, *a) };
+                let r = if i == modes.len() {
+                    solve_with(&mo, *a)
+                } else {
+                    solve_with(&m, *a)
+                };
                 ms.push(t.elapsed().as_secs_f64() * 1e3);
-                diam[i].push(r["metrics"]["max_trajectory_diameter"].as_f64().unwrap_or(f64::INFINITY));
+                diam[i].push(
+                    r["metrics"]["max_trajectory_diameter"]
+                        .as_f64()
+                        .unwrap_or(f64::INFINITY),
+                );
                 recall[i].push(r["score"]["matching_recall"].as_f64().unwrap_or(0.0));
                 all_inside &= r["score"]["truth_inside"] == true && r["status"] == "consistent";
                 errors += r["score"]["matching_errors"].as_u64().unwrap_or(u64::MAX);
             }
         }
         let med: Vec<f64> = diam.iter().map(|d| median(d.clone())).collect();
-        let ratios = |k: usize| -> Vec<f64> { diam[0].iter().zip(&diam[k]).map(|(b, x)| b / x).collect() };
+        let ratios =
+            |k: usize| -> Vec<f64> { diam[0].iter().zip(&diam[k]).map(|(b, x)| b / x).collect() };
         emit(json!({
             "name": name,
             "seeds": seeds.len(),

@@ -59,8 +59,8 @@ struct Scene {
 fn scene(result: &Value, mission: &Value) -> Scene {
     let arr = |v: &Value| v.as_array().cloned().unwrap_or_default();
     let traj = arr(&result["trajectory"]);
-    // At most 3000 trajectory boxes are drawn (every k-th, plus the last).
-    let stride = (traj.len() / 3000).max(1);
+    // At most 1500 trajectory boxes are drawn (every k-th, plus the last).
+    let stride = traj.len().div_ceil(1500).max(1);
     let mut trajectory: Vec<Rect> = traj.iter().step_by(stride).filter_map(rect).collect();
     if let Some(r) = traj.last().and_then(rect) {
         trajectory.push(r);

@@ -1,0 +1,270 @@
+//! The SLAM subcommands through the real binary: simulate -> run -> plot,
+//! import of a small CSV pair and of the CMU Plaza 1 dataset.
+
+use nvector_core::slam::mission::Mission;
+use nvector_core::slam::motion_chain::unicycle_displacement;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn nvector(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nvector"))
+        .args(args)
+        .output()
+        .expect("run nvector")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("nvector-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn read(p: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+#[test]
+fn simulate_run_plot() {
+    let m = tmp("paper.json");
+    let out = nvector(&[
+        "simulate",
+        "--scenario",
+        "paper",
+        "--seed",
+        "3",
+        "--steps",
+        "3000",
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r = tmp("result.json");
+    let svg = tmp("fig.svg");
+    let out = nvector(&[
+        "run",
+        m.to_str().unwrap(),
+        "--contractor",
+        "projection",
+        "--out",
+        r.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let result = read(&r);
+    assert_eq!(result["format"], "nvector-result/1");
+    assert_eq!(result["trajectory"].as_array().unwrap().len(), 3001);
+    assert_eq!(result["score"]["truth_inside"], true);
+    assert!(result["metrics"]["elapsed_ms"].as_f64().unwrap() > 0.0);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"));
+    // Every detection and landmark box of the result is drawn.
+    let drawn = text.matches("class=\"detection\"").count();
+    assert_eq!(drawn, result["detections"].as_array().unwrap().len());
+    assert_eq!(
+        text.matches("class=\"landmark\"").count(),
+        result["landmarks"].as_array().unwrap().len()
+    );
+    let png = tmp("fig.png");
+    let out = nvector(&[
+        "plot",
+        r.to_str().unwrap(),
+        "--mission",
+        m.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+}
+
+#[test]
+fn run_reports_bad_missions_with_their_path() {
+    let m = tmp("bad.json");
+    std::fs::write(&m, r#"{"format": "nvector-mission/1", "model": "unicycle2d", "dt": 0.1, "steps": 1, "initial_position": [[0, 0], [0, 0]], "inputs": {"speed": {"value": [1], "error": 0}, "heading": {"value": [0], "error": 0}}, "detections": [{"step": 0, "range": [3, 2]}]}"#).unwrap();
+    let out = nvector(&["run", m.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("detections[0].range: lower bound 3 is above upper bound 2"),
+        "{err}"
+    );
+    let out = nvector(&["run", m.to_str().unwrap(), "--contractor", "fast"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn import_csv_pair() {
+    // Three steps of 1 m/s east at dt = 0.5, a detection at t = 1.0 (step 2).
+    let log = tmp("log.csv");
+    std::fs::write(
+        &log,
+        "t,speed,heading\n0.0,1.0,0.0\n0.5,1.0,0.0\n1.0,1.0,0.0\n",
+    )
+    .unwrap();
+    let det = tmp("det.csv");
+    std::fs::write(&det, "t,range_lo,range_hi,landmark\n1.0,4.0,4.5,0\n").unwrap();
+    let out_path = tmp("imported.json");
+    let out = nvector(&[
+        "import",
+        "--model",
+        "unicycle2d",
+        "--log",
+        log.to_str().unwrap(),
+        "--detections",
+        det.to_str().unwrap(),
+        "--error",
+        "speed=0.1",
+        "--error",
+        "heading=0.01",
+        "--landmark-count",
+        "1",
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let m = Mission::from_value(&read(&out_path)).unwrap();
+    assert_eq!((m.steps, m.dt, m.detections.len()), (3, 0.5, 1));
+    assert_eq!(m.detections[0].step, 2);
+    assert_eq!(m.detections[0].landmark, Some(0));
+    assert!(m.inputs[0][0].contains(0.9) && m.inputs[0][0].contains(1.1));
+    // A bad cell is reported with its file, line and column.
+    std::fs::write(&log, "t,speed,heading\n0.0,1.0,0.0\n0.5,fast,0.0\n").unwrap();
+    let out = nvector(&[
+        "import",
+        "--model",
+        "unicycle2d",
+        "--log",
+        log.to_str().unwrap(),
+        "--detections",
+        det.to_str().unwrap(),
+        "--error",
+        "speed=0.1",
+        "--error",
+        "heading=0.01",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("log.csv:3: column 2 (speed): 'fast' is not a finite number"),
+        "{err}"
+    );
+}
+
+fn cmu_dir() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
+    assert!(
+        dir.join("Plaza1_DR.txt").exists(),
+        "the CMU Plaza 1 data must be at {} (../shared beside the repository)",
+        dir.display()
+    );
+    dir
+}
+
+#[test]
+fn cmu_plaza_ground_truth_satisfies_the_mission() {
+    let out_path = tmp("cmu.json");
+    let out = nvector(&[
+        "import",
+        "--cmu-plaza",
+        cmu_dir().to_str().unwrap(),
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let m = Mission::from_value(&read(&out_path)).unwrap();
+    let t = m.truth.as_ref().unwrap();
+    assert_eq!(
+        (m.steps, m.detections.len(), m.landmark_count),
+        (9657, 3529, Some(4))
+    );
+    assert!(
+        m.detections.iter().all(|d| d.landmark.is_none()),
+        "beacon ids are hidden"
+    );
+    // Every true step lies in its displacement box (inputs + motion error).
+    for i in 0..m.steps {
+        let d = unicycle_displacement(m.dt, m.inputs[0][i], m.inputs[1][i], m.motion_error[i]);
+        for a in 0..2 {
+            let step = t.positions[i + 1][a] - t.positions[i][a];
+            assert!(
+                d[a].contains(step),
+                "step {i} axis {a}: {step} not in {:?}",
+                d[a]
+            );
+        }
+    }
+    // Every range holds the true distance to the true beacon.
+    for (j, d) in m.detections.iter().enumerate() {
+        let p = &t.positions[d.step];
+        let l = &t.landmarks[t.matching[j]];
+        let dist = ((p[0] - l[0]).powi(2) + (p[1] - l[1]).powi(2)).sqrt();
+        assert!(
+            d.range.contains(dist),
+            "detection {j}: {dist} not in {}",
+            d.range
+        );
+    }
+}
+
+#[test]
+fn cmu_plaza_runs_end_to_end() {
+    let dir = cmu_dir();
+    for (operator, contractor) in [(false, "best"), (true, "none")] {
+        let m = tmp(&format!("cmu-{operator}.json"));
+        let mut args = vec![
+            "import",
+            "--cmu-plaza",
+            dir.to_str().unwrap(),
+            "--out",
+            m.to_str().unwrap(),
+        ];
+        if operator {
+            args.push("--operator");
+        }
+        assert!(nvector(&args).status.success());
+        let r = tmp(&format!("cmu-{operator}-result.json"));
+        let out = nvector(&[
+            "run",
+            m.to_str().unwrap(),
+            "--contractor",
+            contractor,
+            "--out",
+            r.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let result = read(&r);
+        assert_eq!(result["status"], "consistent");
+        assert_eq!(result["score"]["truth_inside"], true, "operator {operator}");
+        assert_eq!(result["score"]["matching_errors"], 0);
+        if operator {
+            assert_eq!(result["score"]["matching_recall"], 1.0);
+        }
+    }
+}
