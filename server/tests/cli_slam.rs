@@ -207,13 +207,9 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
     // Every true step lies in its displacement box (inputs + motion error).
     for i in 0..m.steps {
         let d = unicycle_displacement(m.dt, m.inputs[0][i], m.inputs[1][i], m.motion_error[i]);
-        for a in 0..2 {
+        for (a, da) in d.iter().enumerate() {
             let step = t.positions[i + 1][a] - t.positions[i][a];
-            assert!(
-                d[a].contains(step),
-                "step {i} axis {a}: {step} not in {:?}",
-                d[a]
-            );
+            assert!(da.contains(step), "step {i} axis {a}: {step} not in {da:?}");
         }
     }
     // Every range holds the true distance to the true beacon.
