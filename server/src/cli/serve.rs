@@ -1,12 +1,86 @@
-//! `nvector serve`.
+//! `nvector serve`: the HTTP service and the web UI.
 
+use crate::service::{self, Config};
 use crate::CliError;
+use std::path::PathBuf;
 
 /// Arguments of `nvector serve`.
 #[derive(clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Address to listen on.
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    addr: std::net::SocketAddr,
+    /// Storage: sqlite://PATH (created on first run).
+    #[arg(long, default_value = "sqlite://data/nvector.db")]
+    database: String,
+    /// Job worker threads (default: the number of cores).
+    #[arg(long)]
+    workers: Option<usize>,
+    /// Directory of the page.
+    #[arg(long, default_value = "web/www")]
+    static_dir: PathBuf,
+    /// File with one API key per line (enables authentication).
+    #[arg(long)]
+    api_key_file: Option<PathBuf>,
+    /// Allowed CORS origin (repeat; CORS is off without it).
+    #[arg(long = "cors-origin")]
+    cors_origins: Vec<String>,
+    /// Largest request body in bytes.
+    #[arg(long, default_value_t = 64 << 20)]
+    max_body: usize,
+    /// Most steps in a mission.
+    #[arg(long, default_value_t = 2_000_000)]
+    max_steps: usize,
+    /// Most detections in a mission.
+    #[arg(long, default_value_t = 100_000)]
+    max_detections: usize,
+    /// Most queued jobs (then 429 with Retry-After).
+    #[arg(long, default_value_t = 1000)]
+    max_queue: i64,
+    /// Job time limit in seconds (default and largest allowed).
+    #[arg(long, default_value_t = 300.0)]
+    job_time_limit: f64,
+}
 
 /// Runs the subcommand.
-pub fn run(_args: Args) -> Result<(), CliError> {
-    Err(CliError("`nvector serve` is not implemented yet".into()))
+pub fn run(a: Args) -> Result<(), CliError> {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info".into()),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let api_keys = match &a.api_key_file {
+        Some(p) => std::fs::read_to_string(p)
+            .map_err(|e| CliError(format!("reading {}: {e}", p.display())))?
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            .map(str::to_string)
+            .collect(),
+        None => Default::default(),
+    };
+    if a.job_time_limit.is_nan() || a.job_time_limit <= 0.0 {
+        return Err(CliError("--job-time-limit must be > 0".into()));
+    }
+    let config = Config {
+        max_body: a.max_body,
+        max_steps: a.max_steps,
+        max_detections: a.max_detections,
+        max_queue: a.max_queue,
+        job_time_limit_s: a.job_time_limit,
+        static_dir: a.static_dir,
+        api_keys,
+        cors_origins: a.cors_origins,
+    };
+    let store = service::open_store(&a.database).map_err(CliError)?;
+    let workers = a
+        .workers
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| CliError(format!("starting the runtime: {e}")))?;
+    rt.block_on(service::serve(a.addr, store, config, workers))
+        .map_err(CliError)
 }

@@ -1,0 +1,187 @@
+//! The job workers: dedicated threads off the async runtime, one
+//! propagation each. A worker claims the oldest queued job from storage,
+//! runs it with a progress callback that persists progress regularly and
+//! checks for cancellation (DELETE) and the time limit, then stores the
+//! result. Idle workers wait on a condition variable, woken when a job is
+//! queued (and poll storage every second, for jobs queued by another
+//! process sharing the database).
+
+use super::store::{JobRow, Store};
+use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+/// Milliseconds since the Unix epoch.
+pub fn now_ms() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as i64)
+}
+
+/// Shared worker state: wake-ups, shutdown, metrics.
+pub struct Workers {
+    wake: Mutex<u64>,
+    cond: Condvar,
+    /// Set on shutdown: workers finish nothing new.
+    pub stopping: AtomicBool,
+    /// Job durations (ms) of finished jobs, for the histogram.
+    pub durations: Mutex<Vec<f64>>,
+    /// Jobs currently running in this process.
+    pub running: AtomicU64,
+}
+
+impl Workers {
+    /// New shared state.
+    pub fn new() -> Arc<Workers> {
+        Arc::new(Workers {
+            wake: Mutex::new(0),
+            cond: Condvar::new(),
+            stopping: AtomicBool::new(false),
+            durations: Mutex::new(Vec::new()),
+            running: AtomicU64::new(0),
+        })
+    }
+
+    /// Wakes one idle worker (a job was queued).
+    pub fn notify(&self) {
+        if let Ok(mut w) = self.wake.lock() {
+            *w += 1;
+        }
+        self.cond.notify_all();
+    }
+
+    fn wait(&self) {
+        if let Ok(g) = self.wake.lock() {
+            let _ = self.cond.wait_timeout(g, Duration::from_millis(500));
+        }
+    }
+}
+
+/// Starts `n` worker threads.
+pub fn start(
+    n: usize,
+    store: Arc<dyn Store>,
+    workers: Arc<Workers>,
+) -> Vec<std::thread::JoinHandle<()>> {
+    (0..n.max(1))
+        .map(|i| {
+            let store = store.clone();
+            let workers = workers.clone();
+            std::thread::Builder::new()
+                .name(format!("nvector-worker-{i}"))
+                .spawn(move || worker_loop(store, workers))
+                .expect("spawn worker thread")
+        })
+        .collect()
+}
+
+fn worker_loop(store: Arc<dyn Store>, workers: Arc<Workers>) {
+    while !workers.stopping.load(Ordering::SeqCst) {
+        match store.claim_job(now_ms()) {
+            Ok(Some(job)) => {
+                workers.running.fetch_add(1, Ordering::SeqCst);
+                let start = Instant::now();
+                run_job(&*store, &workers, job);
+                workers.running.fetch_sub(1, Ordering::SeqCst);
+                if let Ok(mut d) = workers.durations.lock() {
+                    d.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+            Ok(None) => workers.wait(),
+            Err(e) => {
+                tracing::error!("claiming a job: {e}");
+                std::thread::sleep(Duration::from_millis(500));
+            }
+        }
+    }
+}
+
+fn run_job(store: &dyn Store, workers: &Workers, job: JobRow) {
+    let body = match store.mission_body_any(&job.mission) {
+        Ok(Some(b)) => b,
+        Ok(None) => {
+            let _ = store.finish_job(
+                &job.id,
+                "failed",
+                None,
+                Some("the mission was deleted"),
+                now_ms(),
+            );
+            return;
+        }
+        Err(e) => {
+            tracing::error!("reading mission {}: {e}", job.mission);
+            let _ = store.finish_job(
+                &job.id,
+                "failed",
+                None,
+                Some("storage error reading the mission"),
+                now_ms(),
+            );
+            return;
+        }
+    };
+    let mission = match Mission::from_json(&body) {
+        Ok(m) => m,
+        Err(e) => {
+            let _ = store.finish_job(&job.id, "failed", None, Some(&e.to_string()), now_ms());
+            return;
+        }
+    };
+    let association = Association::parse(&job.contractor).unwrap_or(Association::None);
+    let options = SolveOptions {
+        association,
+        max_rounds: job.max_rounds.clamp(1, u32::MAX as i64) as u32,
+        tolerance: 1e-9,
+    };
+    let cancel = AtomicBool::new(false);
+    let start = Instant::now();
+    let limit = Duration::from_secs_f64(job.time_limit_s.max(0.001));
+    let mut last_saved = Instant::now() - Duration::from_secs(1);
+    let mut timed_out = false;
+    let mut progress = |p: &Progress| {
+        if last_saved.elapsed() >= Duration::from_millis(200) {
+            last_saved = Instant::now();
+            let _ = store.progress(
+                &job.id,
+                p.round as i64,
+                p.max_trajectory_diameter,
+                p.fraction,
+            );
+            if let Ok(Some(s)) = store.job_state(&job.id) {
+                if s == "cancelled" {
+                    cancel.store(true, Ordering::SeqCst);
+                }
+            }
+        }
+        if start.elapsed() > limit {
+            timed_out = true;
+            cancel.store(true, Ordering::SeqCst);
+        }
+        if workers.stopping.load(Ordering::SeqCst) {
+            cancel.store(true, Ordering::SeqCst);
+        }
+    };
+    let mut result = solve(&mission, &options, &mut progress, &cancel);
+    result["metrics"]["elapsed_ms"] = serde_json::json!(start.elapsed().as_secs_f64() * 1e3);
+    if workers.stopping.load(Ordering::SeqCst) && !timed_out {
+        // Shutting down mid-job: put it back for the next start.
+        let _ = store.requeue_one(&job.id);
+        return;
+    }
+    if matches!(store.job_state(&job.id), Ok(Some(s)) if s == "cancelled") {
+        return;
+    }
+    let text = result.to_string();
+    let error = timed_out.then(|| {
+        format!(
+            "time limit of {} s reached (partial, sound result kept)",
+            job.time_limit_s
+        )
+    });
+    if let Err(e) = store.finish_job(&job.id, "done", Some(&text), error.as_deref(), now_ms()) {
+        tracing::error!("storing the result of job {}: {e}", job.id);
+    }
+}

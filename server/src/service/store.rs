@@ -1,0 +1,439 @@
+//! Storage of missions and jobs behind one trait. The SQLite implementation
+//! is a real database file (created on first run, migrations applied on
+//! open). Jobs form the queue: a worker claims the oldest queued job with a
+//! single UPDATE, so a job runs once even with several workers.
+
+use rusqlite::{params, Connection, OptionalExtension};
+use std::sync::Mutex;
+
+/// A stored mission's summary.
+#[derive(Debug, Clone)]
+pub struct MissionRow {
+    /// Id.
+    pub id: String,
+    /// Name from the mission.
+    pub name: String,
+    /// N.
+    pub steps: i64,
+    /// Number of detections.
+    pub detections: i64,
+    /// Creation time (ms since epoch).
+    pub created: i64,
+}
+
+/// A job.
+#[derive(Debug, Clone)]
+pub struct JobRow {
+    /// Id.
+    pub id: String,
+    /// Mission id.
+    pub mission: String,
+    /// queued, running, done, failed, cancelled.
+    pub state: String,
+    /// Contractor name.
+    pub contractor: String,
+    /// Most rounds.
+    pub max_rounds: i64,
+    /// Time limit (s).
+    pub time_limit_s: f64,
+    /// Progress: round.
+    pub round: i64,
+    /// Progress: max trajectory diameter.
+    pub diameter: Option<f64>,
+    /// Progress: fraction.
+    pub fraction: f64,
+    /// Error message when failed.
+    pub error: Option<String>,
+    /// Creation, start and end times (ms since epoch).
+    pub created: i64,
+    /// Start time.
+    pub started: Option<i64>,
+    /// End time.
+    pub finished: Option<i64>,
+}
+
+/// Storage errors (the service answers 503/500 with no internals).
+#[derive(Debug, thiserror::Error)]
+#[error("storage: {0}")]
+pub struct StoreError(pub String);
+
+impl From<rusqlite::Error> for StoreError {
+    fn from(e: rusqlite::Error) -> Self {
+        StoreError(e.to_string())
+    }
+}
+
+/// Result alias.
+pub type StoreResult<T> = Result<T, StoreError>;
+
+/// Missions and jobs.
+pub trait Store: Send + Sync {
+    /// Whether the database answers.
+    fn ping(&self) -> StoreResult<()>;
+    /// Stores a mission (body = its JSON text).
+    fn insert_mission(&self, owner: &str, row: &MissionRow, body: &str) -> StoreResult<()>;
+    /// Missions of an owner, by creation, after an id, at most `limit`.
+    fn list_missions(
+        &self,
+        owner: &str,
+        after: Option<&str>,
+        limit: i64,
+    ) -> StoreResult<Vec<MissionRow>>;
+    /// A mission's JSON text.
+    fn mission_body(&self, owner: &str, id: &str) -> StoreResult<Option<String>>;
+    /// A mission's JSON text, whoever owns it (for workers).
+    fn mission_body_any(&self, id: &str) -> StoreResult<Option<String>>;
+    /// Puts one running job back in the queue (shutdown mid-job).
+    fn requeue_one(&self, id: &str) -> StoreResult<()>;
+    /// Deletes a mission and its jobs; false when absent.
+    fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool>;
+    /// Queues a job.
+    fn insert_job(&self, owner: &str, job: &JobRow) -> StoreResult<()>;
+    /// A job.
+    fn job(&self, owner: &str, id: &str) -> StoreResult<Option<JobRow>>;
+    /// Number of queued jobs.
+    fn queued_count(&self) -> StoreResult<i64>;
+    /// Claims the oldest queued job (state -> running), if any.
+    fn claim_job(&self, now: i64) -> StoreResult<Option<JobRow>>;
+    /// Records progress of a running job.
+    fn progress(&self, id: &str, round: i64, diameter: f64, fraction: f64) -> StoreResult<()>;
+    /// Ends a job: state done/failed/cancelled, with its result or error.
+    fn finish_job(
+        &self,
+        id: &str,
+        state: &str,
+        result: Option<&str>,
+        error: Option<&str>,
+        now: i64,
+    ) -> StoreResult<()>;
+    /// Marks a queued or running job cancelled; false when absent or ended.
+    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<String>>;
+    /// The state of a job (any owner), for workers checking cancellation.
+    fn job_state(&self, id: &str) -> StoreResult<Option<String>>;
+    /// A job's result JSON text.
+    fn result(&self, owner: &str, id: &str) -> StoreResult<Option<String>>;
+    /// Puts running jobs back in the queue (after a crash); returns how many.
+    fn requeue_running(&self) -> StoreResult<usize>;
+    /// Job counts by state.
+    fn counts(&self) -> StoreResult<Vec<(String, i64)>>;
+}
+
+/// SQLite storage: one connection behind a mutex (SQLite serialises
+/// writers anyway), WAL journal.
+pub struct SqliteStore {
+    conn: Mutex<Connection>,
+}
+
+const MIGRATIONS: &[&str] = &[
+    "CREATE TABLE IF NOT EXISTS missions (
+        id TEXT PRIMARY KEY, owner TEXT NOT NULL, name TEXT NOT NULL,
+        steps INTEGER NOT NULL, detections INTEGER NOT NULL,
+        body TEXT NOT NULL, created INTEGER NOT NULL, seq INTEGER NOT NULL)",
+    "CREATE TABLE IF NOT EXISTS jobs (
+        id TEXT PRIMARY KEY, owner TEXT NOT NULL, mission TEXT NOT NULL,
+        state TEXT NOT NULL, contractor TEXT NOT NULL, max_rounds INTEGER NOT NULL,
+        time_limit_s REAL NOT NULL, round INTEGER NOT NULL DEFAULT 0,
+        diameter REAL, fraction REAL NOT NULL DEFAULT 0, error TEXT, result TEXT,
+        created INTEGER NOT NULL, started INTEGER, finished INTEGER, seq INTEGER NOT NULL)",
+    "CREATE INDEX IF NOT EXISTS jobs_state ON jobs (state, seq)",
+    "CREATE INDEX IF NOT EXISTS missions_owner ON missions (owner, seq)",
+];
+
+impl SqliteStore {
+    /// Opens (creating) the database file and applies the migrations.
+    pub fn open(path: &str) -> StoreResult<SqliteStore> {
+        if let Some(dir) = std::path::Path::new(path).parent() {
+            if !dir.as_os_str().is_empty() {
+                std::fs::create_dir_all(dir)
+                    .map_err(|e| StoreError(format!("creating {}: {e}", dir.display())))?;
+            }
+        }
+        let conn = Connection::open(path)?;
+        conn.busy_timeout(std::time::Duration::from_secs(5))?;
+        conn.pragma_update(None, "journal_mode", "WAL")?;
+        conn.pragma_update(None, "synchronous", "NORMAL")?;
+        let version: i64 = conn.pragma_query_value(None, "user_version", |r| r.get(0))?;
+        for (i, m) in MIGRATIONS.iter().enumerate() {
+            if (i as i64) >= version {
+                conn.execute_batch(m)?;
+            }
+        }
+        conn.pragma_update(None, "user_version", MIGRATIONS.len() as i64)?;
+        Ok(SqliteStore {
+            conn: Mutex::new(conn),
+        })
+    }
+
+    fn with<T>(&self, f: impl FnOnce(&Connection) -> rusqlite::Result<T>) -> StoreResult<T> {
+        let c = self
+            .conn
+            .lock()
+            .map_err(|_| StoreError("poisoned connection".into()))?;
+        Ok(f(&c)?)
+    }
+}
+
+fn job_from_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<JobRow> {
+    Ok(JobRow {
+        id: r.get(0)?,
+        mission: r.get(1)?,
+        state: r.get(2)?,
+        contractor: r.get(3)?,
+        max_rounds: r.get(4)?,
+        time_limit_s: r.get(5)?,
+        round: r.get(6)?,
+        diameter: r.get(7)?,
+        fraction: r.get(8)?,
+        error: r.get(9)?,
+        created: r.get(10)?,
+        started: r.get(11)?,
+        finished: r.get(12)?,
+    })
+}
+
+const JOB_COLUMNS: &str =
+    "id, mission, state, contractor, max_rounds, time_limit_s, round, diameter, fraction, error, created, started, finished";
+
+impl Store for SqliteStore {
+    fn ping(&self) -> StoreResult<()> {
+        self.with(|c| c.query_row("SELECT 1", [], |_| Ok(())))
+    }
+
+    fn insert_mission(&self, owner: &str, m: &MissionRow, body: &str) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "INSERT INTO missions (id, owner, name, steps, detections, body, created, seq)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, (SELECT COALESCE(MAX(seq), 0) + 1 FROM missions))",
+                params![m.id, owner, m.name, m.steps, m.detections, body, m.created],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn list_missions(
+        &self,
+        owner: &str,
+        after: Option<&str>,
+        limit: i64,
+    ) -> StoreResult<Vec<MissionRow>> {
+        self.with(|c| {
+            let after_seq: i64 = match after {
+                Some(a) => c
+                    .query_row(
+                        "SELECT seq FROM missions WHERE id = ?1 AND owner = ?2",
+                        params![a, owner],
+                        |r| r.get(0),
+                    )
+                    .optional()?
+                    .unwrap_or(i64::MAX),
+                None => 0,
+            };
+            let mut st = c.prepare(
+                "SELECT id, name, steps, detections, created FROM missions
+                 WHERE owner = ?1 AND seq > ?2 ORDER BY seq LIMIT ?3",
+            )?;
+            let rows = st.query_map(params![owner, after_seq, limit], |r| {
+                Ok(MissionRow {
+                    id: r.get(0)?,
+                    name: r.get(1)?,
+                    steps: r.get(2)?,
+                    detections: r.get(3)?,
+                    created: r.get(4)?,
+                })
+            })?;
+            rows.collect()
+        })
+    }
+
+    fn mission_body(&self, owner: &str, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            c.query_row(
+                "SELECT body FROM missions WHERE id = ?1 AND owner = ?2",
+                params![id, owner],
+                |r| r.get(0),
+            )
+            .optional()
+        })
+    }
+
+    fn mission_body_any(&self, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            c.query_row(
+                "SELECT body FROM missions WHERE id = ?1",
+                params![id],
+                |r| r.get(0),
+            )
+            .optional()
+        })
+    }
+
+    fn requeue_one(&self, id: &str) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute("UPDATE jobs SET state = 'queued', started = NULL WHERE id = ?1 AND state = 'running'", params![id])
+                .map(|_| ())
+        })
+    }
+
+    fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool> {
+        self.with(|c| {
+            let n = c.execute("DELETE FROM missions WHERE id = ?1 AND owner = ?2", params![id, owner])?;
+            if n > 0 {
+                c.execute("UPDATE jobs SET state = 'cancelled' WHERE mission = ?1 AND state IN ('queued', 'running')", params![id])?;
+                c.execute("DELETE FROM jobs WHERE mission = ?1", params![id])?;
+            }
+            Ok(n > 0)
+        })
+    }
+
+    fn insert_job(&self, owner: &str, j: &JobRow) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "INSERT INTO jobs (id, owner, mission, state, contractor, max_rounds, time_limit_s, created, seq)
+                 VALUES (?1, ?2, ?3, 'queued', ?4, ?5, ?6, ?7, (SELECT COALESCE(MAX(seq), 0) + 1 FROM jobs))",
+                params![j.id, owner, j.mission, j.contractor, j.max_rounds, j.time_limit_s, j.created],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn job(&self, owner: &str, id: &str) -> StoreResult<Option<JobRow>> {
+        self.with(|c| {
+            c.query_row(
+                &format!("SELECT {JOB_COLUMNS} FROM jobs WHERE id = ?1 AND owner = ?2"),
+                params![id, owner],
+                job_from_row,
+            )
+            .optional()
+        })
+    }
+
+    fn queued_count(&self) -> StoreResult<i64> {
+        self.with(|c| {
+            c.query_row(
+                "SELECT COUNT(*) FROM jobs WHERE state = 'queued'",
+                [],
+                |r| r.get(0),
+            )
+        })
+    }
+
+    fn claim_job(&self, now: i64) -> StoreResult<Option<JobRow>> {
+        self.with(|c| {
+            c.query_row(
+                &format!(
+                    "UPDATE jobs SET state = 'running', started = ?1
+                     WHERE id = (SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1)
+                     RETURNING {JOB_COLUMNS}"
+                ),
+                params![now],
+                job_from_row,
+            )
+            .optional()
+        })
+    }
+
+    fn progress(&self, id: &str, round: i64, diameter: f64, fraction: f64) -> StoreResult<()> {
+        let d = if diameter.is_finite() {
+            Some(diameter)
+        } else {
+            None
+        };
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET round = ?2, diameter = ?3, fraction = ?4 WHERE id = ?1 AND state = 'running'",
+                params![id, round, d, fraction],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn finish_job(
+        &self,
+        id: &str,
+        state: &str,
+        result: Option<&str>,
+        error: Option<&str>,
+        now: i64,
+    ) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET state = ?2, result = ?3, error = ?4, finished = ?5,
+                 fraction = CASE WHEN ?2 = 'done' THEN 1 ELSE fraction END
+                 WHERE id = ?1 AND state = 'running'",
+                params![id, state, result, error, now],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            let state: Option<String> = c
+                .query_row("SELECT state FROM jobs WHERE id = ?1 AND owner = ?2", params![id, owner], |r| r.get(0))
+                .optional()?;
+            if let Some(s) = &state {
+                if s == "queued" || s == "running" {
+                    c.execute(
+                        "UPDATE jobs SET state = 'cancelled', finished = ?2 WHERE id = ?1 AND state IN ('queued', 'running')",
+                        params![id, now],
+                    )?;
+                }
+            }
+            Ok(state)
+        })
+    }
+
+    fn job_state(&self, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            c.query_row("SELECT state FROM jobs WHERE id = ?1", params![id], |r| {
+                r.get(0)
+            })
+            .optional()
+        })
+    }
+
+    fn result(&self, owner: &str, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            c.query_row(
+                "SELECT result FROM jobs WHERE id = ?1 AND owner = ?2",
+                params![id, owner],
+                |r| r.get(0),
+            )
+            .optional()
+            .map(Option::flatten)
+        })
+    }
+
+    fn requeue_running(&self) -> StoreResult<usize> {
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET state = 'queued', started = NULL WHERE state = 'running'",
+                [],
+            )
+        })
+    }
+
+    fn counts(&self) -> StoreResult<Vec<(String, i64)>> {
+        self.with(|c| {
+            let mut st =
+                c.prepare("SELECT state, COUNT(*) FROM jobs GROUP BY state ORDER BY state")?;
+            let rows = st.query_map([], |r| Ok((r.get(0)?, r.get(1)?)))?;
+            rows.collect()
+        })
+    }
+}
+
+/// A summary of a mission value for listing.
+pub fn mission_row(
+    id: String,
+    m: &nvector_core::slam::mission::Mission,
+    created: i64,
+) -> MissionRow {
+    MissionRow {
+        id,
+        name: m.name.clone(),
+        steps: m.steps as i64,
+        detections: m.detections.len() as i64,
+        created,
+    }
+}

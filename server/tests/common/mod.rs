@@ -1,0 +1,206 @@
+//! Test harness: the real `nvector serve` binary on a free loopback port
+//! with a fresh SQLite file, and a minimal HTTP/1.1 client over a real
+//! socket (raw, so that malformed requests can be sent too).
+#![allow(dead_code)]
+
+use serde_json::Value;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A running service.
+pub struct Server {
+    pub child: Child,
+    pub addr: String,
+    pub dir: PathBuf,
+    pub db: String,
+}
+
+impl Server {
+    /// Starts `nvector serve` on 127.0.0.1:0 with a new database in a new
+    /// temporary directory, plus extra flags.
+    pub fn start(extra: &[&str]) -> Server {
+        let dir = std::env::temp_dir().join(format!(
+            "nvector-http-{}-{}",
+            std::process::id(),
+            uuid_like()
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        let db = format!("sqlite://{}", dir.join("nvector.db").display());
+        Server::start_with(dir, db, extra)
+    }
+
+    /// Starts on an existing directory and database (restart tests).
+    pub fn start_with(dir: PathBuf, db: String, extra: &[&str]) -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_nvector"))
+            .args([
+                "serve",
+                "--addr",
+                "127.0.0.1:0",
+                "--database",
+                &db,
+                "--static-dir",
+            ])
+            .arg(dir.join("www"))
+            .args(extra)
+            .env("RUST_LOG", "warn")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("start nvector serve");
+        let stdout = child.stdout.take().unwrap();
+        let mut line = String::new();
+        BufReader::new(stdout).read_line(&mut line).unwrap();
+        let addr = line
+            .trim()
+            .strip_prefix("nvector serving on http://")
+            .unwrap_or_else(|| panic!("unexpected first line: {line}"))
+            .to_string();
+        Server {
+            child,
+            addr,
+            dir,
+            db,
+        }
+    }
+
+    /// One request; returns (status, headers, body).
+    pub fn raw(&self, request: &[u8]) -> (u16, String, Vec<u8>) {
+        let mut s = TcpStream::connect(&self.addr).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        s.write_all(request).unwrap();
+        let mut buf = Vec::new();
+        let _ = s.read_to_end(&mut buf);
+        parse_response(&buf)
+    }
+
+    /// A request with an optional body and content type.
+    pub fn req(
+        &self,
+        method: &str,
+        path: &str,
+        body: Option<(&str, &[u8])>,
+        headers: &[(&str, &str)],
+    ) -> (u16, String, Vec<u8>) {
+        let mut r = format!(
+            "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\n",
+            self.addr
+        );
+        for (k, v) in headers {
+            r.push_str(&format!("{k}: {v}\r\n"));
+        }
+        let mut bytes = Vec::new();
+        match body {
+            Some((ctype, b)) => {
+                r.push_str(&format!(
+                    "Content-Type: {ctype}\r\nContent-Length: {}\r\n\r\n",
+                    b.len()
+                ));
+                bytes.extend_from_slice(r.as_bytes());
+                bytes.extend_from_slice(b);
+            }
+            None => {
+                r.push_str("\r\n");
+                bytes.extend_from_slice(r.as_bytes());
+            }
+        }
+        self.raw(&bytes)
+    }
+
+    pub fn get(&self, path: &str) -> (u16, Value) {
+        let (st, _, b) = self.req("GET", path, None, &[]);
+        (st, serde_json::from_slice(&b).unwrap_or(Value::Null))
+    }
+
+    pub fn post(&self, path: &str, v: &Value) -> (u16, Value) {
+        let body = v.to_string();
+        let (st, _, b) = self.req(
+            "POST",
+            path,
+            Some(("application/json", body.as_bytes())),
+            &[],
+        );
+        (st, serde_json::from_slice(&b).unwrap_or(Value::Null))
+    }
+
+    /// Polls a job until it ends.
+    pub fn wait_job(&self, id: &str, limit: Duration) -> Value {
+        let start = Instant::now();
+        loop {
+            let (st, j) = self.get(&format!("/api/v1/jobs/{id}"));
+            assert_eq!(st, 200, "{j}");
+            if matches!(j["state"].as_str(), Some("done" | "failed" | "cancelled")) {
+                return j;
+            }
+            assert!(
+                start.elapsed() < limit,
+                "job {id} did not end in {limit:?}: {j}"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn uuid_like() -> String {
+    format!(
+        "{:x}",
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos()
+    )
+}
+
+/// Parses an HTTP/1.1 response (content-length or chunked).
+pub fn parse_response(buf: &[u8]) -> (u16, String, Vec<u8>) {
+    let split = buf
+        .windows(4)
+        .position(|w| w == b"\r\n\r\n")
+        .expect("a complete response head");
+    let head = String::from_utf8_lossy(&buf[..split]).to_string();
+    let status: u16 = head.split_whitespace().nth(1).unwrap().parse().unwrap();
+    let rest = &buf[split + 4..];
+    let chunked = head
+        .to_ascii_lowercase()
+        .contains("transfer-encoding: chunked");
+    let body = if chunked {
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < rest.len() {
+            let Some(eol) = rest[i..].windows(2).position(|w| w == b"\r\n") else {
+                break;
+            };
+            let size = usize::from_str_radix(String::from_utf8_lossy(&rest[i..i + eol]).trim(), 16)
+                .unwrap_or(0);
+            i += eol + 2;
+            if size == 0 {
+                break;
+            }
+            out.extend_from_slice(&rest[i..(i + size).min(rest.len())]);
+            i += size + 2;
+        }
+        out
+    } else {
+        rest.to_vec()
+    };
+    (status, head, body)
+}
+
+/// A small simulated paper mission.
+pub fn small_mission(seed: u64, steps: usize) -> Value {
+    let mut o = nvector_core::slam::simulate::SimulateOptions::new(
+        nvector_core::slam::simulate::Scenario::Paper,
+        seed,
+    );
+    o.steps = Some(steps);
+    nvector_core::slam::simulate::simulate(&o)
+}

@@ -1,0 +1,419 @@
+//! The REST API of spec/api.md over a real socket, against the real binary
+//! on a real SQLite file.
+
+mod common;
+
+use common::{small_mission, Server};
+use serde_json::{json, Value};
+use std::time::Duration;
+
+#[test]
+fn missions_jobs_results() {
+    let s = Server::start(&["--workers", "2"]);
+    assert_eq!(s.req("GET", "/healthz", None, &[]).0, 200);
+    assert_eq!(s.req("GET", "/readyz", None, &[]).0, 200);
+
+    // Upload as JSON.
+    let mission = small_mission(5, 2500);
+    let (st, m) = s.post("/api/v1/missions", &mission);
+    assert_eq!(st, 201, "{m}");
+    let id = m["id"].as_str().unwrap().to_string();
+    assert_eq!(m["steps"], 2500);
+    assert_eq!(
+        m["detections"],
+        mission["detections"].as_array().unwrap().len()
+    );
+    // Stored as uploaded.
+    let (st, back) = s.get(&format!("/api/v1/missions/{id}"));
+    assert_eq!(st, 200);
+    assert_eq!(back, mission);
+
+    // Upload as multipart.
+    let text = small_mission(6, 1000).to_string();
+    let body = format!(
+        "--XyZ\r\nContent-Disposition: form-data; name=\"file\"; filename=\"m.json\"\r\nContent-Type: application/json\r\n\r\n{text}\r\n--XyZ--\r\n"
+    );
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("multipart/form-data; boundary=XyZ", body.as_bytes())),
+        &[],
+    );
+    assert_eq!(st, 201, "{}", String::from_utf8_lossy(&b));
+
+    // Listing with paging.
+    let (st, page1) = s.get("/api/v1/missions?limit=1");
+    assert_eq!(st, 200);
+    assert_eq!(page1["missions"].as_array().unwrap().len(), 1);
+    let next = page1["next"].as_str().unwrap();
+    let (_, page2) = s.get(&format!("/api/v1/missions?limit=10&after={next}"));
+    assert_eq!(page2["missions"].as_array().unwrap().len(), 1);
+    assert_ne!(page1["missions"][0]["id"], page2["missions"][0]["id"]);
+
+    // A job to the end, with its events.
+    let (st, job) = s.post(
+        "/api/v1/jobs",
+        &json!({"mission": id, "contractor": "projection"}),
+    );
+    assert_eq!(st, 202, "{job}");
+    assert_eq!(job["state"], "queued");
+    let jid = job["id"].as_str().unwrap().to_string();
+    let (st, head, events) = s.req("GET", &format!("/api/v1/jobs/{jid}/events"), None, &[]);
+    assert_eq!(st, 200);
+    assert!(head.to_ascii_lowercase().contains("text/event-stream"));
+    let events = String::from_utf8_lossy(&events);
+    assert!(
+        events.contains("event: end"),
+        "the stream ends with the job: {events}"
+    );
+    let done = s.wait_job(&jid, Duration::from_secs(60));
+    assert_eq!(done["state"], "done", "{done}");
+    assert_eq!(done["progress"]["fraction"], 1.0);
+    let (st, result) = s.get(&format!("/api/v1/jobs/{jid}/result"));
+    assert_eq!(st, 200);
+    assert_eq!(result["format"], "nvector-result/1");
+    assert_eq!(result["score"]["truth_inside"], true);
+    assert_eq!(result["trajectory"].as_array().unwrap().len(), 2501);
+    let (st, _, csv) = s.req(
+        "GET",
+        &format!("/api/v1/jobs/{jid}/result?format=csv"),
+        None,
+        &[],
+    );
+    assert_eq!(st, 200);
+    let csv = String::from_utf8(csv).unwrap();
+    assert!(csv.starts_with("step,x_lo,x_hi,y_lo,y_hi\n"));
+    assert_eq!(csv.lines().count(), 2502);
+    let (st, _, svg) = s.req(
+        "GET",
+        &format!("/api/v1/jobs/{jid}/result?format=svg"),
+        None,
+        &[],
+    );
+    assert_eq!(st, 200);
+    assert!(String::from_utf8_lossy(&svg).starts_with("<svg"));
+
+    // Metrics count the finished job and the requests.
+    let (_, _, metrics) = s.req("GET", "/metrics", None, &[]);
+    let metrics = String::from_utf8(metrics).unwrap();
+    assert!(
+        metrics.contains("nvector_jobs{state=\"done\"} 1"),
+        "{metrics}"
+    );
+    assert!(
+        metrics.contains("nvector_http_requests{route=\"/api/v1/missions\",status=\"201\"} 2"),
+        "{metrics}"
+    );
+
+    // Delete the mission: its jobs go with it.
+    assert_eq!(
+        s.req("DELETE", &format!("/api/v1/missions/{id}"), None, &[])
+            .0,
+        204
+    );
+    assert_eq!(s.get(&format!("/api/v1/missions/{id}")).0, 404);
+    assert_eq!(s.get(&format!("/api/v1/jobs/{jid}")).0, 404);
+    assert_eq!(
+        s.req("DELETE", &format!("/api/v1/missions/{id}"), None, &[])
+            .0,
+        404
+    );
+}
+
+#[test]
+fn cancel_a_long_job() {
+    let s = Server::start(&["--workers", "1"]);
+    let (_, m) = s.post("/api/v1/simulate", &json!({"scenario": "auv", "seed": 2}));
+    let id = m["id"].as_str().unwrap();
+    // Three long jobs on one worker: the later ones wait in the queue.
+    let ids: Vec<String> = (0..3)
+        .map(|_| {
+            s.post(
+                "/api/v1/jobs",
+                &json!({"mission": id, "contractor": "best"}),
+            )
+            .1["id"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    let (st, _, c) = s.req("DELETE", &format!("/api/v1/jobs/{}", ids[2]), None, &[]);
+    assert_eq!(st, 202, "{}", String::from_utf8_lossy(&c));
+    let j = s.wait_job(&ids[2], Duration::from_secs(5));
+    assert_eq!(j["state"], "cancelled");
+    assert_eq!(s.get(&format!("/api/v1/jobs/{}/result", ids[2])).0, 409);
+    assert_eq!(s.req("DELETE", "/api/v1/jobs/j-nope", None, &[]).0, 404);
+    for id in &ids[..2] {
+        assert_eq!(s.wait_job(id, Duration::from_secs(120))["state"], "done");
+    }
+}
+
+#[test]
+fn contract_and_simulate_endpoints() {
+    let s = Server::start(&[]);
+    let (st, r) = s.post(
+        "/api/v1/contract",
+        &json!({"format": "nvector-contract/1", "n": 2, "boxes": [[[0, 2], [0, 2]], [[1, 3], [1, 3]], [[5, 6], [5, 6]]]}),
+    );
+    assert_eq!(st, 200, "{r}");
+    assert_eq!(r["groups"], json!([[0, 1], [2]]));
+    let (st, r) = s.post(
+        "/api/v1/contract",
+        &json!({"format": "nvector-contract/1", "n": 2, "boxes": [[[3, 2]]]}),
+    );
+    assert_eq!(st, 422);
+    assert_eq!(r["error"]["path"], "boxes[0][0]");
+    let (st, r) = s.post(
+        "/api/v1/simulate",
+        &json!({"scenario": "paper", "seed": 3, "steps": 500}),
+    );
+    assert_eq!(st, 201, "{r}");
+    assert_eq!(r["mission"]["format"], "nvector-mission/1");
+    assert_eq!(
+        s.get(&format!("/api/v1/missions/{}", r["id"].as_str().unwrap()))
+            .0,
+        200
+    );
+    let (st, r) = s.post("/api/v1/simulate", &json!({"scenario": "moon"}));
+    assert_eq!((st, r["error"]["path"].as_str()), (422, Some("scenario")));
+}
+
+#[test]
+fn malformed_requests_get_4xx_naming_the_problem() {
+    let s = Server::start(&[
+        "--max-steps",
+        "100000",
+        "--max-queue",
+        "1",
+        "--workers",
+        "1",
+    ]);
+    let mission = small_mission(1, 300);
+    let check = |st: u16, body: &[u8], code: &str| {
+        assert!(
+            (400..500).contains(&st),
+            "status {st}: {}",
+            String::from_utf8_lossy(body)
+        );
+        let v: Value = serde_json::from_slice(body)
+            .unwrap_or_else(|_| panic!("JSON error body: {}", String::from_utf8_lossy(body)));
+        assert_eq!(v["error"]["code"], code, "{v}");
+        v
+    };
+    // Broken JSON, NaN and Infinity literals.
+    for text in ["{\"format\": ", "{\"dt\": NaN}", "[Infinity]"] {
+        let (st, _, b) = s.req(
+            "POST",
+            "/api/v1/missions",
+            Some(("application/json", text.as_bytes())),
+            &[],
+        );
+        check(st, &b, "invalid_json");
+    }
+    // Wrong types and lo > hi, with the path.
+    let mut m = mission.clone();
+    m["dt"] = json!("fast");
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("application/json", m.to_string().as_bytes())),
+        &[],
+    );
+    assert_eq!(check(st, &b, "invalid_mission")["error"]["path"], "dt");
+    let mut m = mission.clone();
+    m["detections"][0]["range"] = json!([9, 1]);
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("application/json", m.to_string().as_bytes())),
+        &[],
+    );
+    let v = check(st, &b, "invalid_mission");
+    assert_eq!(v["error"]["path"], "detections[0].range");
+    assert!(v["error"]["message"]
+        .as_str()
+        .unwrap()
+        .contains("lower bound 9 is above upper bound 1"));
+    // Too many steps for this service.
+    let mut m = mission.clone();
+    m["steps"] = json!(200_000);
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("application/json", m.to_string().as_bytes())),
+        &[],
+    );
+    assert_eq!(check(st, &b, "too_large")["error"]["path"], "steps");
+    // Wrong content type; truncated multipart; multipart without file.
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("text/plain", b"hello")),
+        &[],
+    );
+    check(st, &b, "unsupported_media_type");
+    let trunc = b"--XyZ\r\nContent-Disposition: form-data; name=\"file\"\r\n\r\n{\"format\"";
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("multipart/form-data; boundary=XyZ", trunc)),
+        &[],
+    );
+    assert!(
+        (400..500).contains(&st),
+        "truncated multipart: {st} {}",
+        String::from_utf8_lossy(&b)
+    );
+    let nofile = b"--XyZ\r\nContent-Disposition: form-data; name=\"other\"\r\n\r\nx\r\n--XyZ--\r\n";
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("multipart/form-data; boundary=XyZ", nofile)),
+        &[],
+    );
+    check(st, &b, "invalid_multipart");
+    // Unknown ids, unknown endpoint, bad job fields.
+    let (st, _, b) = s.req("GET", "/api/v1/missions/m-nope", None, &[]);
+    check(st, &b, "not_found");
+    let (st, _, b) = s.req("GET", "/api/v1/nothing", None, &[]);
+    check(st, &b, "not_found");
+    let (st, v) = s.post("/api/v1/jobs", &json!({"mission": "m-nope"}));
+    assert_eq!((st, v["error"]["path"].as_str()), (404, Some("mission")));
+    let (_, created) = s.post("/api/v1/missions", &mission);
+    let mid = created["id"].as_str().unwrap();
+    let (st, v) = s.post(
+        "/api/v1/jobs",
+        &json!({"mission": mid, "contractor": "magic"}),
+    );
+    assert_eq!((st, v["error"]["path"].as_str()), (422, Some("contractor")));
+    let (st, v) = s.post("/api/v1/jobs", &json!({"mission": mid, "max_rounds": -3}));
+    assert_eq!((st, v["error"]["path"].as_str()), (422, Some("max_rounds")));
+    let (st, v) = s.post("/api/v1/jobs", &json!({"mission": mid, "colour": "red"}));
+    assert_eq!((st, v["error"]["path"].as_str()), (422, Some("colour")));
+    let (st, _, b) = s.req("GET", "/api/v1/missions?limit=zero", None, &[]);
+    check(st, &b, "invalid_query");
+    // The queue limit: 429 with Retry-After once one job waits.
+    let (_, auv) = s.post(
+        "/api/v1/simulate",
+        &json!({"scenario": "auv", "seed": 1, "steps": 60000}),
+    );
+    let aid = auv["id"].as_str().unwrap();
+    let mut saw_429 = false;
+    for _ in 0..6 {
+        let body = json!({"mission": aid}).to_string();
+        let (st, head, _) = s.req(
+            "POST",
+            "/api/v1/jobs",
+            Some(("application/json", body.as_bytes())),
+            &[],
+        );
+        if st == 429 {
+            assert!(
+                head.to_ascii_lowercase().contains("retry-after: 5"),
+                "{head}"
+            );
+            saw_429 = true;
+            break;
+        }
+        assert_eq!(st, 202);
+    }
+    assert!(saw_429, "the queue limit of 1 was never reached");
+    // Nothing stored was lost along the way.
+    assert_eq!(s.get(&format!("/api/v1/missions/{mid}")).1, mission);
+}
+
+#[test]
+fn api_keys_separate_owners() {
+    let dir = std::env::temp_dir().join(format!("nvector-keys-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let keys = dir.join("keys.txt");
+    std::fs::write(&keys, "alpha\nbeta\n").unwrap();
+    let s = Server::start(&["--api-key-file", keys.to_str().unwrap()]);
+    let body = small_mission(2, 200).to_string();
+    let (st, _, _) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("application/json", body.as_bytes())),
+        &[],
+    );
+    assert_eq!(st, 401);
+    let (st, _, _) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("application/json", body.as_bytes())),
+        &[("Authorization", "Bearer gamma")],
+    );
+    assert_eq!(st, 401);
+    let (st, _, b) = s.req(
+        "POST",
+        "/api/v1/missions",
+        Some(("application/json", body.as_bytes())),
+        &[("Authorization", "Bearer alpha")],
+    );
+    assert_eq!(st, 201);
+    let id = serde_json::from_slice::<Value>(&b).unwrap()["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let path = format!("/api/v1/missions/{id}");
+    assert_eq!(
+        s.req("GET", &path, None, &[("Authorization", "Bearer alpha")])
+            .0,
+        200
+    );
+    assert_eq!(
+        s.req("GET", &path, None, &[("Authorization", "Bearer beta")])
+            .0,
+        404
+    );
+    assert_eq!(
+        s.req("DELETE", &path, None, &[("Authorization", "Bearer beta")])
+            .0,
+        404
+    );
+    assert_eq!(
+        s.req("GET", &path, None, &[("Authorization", "Bearer alpha")])
+            .0,
+        200
+    );
+}
+
+#[test]
+fn static_files_cannot_escape_their_directory() {
+    let s = Server::start(&[]);
+    let www = s.dir.join("www");
+    // No page yet: the built-in one.
+    let (st, _, b) = s.req("GET", "/", None, &[]);
+    assert_eq!(st, 200);
+    assert!(String::from_utf8_lossy(&b).contains("not built"));
+    drop(s);
+    std::fs::create_dir_all(&www).unwrap();
+    std::fs::write(www.join("index.html"), "<h1>page</h1>").unwrap();
+    std::fs::write(www.parent().unwrap().join("secret.txt"), "top secret").unwrap();
+    let s = Server::start_with(
+        www.parent().unwrap().to_path_buf(),
+        format!(
+            "sqlite://{}",
+            www.parent().unwrap().join("db2.db").display()
+        ),
+        &[],
+    );
+    let (st, _, b) = s.req("GET", "/", None, &[]);
+    assert_eq!(
+        (st, String::from_utf8_lossy(&b).contains("<h1>page</h1>")),
+        (200, true)
+    );
+    for p in [
+        "/../secret.txt",
+        "/..%2fsecret.txt",
+        "/%2e%2e/secret.txt",
+        "/a/../../secret.txt",
+    ] {
+        let (st, _, b) = s.req("GET", p, None, &[]);
+        assert!(
+            !String::from_utf8_lossy(&b).contains("top secret"),
+            "{p} leaked the file ({st})"
+        );
+    }
+}
