@@ -1,10 +1,28 @@
 #!/usr/bin/env bash
-# Builds the wasm facade and the page (`build`) and runs the browser tests
-# (`test`). OWNER: helper D.
+# Builds the wasm facade into the page (`build`) and runs the browser tests
+# (`test`): the facade in headless Chromium (wasm-bindgen-test), checked bit
+# for bit against the native build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+build() {
+  cargo build -p nvector-web --profile wasm-release --target wasm32-unknown-unknown
+  wasm-bindgen --target web --no-typescript --remove-name-section --remove-producers-section --out-dir web/www/pkg \
+    target/wasm32-unknown-unknown/wasm-release/nvector_web.wasm
+  echo "web: $(stat -c %s web/www/pkg/nvector_web_bg.wasm) bytes of wasm in web/www/pkg"
+}
+
 case "${1:-}" in
-  build) ;;
-  test) ;;
+  build) build ;;
+  test)
+    build
+    # Native outputs that the browser must reproduce bit for bit.
+    cargo test -p nvector-web --test native_reference
+    export CHROMEDRIVER="${CHROMEDRIVER:-$(command -v chromedriver)}"
+    CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
+      cargo test -p nvector-web --target wasm32-unknown-unknown --test wasm
+    # The page end to end (server/tests/browser.rs) runs with the other
+    # Rust tests in `cargo test --workspace`, after this build.
+    ;;
   *) echo "usage: scripts/web.sh build|test" >&2; exit 2 ;;
 esac

@@ -1,0 +1,34 @@
+//! Writes target/web-reference.json: inputs and the native outputs that the
+//! wasm test (tests/wasm.rs, in headless Chromium) must reproduce bit for
+//! bit. Also checks the facade natively.
+#![cfg(not(target_arch = "wasm32"))]
+
+use nvector_web::{contract_with_kernels, run_mission, simulate_json};
+use serde_json::{json, Value};
+
+#[test]
+fn native_reference() {
+    let contract_inputs = [
+        json!({"format": "nvector-contract/1", "n": 2, "boxes": [[[0, 2], [0, 2]], [[1, 3], [1, 3]], [[5, 6], [5, 6]]]}),
+        json!({"format": "nvector-contract/1", "n": 3, "contractor": "independent", "boxes": [[[0, 1], [0, 1]], [[4, 5], [2, 3]], [[2, 3], [4, 5]], [[0.5, 2.5], [0.5, 2.5]]]}),
+        json!({"format": "nvector-contract/1", "n": 2, "contractor": "exact", "boxes": [[[1, 6], [2, 6]], [[3, 5], [6, 9]], [[4, 10], [1, 4]], [[5, 9], [3, 7]], [[9, 11], [0, 5]]]}),
+    ];
+    let mut cases = Vec::new();
+    for c in &contract_inputs {
+        let out = contract_with_kernels(c).unwrap();
+        cases.push(json!({"kind": "contract", "input": c.to_string(), "output": out.to_string()}));
+    }
+    let sim = json!({"scenario": "paper", "seed": 9, "steps": 1500});
+    let mission = simulate_json(&sim).unwrap();
+    cases
+        .push(json!({"kind": "simulate", "input": sim.to_string(), "output": mission.to_string()}));
+    for contractor in ["none", "projection", "independent"] {
+        let out = run_mission(&mission, contractor, &mut |_| {}).unwrap();
+        assert_eq!(out["score"]["truth_inside"], true);
+        cases.push(json!({"kind": "run", "contractor": contractor, "input": mission.to_string(), "output": out.to_string()}));
+    }
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/web-reference.json");
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(&path, Value::Array(cases).to_string()).unwrap();
+}

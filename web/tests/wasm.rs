@@ -1,0 +1,48 @@
+//! The facade in a real browser (wasm-bindgen-test in headless Chromium):
+//! the same JSON in gives the same JSON out as natively — the expected
+//! strings are written by the native test `native_reference` into
+//! target/web-reference.json before this runs (scripts/web.sh test).
+#![cfg(target_arch = "wasm32")]
+
+use nvector_web::Nvector;
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+const REFERENCE: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../target/web-reference.json"
+));
+
+#[wasm_bindgen_test]
+fn same_bits_as_native() {
+    let reference: serde_json::Value = serde_json::from_str(REFERENCE).unwrap();
+    let nv = Nvector::new();
+    for case in reference.as_array().unwrap() {
+        let input = case["input"].as_str().unwrap();
+        let expected = case["output"].as_str().unwrap();
+        let got = match case["kind"].as_str().unwrap() {
+            "contract" => nv.contract(input).ok().unwrap(),
+            "simulate" => nv.simulate(input).ok().unwrap(),
+            "run" => nv
+                .run(
+                    input,
+                    case["contractor"].as_str().unwrap(),
+                    &js_sys::Function::new_no_args(""),
+                )
+                .ok()
+                .unwrap(),
+            k => panic!("unknown kind {k}"),
+        };
+        assert_eq!(got, expected, "{} differs from native", case["kind"]);
+    }
+}
+
+#[wasm_bindgen_test]
+fn errors_name_the_path() {
+    let nv = Nvector::new();
+    let err = nv
+        .contract(r#"{"format": "nvector-contract/1", "n": 1, "boxes": [[[2, 1]]]}"#)
+        .err();
+    assert!(err.is_some());
+}

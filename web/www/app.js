@@ -1,0 +1,260 @@
+// The page: an nvector playground and a SLAM demo that run offline in
+// WASM, and the missions view that talks to the service.
+import init, { Nvector } from './pkg/nvector_web.js';
+import * as api from './api.js';
+import { PALETTE, View, drawRect, drawResult, hull, rect } from './draw.js';
+
+const $ = (id) => document.getElementById(id);
+let nv = null;
+
+// ---- tabs -------------------------------------------------------------
+document.querySelectorAll('nav button').forEach((b) => b.addEventListener('click', () => {
+  document.querySelectorAll('nav button').forEach((x) => x.classList.toggle('active', x === b));
+  document.querySelectorAll('.tab').forEach((t) => t.classList.toggle('active', t.id === b.dataset.tab));
+  if (b.dataset.tab === 'missions') refreshLists();
+}));
+const initialTab = new URLSearchParams(location.search).get('tab');
+if (initialTab) document.querySelector(`nav button[data-tab="${initialTab}"]`)?.click();
+
+// ---- playground -------------------------------------------------------
+const PRESETS = {
+  // The paper's Figure 2: three boxes, two of which overlap, n = 2.
+  fig2: { n: 2, boxes: [[[0, 2], [0, 2]], [[1, 3], [1, 3]], [[5, 6], [5, 6]]] },
+  // Figure 8: k = 7, n = 3, groups {1,2}, {4,5}, {7} on the first axis.
+  fig8: { n: 3, boxes: [[[0, 2], [0, 5]], [[1, 3], [3, 8]], [[2, 6], [0, 10]], [[5, 7], [0, 10]], [[6, 8], [0, 10]], [[7, 12], [0, 10]], [[11, 13], [0, 10]]] },
+  // The Global Constraint Catalogue's example.
+  gccat: { n: 2, boxes: [[[1, 6], [2, 6]], [[3, 5], [6, 9]], [[4, 10], [1, 4]], [[5, 9], [3, 7]], [[9, 11], [0, 5]]] },
+};
+const pg = { boxes: [], selected: -1, drag: null, view: new View($('pg-canvas')), out: null };
+
+function loadPreset(name) {
+  const p = PRESETS[name];
+  pg.boxes = p.boxes.map((b) => ({ x0: b[0][0], x1: b[0][1], y0: b[1][0], y1: b[1][1] }));
+  $('pg-n').value = p.n;
+  pg.view.fit(hull(pg.boxes));
+  pg.view.zoom(0.85, pg.view.canvas.width / 2, pg.view.canvas.height / 2);
+  contractAndDraw();
+}
+
+function contractAndDraw() {
+  const canvas = $('pg-canvas');
+  const ctx = canvas.getContext('2d');
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const summary = $('pg-summary');
+  if (!nv || pg.boxes.length === 0) { $('pg-text').textContent = 'add boxes'; return; }
+  const req = {
+    format: 'nvector-contract/1', n: Math.max(1, Number($('pg-n').value) | 0),
+    contractor: $('pg-mode').value,
+    boxes: pg.boxes.map((b) => [[b.x0, b.x1], [b.y0, b.y1]]),
+  };
+  let out;
+  const t0 = performance.now();
+  try { out = JSON.parse(nv.contract(JSON.stringify(req))); } catch (e) { $('pg-text').textContent = String(e); return; }
+  const ms = performance.now() - t0;
+  pg.out = out;
+  const colour = new Map();
+  out.groups.forEach((g, k) => g.forEach((i) => colour.set(i, g.length > 1 ? PALETTE[k % PALETTE.length] : '#555555')));
+  // Kernels on the axes.
+  (out.kernels || []).forEach((ks, axis) => {
+    if (!Array.isArray(ks)) return;
+    ctx.fillStyle = 'rgba(0,120,0,0.35)';
+    ks.forEach((k) => {
+      if (axis === 0) ctx.fillRect(pg.view.tx(k[0]), canvas.height - 8, Math.max((k[1] - k[0]) * pg.view.scale, 2), 8);
+      else ctx.fillRect(0, pg.view.ty(k[1]), 8, Math.max((k[1] - k[0]) * pg.view.scale, 2));
+    });
+  });
+  pg.boxes.forEach((b, i) => {
+    ctx.setLineDash([4, 3]); ctx.lineWidth = i === pg.selected ? 2 : 1;
+    drawRect(ctx, pg.view, b, '#888');
+    ctx.setLineDash([]);
+    const r = rect(out.boxes[i]);
+    if (r) drawRect(ctx, pg.view, r, colour.get(i), colour.get(i) + '33');
+    ctx.fillStyle = '#222';
+    ctx.fillText(String(i + 1), pg.view.tx(b.x0) + 3, pg.view.ty(b.y1) + 12);
+  });
+  const groups = out.groups.map((g) => g.map((i) => i + 1).join(',')).join(' | ');
+  $('pg-text').textContent = `${out.status}${out.reason ? ' (' + out.reason + ')' : ''} — groups ${groups} — min distinct in [${out.min_distinct.lower}, ${out.min_distinct.upper}] — ${ms.toFixed(2)} ms`;
+  Object.assign(summary.dataset, {
+    status: out.status, groups: JSON.stringify(out.groups), minLower: out.min_distinct.lower,
+    minUpper: out.min_distinct.upper, ms: ms.toFixed(3), boxes: pg.boxes.length,
+  });
+}
+
+function hit(px, py) {
+  const x = pg.view.wx(px), y = pg.view.wy(py);
+  for (let i = pg.boxes.length - 1; i >= 0; i--) {
+    const b = pg.boxes[i];
+    const corner = Math.abs(pg.view.tx(b.x1) - px) < 8 && Math.abs(pg.view.ty(b.y0) - py) < 8;
+    if (corner) return { i, corner: true };
+    if (x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1) return { i, corner: false };
+  }
+  return null;
+}
+const pgc = $('pg-canvas');
+const pos = (ev) => { const r = pgc.getBoundingClientRect(); return [(ev.clientX - r.left) * pgc.width / r.width, (ev.clientY - r.top) * pgc.height / r.height]; };
+pgc.addEventListener('pointerdown', (ev) => {
+  const [px, py] = pos(ev);
+  const h = hit(px, py);
+  pg.selected = h ? h.i : -1;
+  pg.drag = h ? { ...h, px, py } : { pan: true, px, py };
+  pgc.setPointerCapture(ev.pointerId);
+  contractAndDraw();
+});
+pgc.addEventListener('pointermove', (ev) => {
+  if (!pg.drag) return;
+  const [px, py] = pos(ev);
+  const dx = (px - pg.drag.px) / pg.view.scale, dy = -(py - pg.drag.py) / pg.view.scale;
+  if (pg.drag.pan) pg.view.pan(px - pg.drag.px, py - pg.drag.py);
+  else {
+    const b = pg.boxes[pg.drag.i];
+    if (pg.drag.corner) { b.x1 = Math.max(b.x0, b.x1 + dx); b.y0 = Math.min(b.y1, b.y0 + dy); }
+    else { b.x0 += dx; b.x1 += dx; b.y0 += dy; b.y1 += dy; }
+  }
+  pg.drag.px = px; pg.drag.py = py;
+  contractAndDraw();
+});
+pgc.addEventListener('pointerup', () => { pg.drag = null; });
+pgc.addEventListener('dblclick', (ev) => {
+  const [px, py] = pos(ev);
+  const x = pg.view.wx(px), y = pg.view.wy(py), s = 40 / pg.view.scale;
+  pg.boxes.push({ x0: x - s, x1: x + s, y0: y - s, y1: y + s });
+  contractAndDraw();
+});
+pgc.addEventListener('wheel', (ev) => { ev.preventDefault(); const [px, py] = pos(ev); pg.view.zoom(ev.deltaY < 0 ? 1.1 : 1 / 1.1, px, py); contractAndDraw(); });
+document.addEventListener('keydown', (ev) => {
+  if ((ev.key === 'Delete' || ev.key === 'Backspace') && pg.selected >= 0 && document.activeElement === document.body) {
+    pg.boxes.splice(pg.selected, 1); pg.selected = -1; contractAndDraw();
+  }
+});
+document.querySelectorAll('[data-preset]').forEach((b) => b.addEventListener('click', () => loadPreset(b.dataset.preset)));
+$('pg-clear').addEventListener('click', () => { pg.boxes = []; contractAndDraw(); });
+$('pg-n').addEventListener('input', contractAndDraw);
+$('pg-mode').addEventListener('change', contractAndDraw);
+
+// ---- SLAM demo --------------------------------------------------------
+['steps', 'noise', 'landmarks'].forEach((k) => $(`sl-${k}`).addEventListener('input', () => { $(`sl-${k}-v`).textContent = $(`sl-${k}`).value; }));
+function slamDemo() {
+  if (!nv) return;
+  const opts = { scenario: 'paper', seed: Number($('sl-seed').value) | 0, steps: Number($('sl-steps').value), noise: Number($('sl-noise').value), landmarks: Number($('sl-landmarks').value) };
+  const missionText = nv.simulate(JSON.stringify(opts));
+  const mission = JSON.parse(missionText);
+  const t0 = performance.now();
+  const basic = JSON.parse(nv.run(missionText, 'none', () => {}));
+  const t1 = performance.now();
+  const withNv = JSON.parse(nv.run(missionText, $('sl-mode').value, () => {}));
+  const t2 = performance.now();
+  const area = hull(basic.trajectory.map(rect));
+  for (const [id, res, cap] of [['sl-basic', basic, 'basic model'], ['sl-nv', withNv, `with atmost_nvector (${$('sl-mode').value})`]]) {
+    const view = new View($(id)); view.fit(area);
+    drawResult($(id), view, res, mission);
+    $(`${id}-cap`).textContent = `${cap}: max diameter ${Number(res.metrics.max_trajectory_diameter).toFixed(2)} m`;
+  }
+  Object.assign($('sl-summary').dataset, {
+    basicDiameter: basic.metrics.max_trajectory_diameter, nvectorDiameter: withNv.metrics.max_trajectory_diameter,
+    recall: withNv.score.matching_recall, ms: (t2 - t1).toFixed(1), truthInside: String(basic.score.truth_inside && withNv.score.truth_inside),
+  });
+  $('sl-summary').textContent = `detections ${mission.detections.length}; basic ${(t1 - t0).toFixed(1)} ms, nvector ${(t2 - t1).toFixed(1)} ms; ratio ${(basic.metrics.max_trajectory_diameter / withNv.metrics.max_trajectory_diameter).toFixed(1)}x; recall ${withNv.score.matching_recall.toFixed(2)}; truth inside ${basic.score.truth_inside && withNv.score.truth_inside}; errors ${withNv.score.matching_errors}`;
+}
+$('sl-run').addEventListener('click', slamDemo);
+
+// ---- missions (service) -----------------------------------------------
+let pendingFile = null;
+let current = { mission: null, job: null };
+const shown = []; // up to two {result, mission, view, drawn}
+function setFile(f) { pendingFile = f; $('ms-submit').disabled = !f; $('ms-state').textContent = f ? `ready: ${f.name || 'mission'}` : ''; }
+$('ms-file').addEventListener('change', (ev) => setFile(ev.target.files[0] || null));
+const drop = $('drop');
+drop.addEventListener('dragover', (ev) => { ev.preventDefault(); drop.classList.add('over'); });
+drop.addEventListener('dragleave', () => drop.classList.remove('over'));
+drop.addEventListener('drop', (ev) => { ev.preventDefault(); drop.classList.remove('over'); setFile(ev.dataTransfer.files[0] || null); });
+
+async function refreshLists() {
+  try {
+    const ms = await api.listMissions();
+    $('ms-missions').innerHTML = '';
+    ms.missions.forEach((m) => { const li = document.createElement('li'); li.textContent = `${m.name} (${m.steps} steps, ${m.detections} detections) ${m.id}`; $('ms-missions').append(li); });
+  } catch (e) { $('ms-missions').textContent = `service unavailable: ${e.message}`; }
+}
+
+$('ms-submit').addEventListener('click', async () => {
+  const summary = $('rv-summary');
+  try {
+    $('ms-submit').disabled = true;
+    const m = await api.uploadMission(pendingFile);
+    current.mission = m.id;
+    const job = await api.submitJob({ mission: m.id, contractor: $('ms-mode').value, max_rounds: Number($('ms-rounds').value), time_limit_s: Number($('ms-limit').value) });
+    current.job = job.id;
+    $('ms-cancel').disabled = false;
+    const li = document.createElement('li'); li.id = `job-${job.id}`; li.textContent = `${job.id}: queued`; $('ms-jobs').prepend(li);
+    summary.dataset.state = 'queued';
+    const end = await api.followJob(job.id, (j) => {
+      $('ms-progress').value = j.progress.fraction;
+      $('ms-state').textContent = `${j.state} — round ${j.progress.round}, max diameter ${j.progress.max_trajectory_diameter ?? '∞'}`;
+      li.textContent = `${j.id}: ${j.state}`;
+      summary.dataset.state = j.state;
+    });
+    $('ms-cancel').disabled = true;
+    if (end && end.state === 'done') await showResult(job.id, m.id);
+    refreshLists();
+  } catch (e) {
+    $('ms-state').textContent = `error: ${e.message}`;
+    summary.dataset.state = 'error';
+  } finally { $('ms-submit').disabled = !pendingFile; }
+});
+$('ms-cancel').addEventListener('click', async () => { if (current.job) { try { await api.cancelJob(current.job); } catch (e) { $('ms-state').textContent = e.message; } } });
+
+async function showResult(jobId, missionId) {
+  const [result, mission] = await Promise.all([api.getResult(jobId), api.getMission(missionId)]);
+  shown.unshift({ result, mission, jobId });
+  shown.length = Math.min(shown.length, 2);
+  for (const [fmt, id] of [['json', 'rv-json'], ['csv', 'rv-csv'], ['svg', 'rv-svg']]) $(id).href = api.resultUrl(jobId, fmt);
+  const area = hull(shown.flatMap((s) => s.result.trajectory.map(rect)));
+  shown.forEach((s, k) => { s.view = new View($(`rv-${k}`)); s.view.fit(area); });
+  $('rv-time').max = String(result.trajectory.length - 1);
+  $('rv-time').value = $('rv-time').max;
+  redrawResults();
+  Object.assign($('rv-summary').dataset, {
+    trajectory: result.trajectory.length, detections: result.detections.length, landmarks: result.landmarks.length,
+    diameter: result.metrics.max_trajectory_diameter, truthInside: String(result.score ? result.score.truth_inside : ''), state: 'drawn',
+  });
+  $('rv-summary').textContent = `${result.mission}: ${result.status}, ${result.trajectory.length} positions, ${result.detections.length} detections, ${result.landmarks.length} landmarks, max diameter ${result.metrics.max_trajectory_diameter}`;
+}
+function redrawResults() {
+  const t = Number($('rv-time').value);
+  shown.forEach((s, k) => {
+    s.drawn = drawResult($(`rv-${k}`), s.view, s.result, s.mission, t);
+    $(`rv-cap-${k}`).textContent = `${s.result.mission} — ${s.result.options.contractor} — max diameter ${Number(s.result.metrics.max_trajectory_diameter).toFixed(2)}`;
+  });
+}
+$('rv-time').addEventListener('input', redrawResults);
+[0, 1].forEach((k) => {
+  const c = $(`rv-${k}`);
+  let drag = null;
+  c.addEventListener('pointerdown', (ev) => { drag = [ev.clientX, ev.clientY]; c.setPointerCapture(ev.pointerId); });
+  c.addEventListener('pointerup', () => { drag = null; });
+  c.addEventListener('pointermove', (ev) => {
+    const s = shown[k];
+    if (!s) return;
+    if (drag) { s.view.pan(ev.clientX - drag[0], ev.clientY - drag[1]); drag = [ev.clientX, ev.clientY]; redrawResults(); return; }
+    const r = c.getBoundingClientRect();
+    const x = s.view.wx((ev.clientX - r.left) * c.width / r.width), y = s.view.wy((ev.clientY - r.top) * c.height / r.height);
+    const found = (s.drawn || []).find(([, b]) => x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1);
+    const tip = $('rv-tip');
+    if (found) {
+      const [i, b] = found;
+      tip.hidden = false; tip.style.left = `${ev.clientX + 12}px`; tip.style.top = `${ev.clientY + 12}px`;
+      tip.textContent = `step ${i}: x [${b.x0.toFixed(3)}, ${b.x1.toFixed(3)}] y [${b.y0.toFixed(3)}, ${b.y1.toFixed(3)}]`;
+    } else tip.hidden = true;
+  });
+  c.addEventListener('wheel', (ev) => { ev.preventDefault(); const s = shown[k]; if (!s) return; const r = c.getBoundingClientRect(); s.view.zoom(ev.deltaY < 0 ? 1.1 : 1 / 1.1, (ev.clientX - r.left) * c.width / r.width, (ev.clientY - r.top) * c.height / r.height); redrawResults(); });
+});
+
+// ---- start ------------------------------------------------------------
+init().then(() => {
+  nv = new Nvector();
+  window.nvectorHandle = nv; // for the browser tests and the console
+  $('wasm-status').textContent = 'WASM ready';
+  $('wasm-status').dataset.ready = 'true';
+  loadPreset(new URLSearchParams(location.search).get('preset') || 'fig8');
+  if (new URLSearchParams(location.search).get('demo') === '1') slamDemo();
+}).catch((e) => { $('wasm-status').textContent = `WASM failed: ${e}`; });
