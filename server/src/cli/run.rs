@@ -67,22 +67,27 @@ pub fn run(a: Args) -> Result<(), CliError> {
         max_rounds: a.max_rounds,
         tolerance: a.tolerance,
     };
-    let terminal = std::io::stderr().is_terminal();
+    // A progress bar on a terminal, nothing otherwise.
+    let bar = if std::io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(1000);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
     let start = Instant::now();
     let mut progress = |p: &nvector_core::slam::propagator::Progress| {
-        if terminal {
-            eprint!(
-                "\rround {:>5}  max trajectory diameter {:>12.4}  {:>3.0}%",
-                p.round,
-                p.max_trajectory_diameter,
-                p.fraction * 100.0
-            );
-        }
+        bar.set_position((p.fraction * 1000.0) as u64);
+        bar.set_message(format!(
+            "round {}, max trajectory diameter {:.4}",
+            p.round, p.max_trajectory_diameter
+        ));
     };
     let mut result = solve(&mission, &options, &mut progress, &AtomicBool::new(false));
-    if terminal {
-        eprintln!();
-    }
+    bar.finish_and_clear();
     result["metrics"]["elapsed_ms"] = serde_json::json!(start.elapsed().as_secs_f64() * 1e3);
     if let Some(path) = &a.plot {
         super::plot::write_plot(path, &result, &mission_json)?;

@@ -3,6 +3,7 @@
 //! `/`. `app(state)` builds the router; `serve(config)` runs it.
 
 pub mod jobs;
+pub mod openapi;
 pub mod store;
 
 use axum::body::Bytes;
@@ -827,6 +828,7 @@ pub fn app(state: AppState) -> Router {
         .route("/jobs/{id}/result", get(job_result))
         .route("/contract", post(post_contract))
         .route("/simulate", post(post_simulate))
+        .route("/openapi.json", get(|| async { Json(openapi::document()) }))
         .fallback(api_not_found);
     let mut router = Router::new()
         .nest("/api/v1", api)
