@@ -1,15 +1,16 @@
 //! The REST API of spec/api.md over a real socket, against the real binary
-//! on a real SQLite file.
+//! on a real SQLite file and on a real PostgreSQL server (the same
+//! scenarios on both).
 
+#[macro_use]
 mod common;
 
-use common::{small_mission, Server};
+use common::{small_mission, Backend, Server};
 use serde_json::{json, Value};
 use std::time::Duration;
 
-#[test]
-fn missions_jobs_results() {
-    let s = Server::start(&["--workers", "2"]);
+fn missions_jobs_results(b: &Backend) {
+    let s = Server::start_on(b, &["--workers", "2"]);
     assert_eq!(s.req("GET", "/healthz", None, &[]).0, 200);
     assert_eq!(s.req("GET", "/readyz", None, &[]).0, 200);
 
@@ -120,9 +121,8 @@ fn missions_jobs_results() {
     );
 }
 
-#[test]
-fn cancel_a_long_job() {
-    let s = Server::start(&["--workers", "1"]);
+fn cancel_a_long_job(b: &Backend) {
+    let s = Server::start_on(b, &["--workers", "1"]);
     let (_, m) = s.post("/api/v1/simulate", &json!({"scenario": "auv", "seed": 2}));
     let id = m["id"].as_str().unwrap();
     // Three long jobs on one worker: the later ones wait in the queue.
@@ -149,9 +149,8 @@ fn cancel_a_long_job() {
     }
 }
 
-#[test]
-fn contract_and_simulate_endpoints() {
-    let s = Server::start(&[]);
+fn contract_and_simulate_endpoints(b: &Backend) {
+    let s = Server::start_on(b, &[]);
     let (st, r) = s.post(
         "/api/v1/contract",
         &json!({"format": "nvector-contract/1", "n": 2, "boxes": [[[0, 2], [0, 2]], [[1, 3], [1, 3]], [[5, 6], [5, 6]]]}),
@@ -179,16 +178,18 @@ fn contract_and_simulate_endpoints() {
     assert_eq!((st, r["error"]["path"].as_str()), (422, Some("scenario")));
 }
 
-#[test]
-fn malformed_requests_get_4xx_naming_the_problem() {
-    let s = Server::start(&[
-        "--max-steps",
-        "100000",
-        "--max-queue",
-        "1",
-        "--workers",
-        "1",
-    ]);
+fn malformed_requests_get_4xx_naming_the_problem(b: &Backend) {
+    let s = Server::start_on(
+        b,
+        &[
+            "--max-steps",
+            "100000",
+            "--max-queue",
+            "1",
+            "--workers",
+            "1",
+        ],
+    );
     let mission = small_mission(1, 300);
     let check = |st: u16, body: &[u8], code: &str| {
         assert!(
@@ -323,13 +324,11 @@ fn malformed_requests_get_4xx_naming_the_problem() {
     assert_eq!(s.get(&format!("/api/v1/missions/{mid}")).1, mission);
 }
 
-#[test]
-fn api_keys_separate_owners() {
-    let dir = std::env::temp_dir().join(format!("nvector-keys-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn api_keys_separate_owners(b: &Backend) {
+    let dir = common::temp_dir("keys");
     let keys = dir.join("keys.txt");
     std::fs::write(&keys, "alpha\nbeta\n").unwrap();
-    let s = Server::start(&["--api-key-file", keys.to_str().unwrap()]);
+    let s = Server::start_on(b, &["--api-key-file", keys.to_str().unwrap()]);
     let body = small_mission(2, 200).to_string();
     let (st, _, _) = s.req(
         "POST",
@@ -378,6 +377,14 @@ fn api_keys_separate_owners() {
         200
     );
 }
+
+on_both_storages!(
+    missions_jobs_results,
+    cancel_a_long_job,
+    contract_and_simulate_endpoints,
+    malformed_requests_get_4xx_naming_the_problem,
+    api_keys_separate_owners,
+);
 
 #[test]
 fn static_files_cannot_escape_their_directory() {

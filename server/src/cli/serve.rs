@@ -10,7 +10,8 @@ pub struct Args {
     /// Address to listen on.
     #[arg(long, default_value = "127.0.0.1:8080")]
     addr: std::net::SocketAddr,
-    /// Storage: sqlite://PATH (created on first run).
+    /// Storage: sqlite://PATH (created on first run) or
+    /// postgres://USER[:PASSWORD]@HOST:PORT/DB (shared by several processes).
     #[arg(long, default_value = "sqlite://data/nvector.db")]
     database: String,
     /// Job worker threads (default: the number of cores).
@@ -40,6 +41,10 @@ pub struct Args {
     /// Job time limit in seconds (default and largest allowed).
     #[arg(long, default_value_t = 300.0)]
     job_time_limit: f64,
+    /// Seconds a running job may go without its process's heartbeat before
+    /// another process (or the next start) re-queues it.
+    #[arg(long, default_value_t = 10.0)]
+    job_lease: f64,
 }
 
 /// Runs the subcommand.
@@ -63,6 +68,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if a.job_time_limit.is_nan() || a.job_time_limit <= 0.0 {
         return Err(CliError("--job-time-limit must be > 0".into()));
     }
+    if a.job_lease.is_nan() || a.job_lease < 0.1 || a.job_lease > 86_400.0 {
+        return Err(CliError(
+            "--job-lease must be between 0.1 and 86400 s".into(),
+        ));
+    }
     let config = Config {
         max_body: a.max_body,
         max_steps: a.max_steps,
@@ -72,11 +82,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
         static_dir: a.static_dir,
         api_keys,
         cors_origins: a.cors_origins,
+        job_lease: std::time::Duration::from_secs_f64(a.job_lease),
     };
-    let store = service::open_store(&a.database).map_err(CliError)?;
     let workers = a
         .workers
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
+    let store = service::open_store(&a.database, workers + 4).map_err(CliError)?;
     let rt = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()

@@ -59,6 +59,45 @@ impl Workers {
     }
 }
 
+/// Starts the lease keeper: refreshes the heartbeat of this process's
+/// running jobs every quarter lease, and every half lease puts back in the
+/// queue the jobs of processes that stopped beating (killed, crashed, cut
+/// off), waking the workers when it did.
+pub fn start_lease_keeper(
+    store: Arc<dyn Store>,
+    workers: Arc<Workers>,
+    lease: Duration,
+) -> std::thread::JoinHandle<()> {
+    std::thread::Builder::new()
+        .name("nvector-lease".into())
+        .spawn(move || {
+            let lease_ms = lease.as_millis().max(1) as i64;
+            let beat = (lease / 4).max(Duration::from_millis(10));
+            let mut last_sweep = Instant::now();
+            while !workers.stopping.load(Ordering::SeqCst) {
+                if let Err(e) = store.heartbeat(now_ms()) {
+                    tracing::warn!("job heartbeat: {e}");
+                }
+                if last_sweep.elapsed() >= lease / 2 {
+                    last_sweep = Instant::now();
+                    match store.requeue_stale(now_ms(), lease_ms) {
+                        Ok(0) => {}
+                        Ok(n) => {
+                            tracing::info!("re-queued {n} job(s) of a process that stopped");
+                            workers.notify();
+                        }
+                        Err(e) => tracing::warn!("re-queueing stale jobs: {e}"),
+                    }
+                }
+                let until = Instant::now() + beat;
+                while Instant::now() < until && !workers.stopping.load(Ordering::SeqCst) {
+                    std::thread::sleep(Duration::from_millis(20));
+                }
+            }
+        })
+        .expect("spawn lease thread")
+}
+
 /// Starts `n` worker threads.
 pub fn start(
     n: usize,

@@ -47,6 +47,9 @@ pub struct Config {
     pub api_keys: HashSet<String>,
     /// Allowed CORS origins (empty: CORS off).
     pub cors_origins: Vec<String>,
+    /// How long a running job may go without its process's heartbeat
+    /// before it is re-queued.
+    pub job_lease: std::time::Duration,
 }
 
 impl Default for Config {
@@ -60,6 +63,7 @@ impl Default for Config {
             static_dir: "web/www".into(),
             api_keys: HashSet::new(),
             cors_origins: Vec::new(),
+            job_lease: std::time::Duration::from_secs(10),
         }
     }
 }
@@ -75,6 +79,27 @@ pub struct AppState {
     pub workers: Arc<Workers>,
     /// Requests by (route, status).
     pub requests: Arc<Mutex<BTreeMap<(String, u16), u64>>>,
+}
+
+impl AppState {
+    /// Runs a storage call on the blocking pool: database drivers block, and
+    /// the async workers must keep serving.
+    async fn db<T: Send + 'static>(
+        &self,
+        f: impl FnOnce(&dyn Store) -> store::StoreResult<T> + Send + 'static,
+    ) -> ApiResult<T> {
+        let st = self.store.clone();
+        tokio::task::spawn_blocking(move || f(&*st))
+            .await
+            .map_err(|_| {
+                AppError::new(
+                    StatusCode::INTERNAL_SERVER_ERROR,
+                    "internal",
+                    "storage task failed",
+                )
+            })?
+            .map_err(AppError::from)
+    }
 }
 
 /// A client or service error, as the spec's JSON error body.
@@ -263,18 +288,10 @@ async fn store_mission(state: &AppState, owner: &str, v: &Value) -> ApiResult<(S
     let id = format!("m-{}", uuid::Uuid::new_v4().simple());
     let row = store::mission_row(id.clone(), &m, now_ms());
     let body = v.to_string();
-    let st = state.store.clone();
     let owner = owner.to_string();
-    let r = row.clone();
-    tokio::task::spawn_blocking(move || st.insert_mission(&owner, &r, &body))
-        .await
-        .map_err(|_| {
-            AppError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "internal",
-                "storage task failed",
-            )
-        })??;
+    state
+        .db(move |st| st.insert_mission(&owner, &row, &body))
+        .await?;
     Ok((id, m))
 }
 
@@ -312,9 +329,10 @@ async fn list_missions(
         )
         .at("limit"));
     }
+    let after = page.after.clone();
     let rows = state
-        .store
-        .list_missions(&owner, page.after.as_deref(), limit)?;
+        .db(move |st| st.list_missions(&owner, after.as_deref(), limit))
+        .await?;
     let next = if rows.len() as i64 == limit {
         rows.last().map(|r| r.id.clone())
     } else {
@@ -334,8 +352,8 @@ async fn get_mission(
 ) -> ApiResult<Response> {
     let owner = owner(&state, &headers)?;
     let body = state
-        .store
-        .mission_body(&owner, &id)?
+        .db(move |st| st.mission_body(&owner, &id))
+        .await?
         .ok_or_else(|| AppError::not_found("mission"))?;
     Ok(([(header::CONTENT_TYPE, "application/json")], body).into_response())
 }
@@ -346,7 +364,7 @@ async fn delete_mission(
     Path(id): Path<String>,
 ) -> ApiResult<StatusCode> {
     let owner = owner(&state, &headers)?;
-    if state.store.delete_mission(&owner, &id)? {
+    if state.db(move |st| st.delete_mission(&owner, &id)).await? {
         Ok(StatusCode::NO_CONTENT)
     } else {
         Err(AppError::not_found("mission"))
@@ -366,6 +384,12 @@ fn job_json(j: &JobRow) -> Value {
     });
     if let Some(e) = &j.error {
         v["error"] = json!(e);
+    }
+    if j.attempts > 0 {
+        v["attempts"] = json!(j.attempts);
+    }
+    if let Some(r) = &j.runner {
+        v["runner"] = json!(r);
     }
     v
 }
@@ -396,10 +420,13 @@ async fn post_job(
             .at("mission")
         })?
         .to_string();
-    let body = state
-        .store
-        .mission_body(&owner, &mission)?
-        .ok_or_else(|| AppError::not_found("mission").at("mission"))?;
+    let body = {
+        let (owner, mission) = (owner.clone(), mission.clone());
+        state
+            .db(move |st| st.mission_body(&owner, &mission))
+            .await?
+            .ok_or_else(|| AppError::not_found("mission").at("mission"))?
+    };
     let contractor = match obj.get("contractor") {
         None | Some(Value::Null) => {
             let has_n = serde_json::from_str::<Value>(&body).ok().and_then(|m| m.get("landmark_count").cloned()).is_some_and(|n| !n.is_null());
@@ -437,7 +464,7 @@ async fn post_job(
             t
         }
     };
-    if state.store.queued_count()? >= state.config.max_queue {
+    if state.db(|st| st.queued_count()).await? >= state.config.max_queue {
         let mut e = AppError::new(
             StatusCode::TOO_MANY_REQUESTS,
             "queue_full",
@@ -460,12 +487,15 @@ async fn post_job(
         created: now_ms(),
         started: None,
         finished: None,
+        attempts: 0,
+        runner: None,
     };
-    state.store.insert_job(&owner, &job)?;
+    let id = job.id.clone();
+    state.db(move |st| st.insert_job(&owner, &job)).await?;
     state.workers.notify();
     Ok((
         StatusCode::ACCEPTED,
-        Json(json!({"id": job.id, "state": "queued"})),
+        Json(json!({"id": id, "state": "queued"})),
     ))
 }
 
@@ -476,8 +506,8 @@ async fn get_job(
 ) -> ApiResult<Json<Value>> {
     let owner = owner(&state, &headers)?;
     let j = state
-        .store
-        .job(&owner, &id)?
+        .db(move |st| st.job(&owner, &id))
+        .await?
         .ok_or_else(|| AppError::not_found("job"))?;
     Ok(Json(job_json(&j)))
 }
@@ -488,7 +518,8 @@ async fn delete_job(
     Path(id): Path<String>,
 ) -> ApiResult<(StatusCode, Json<Value>)> {
     let owner = owner(&state, &headers)?;
-    match state.store.cancel_job(&owner, &id, now_ms())? {
+    let (o, i) = (owner.clone(), id.clone());
+    match state.db(move |st| st.cancel_job(&o, &i, now_ms())).await? {
         None => Err(AppError::not_found("job")),
         Some(s) if s == "queued" || s == "running" => Ok((
             StatusCode::ACCEPTED,
@@ -508,10 +539,13 @@ async fn job_events(
     Path(id): Path<String>,
 ) -> ApiResult<Sse<impl Stream<Item = Result<Event, Infallible>>>> {
     let owner = owner(&state, &headers)?;
-    state
-        .store
-        .job(&owner, &id)?
-        .ok_or_else(|| AppError::not_found("job"))?;
+    {
+        let (o, i) = (owner.clone(), id.clone());
+        state
+            .db(move |st| st.job(&o, &i))
+            .await?
+            .ok_or_else(|| AppError::not_found("job"))?;
+    }
     // Storage is polled, so progress made by any process sharing the
     // database is streamed; an event is sent when the job changes, and the
     // stream ends after the terminal state.
@@ -522,7 +556,8 @@ async fn job_events(
                 return None;
             }
             loop {
-                let job = state.store.job(&owner, &id).ok().flatten();
+                let (o, i) = (owner.clone(), id.clone());
+                let job = state.db(move |st| st.job(&o, &i)).await.ok().flatten();
                 let Some(job) = job else {
                     let ev = Event::default()
                         .event("end")
@@ -558,10 +593,13 @@ async fn job_result(
     let owner = owner(&state, &headers)?;
     let Query(q) =
         q.map_err(|e| AppError::new(StatusCode::BAD_REQUEST, "invalid_query", e.body_text()))?;
-    let job = state
-        .store
-        .job(&owner, &id)?
-        .ok_or_else(|| AppError::not_found("job"))?;
+    let job = {
+        let (o, i) = (owner.clone(), id.clone());
+        state
+            .db(move |st| st.job(&o, &i))
+            .await?
+            .ok_or_else(|| AppError::not_found("job"))?
+    };
     if job.state != "done" {
         return Err(AppError::new(
             StatusCode::CONFLICT,
@@ -569,10 +607,13 @@ async fn job_result(
             format!("the job is {}, no result yet", job.state),
         ));
     }
-    let text = state
-        .store
-        .result(&owner, &id)?
-        .ok_or_else(|| AppError::not_found("result"))?;
+    let text = {
+        let (o, i) = (owner.clone(), id.clone());
+        state
+            .db(move |st| st.result(&o, &i))
+            .await?
+            .ok_or_else(|| AppError::not_found("result"))?
+    };
     match q.format.as_deref().unwrap_or("json") {
         "json" => Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response()),
         "csv" => {
@@ -581,9 +622,10 @@ async fn job_result(
         }
         "svg" => {
             let v = parse_json(text.as_bytes())?;
+            let mission_id = job.mission.clone();
             let mission = state
-                .store
-                .mission_body(&owner, &job.mission)?
+                .db(move |st| st.mission_body(&owner, &mission_id))
+                .await?
                 .and_then(|b| serde_json::from_str(&b).ok())
                 .unwrap_or(Value::Null);
             Ok((
@@ -749,14 +791,14 @@ async fn healthz() -> &'static str {
 }
 
 async fn readyz(State(state): State<AppState>) -> ApiResult<&'static str> {
-    state.store.ping()?;
+    state.db(|st| st.ping()).await?;
     Ok("ready\n")
 }
 
 async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
     let mut out = String::new();
     out.push_str("# HELP nvector_jobs Jobs by state.\n# TYPE nvector_jobs gauge\n");
-    let counts = state.store.counts()?;
+    let counts = state.db(|st| st.counts()).await?;
     for s in ["queued", "running", "done", "failed", "cancelled"] {
         let n = counts.iter().find(|(k, _)| k == s).map_or(0, |(_, n)| *n);
         out.push_str(&format!("nvector_jobs{{state=\"{s}\"}} {n}\n"));
@@ -872,38 +914,51 @@ pub fn app(state: AppState) -> Router {
         .with_state(state)
 }
 
-/// Opens the storage named by a `--database` URL.
-pub fn open_store(url: &str) -> Result<Arc<dyn Store>, String> {
+/// Opens the storage named by a `--database` URL: `sqlite://PATH` or
+/// `postgres://...` (with `pool_size` connections).
+pub fn open_store(url: &str, pool_size: usize) -> Result<Arc<dyn Store>, String> {
     if let Some(path) = url.strip_prefix("sqlite://") {
         return store::SqliteStore::open(path)
             .map(|s| Arc::new(s) as Arc<dyn Store>)
             .map_err(|e| e.to_string());
     }
     if url.starts_with("postgres://") || url.starts_with("postgresql://") {
-        return Err(
-            "PostgreSQL storage is not available in this build yet (use sqlite://PATH)".into(),
-        );
+        return store::PostgresStore::open(url, pool_size)
+            .map(|s| Arc::new(s) as Arc<dyn Store>)
+            .map_err(|e| e.to_string());
     }
     Err(format!(
-        "unsupported database URL '{url}' (expected sqlite://PATH)"
+        "unsupported database URL '{url}' (expected sqlite://PATH or postgres://USER@HOST:PORT/DB)"
     ))
 }
 
-/// Runs the service until SIGTERM or Ctrl-C; running jobs are put back in
-/// the queue on shutdown, and jobs left running by a crash are re-queued at
-/// start.
+/// Runs the service until SIGTERM or Ctrl-C. On shutdown the server stops
+/// accepting requests, running jobs are stopped at their next progress
+/// point and put back in the queue (another process, or the next start,
+/// finishes them). Jobs left running by a process that died are re-queued
+/// once their lease expires.
 pub async fn serve(
     addr: std::net::SocketAddr,
     store: Arc<dyn Store>,
     config: Config,
     workers_n: usize,
 ) -> Result<(), String> {
-    let requeued = store.requeue_running().map_err(|e| e.to_string())?;
+    let lease_ms = config.job_lease.as_millis() as i64;
+    let st = store.clone();
+    let requeued = tokio::task::spawn_blocking(move || st.requeue_stale(jobs::now_ms(), lease_ms))
+        .await
+        .map_err(|e| e.to_string())?
+        .map_err(|e| e.to_string())?;
     if requeued > 0 {
-        tracing::info!("re-queued {requeued} job(s) left running by the previous process");
+        tracing::info!("re-queued {requeued} job(s) left running by a stopped process");
     }
     let workers = Workers::new();
-    let handles = jobs::start(workers_n, store.clone(), workers.clone());
+    let mut handles = jobs::start(workers_n, store.clone(), workers.clone());
+    handles.push(jobs::start_lease_keeper(
+        store.clone(),
+        workers.clone(),
+        config.job_lease,
+    ));
     let state = AppState {
         store,
         config: Arc::new(config),
@@ -914,7 +969,10 @@ pub async fn serve(
         .await
         .map_err(|e| format!("binding {addr}: {e}"))?;
     let local = listener.local_addr().map_err(|e| e.to_string())?;
-    tracing::info!("nvector serving on http://{local}");
+    tracing::info!(
+        "nvector serving on http://{local} (process {})",
+        state.store.instance()
+    );
     println!("nvector serving on http://{local}");
     axum::serve(listener, app(state))
         .with_graceful_shutdown(shutdown_signal())

@@ -1,7 +1,9 @@
 //! Test harness: the real `nvector serve` binary on a free loopback port
 //! with a fresh SQLite file, and a minimal HTTP/1.1 client over a real
 //! socket (raw, so that malformed requests can be sent too).
-#![allow(dead_code)]
+#![allow(dead_code, unused_macros)]
+
+pub mod pg;
 
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -18,7 +20,59 @@ pub struct Server {
     pub db: String,
 }
 
+/// Where a test server keeps its data.
+pub enum Backend<'a> {
+    /// A fresh SQLite file in the server's directory.
+    Sqlite,
+    /// A fresh database on the test PostgreSQL cluster.
+    Postgres(&'a pg::PgCluster),
+}
+
+/// Declares `sqlite::NAME` and `postgres::NAME` tests for each scenario
+/// `fn NAME(b: &Backend)`: the same test against both storages.
+macro_rules! on_both_storages {
+    ($($name:ident),* $(,)?) => {
+        mod sqlite {
+            $(
+                #[test]
+                fn $name() {
+                    super::$name(&super::common::Backend::Sqlite)
+                }
+            )*
+        }
+        mod postgres {
+            $(
+                #[test]
+                fn $name() {
+                    super::common::pg::with_cluster(|c| {
+                        super::$name(&super::common::Backend::Postgres(c))
+                    });
+                }
+            )*
+        }
+    };
+}
+
+/// A new temporary directory.
+pub fn temp_dir(what: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "nvector-{what}-{}-{}",
+        std::process::id(),
+        uuid_like()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 impl Server {
+    /// Starts `nvector serve` with a fresh database of the given backend.
+    pub fn start_on(b: &Backend, extra: &[&str]) -> Server {
+        match b {
+            Backend::Sqlite => Server::start(extra),
+            Backend::Postgres(c) => Server::start_with(temp_dir("http"), c.create_db(), extra),
+        }
+    }
+
     /// Starts `nvector serve` on 127.0.0.1:0 with a new database in a new
     /// temporary directory, plus extra flags.
     pub fn start(extra: &[&str]) -> Server {
@@ -151,12 +205,14 @@ impl Drop for Server {
 }
 
 fn uuid_like() -> String {
+    static N: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     format!(
-        "{:x}",
+        "{:x}-{}",
         std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .unwrap()
-            .as_nanos()
+            .as_nanos(),
+        N.fetch_add(1, std::sync::atomic::Ordering::SeqCst)
     )
 }
 

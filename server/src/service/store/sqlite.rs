@@ -1,127 +1,14 @@
-//! Storage of missions and jobs behind one trait. The SQLite implementation
-//! is a real database file (created on first run, migrations applied on
-//! open). Jobs form the queue: a worker claims the oldest queued job with a
-//! single UPDATE, so a job runs once even with several workers.
+//! SQLite storage: a database file, created on first run.
 
+use super::{JobRow, MissionRow, Store, StoreError, StoreResult, JOB_COLUMNS};
 use rusqlite::{params, Connection, OptionalExtension};
 use std::sync::Mutex;
-
-/// A stored mission's summary.
-#[derive(Debug, Clone)]
-pub struct MissionRow {
-    /// Id.
-    pub id: String,
-    /// Name from the mission.
-    pub name: String,
-    /// N.
-    pub steps: i64,
-    /// Number of detections.
-    pub detections: i64,
-    /// Creation time (ms since epoch).
-    pub created: i64,
-}
-
-/// A job.
-#[derive(Debug, Clone)]
-pub struct JobRow {
-    /// Id.
-    pub id: String,
-    /// Mission id.
-    pub mission: String,
-    /// queued, running, done, failed, cancelled.
-    pub state: String,
-    /// Contractor name.
-    pub contractor: String,
-    /// Most rounds.
-    pub max_rounds: i64,
-    /// Time limit (s).
-    pub time_limit_s: f64,
-    /// Progress: round.
-    pub round: i64,
-    /// Progress: max trajectory diameter.
-    pub diameter: Option<f64>,
-    /// Progress: fraction.
-    pub fraction: f64,
-    /// Error message when failed.
-    pub error: Option<String>,
-    /// Creation, start and end times (ms since epoch).
-    pub created: i64,
-    /// Start time.
-    pub started: Option<i64>,
-    /// End time.
-    pub finished: Option<i64>,
-}
-
-/// Storage errors (the service answers 503/500 with no internals).
-#[derive(Debug, thiserror::Error)]
-#[error("storage: {0}")]
-pub struct StoreError(pub String);
-
-impl From<rusqlite::Error> for StoreError {
-    fn from(e: rusqlite::Error) -> Self {
-        StoreError(e.to_string())
-    }
-}
-
-/// Result alias.
-pub type StoreResult<T> = Result<T, StoreError>;
-
-/// Missions and jobs.
-pub trait Store: Send + Sync {
-    /// Whether the database answers.
-    fn ping(&self) -> StoreResult<()>;
-    /// Stores a mission (body = its JSON text).
-    fn insert_mission(&self, owner: &str, row: &MissionRow, body: &str) -> StoreResult<()>;
-    /// Missions of an owner, by creation, after an id, at most `limit`.
-    fn list_missions(
-        &self,
-        owner: &str,
-        after: Option<&str>,
-        limit: i64,
-    ) -> StoreResult<Vec<MissionRow>>;
-    /// A mission's JSON text.
-    fn mission_body(&self, owner: &str, id: &str) -> StoreResult<Option<String>>;
-    /// A mission's JSON text, whoever owns it (for workers).
-    fn mission_body_any(&self, id: &str) -> StoreResult<Option<String>>;
-    /// Puts one running job back in the queue (shutdown mid-job).
-    fn requeue_one(&self, id: &str) -> StoreResult<()>;
-    /// Deletes a mission and its jobs; false when absent.
-    fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool>;
-    /// Queues a job.
-    fn insert_job(&self, owner: &str, job: &JobRow) -> StoreResult<()>;
-    /// A job.
-    fn job(&self, owner: &str, id: &str) -> StoreResult<Option<JobRow>>;
-    /// Number of queued jobs.
-    fn queued_count(&self) -> StoreResult<i64>;
-    /// Claims the oldest queued job (state -> running), if any.
-    fn claim_job(&self, now: i64) -> StoreResult<Option<JobRow>>;
-    /// Records progress of a running job.
-    fn progress(&self, id: &str, round: i64, diameter: f64, fraction: f64) -> StoreResult<()>;
-    /// Ends a job: state done/failed/cancelled, with its result or error.
-    fn finish_job(
-        &self,
-        id: &str,
-        state: &str,
-        result: Option<&str>,
-        error: Option<&str>,
-        now: i64,
-    ) -> StoreResult<()>;
-    /// Marks a queued or running job cancelled; false when absent or ended.
-    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<String>>;
-    /// The state of a job (any owner), for workers checking cancellation.
-    fn job_state(&self, id: &str) -> StoreResult<Option<String>>;
-    /// A job's result JSON text.
-    fn result(&self, owner: &str, id: &str) -> StoreResult<Option<String>>;
-    /// Puts running jobs back in the queue (after a crash); returns how many.
-    fn requeue_running(&self) -> StoreResult<usize>;
-    /// Job counts by state.
-    fn counts(&self) -> StoreResult<Vec<(String, i64)>>;
-}
 
 /// SQLite storage: one connection behind a mutex (SQLite serialises
 /// writers anyway), WAL journal.
 pub struct SqliteStore {
     conn: Mutex<Connection>,
+    instance: String,
 }
 
 const MIGRATIONS: &[&str] = &[
@@ -137,6 +24,9 @@ const MIGRATIONS: &[&str] = &[
         created INTEGER NOT NULL, started INTEGER, finished INTEGER, seq INTEGER NOT NULL)",
     "CREATE INDEX IF NOT EXISTS jobs_state ON jobs (state, seq)",
     "CREATE INDEX IF NOT EXISTS missions_owner ON missions (owner, seq)",
+    "ALTER TABLE jobs ADD COLUMN runner TEXT;
+     ALTER TABLE jobs ADD COLUMN heartbeat INTEGER;
+     ALTER TABLE jobs ADD COLUMN attempts INTEGER NOT NULL DEFAULT 0",
 ];
 
 impl SqliteStore {
@@ -161,6 +51,7 @@ impl SqliteStore {
         conn.pragma_update(None, "user_version", MIGRATIONS.len() as i64)?;
         Ok(SqliteStore {
             conn: Mutex::new(conn),
+            instance: super::new_instance_id(),
         })
     }
 
@@ -188,11 +79,10 @@ fn job_from_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<JobRow> {
         created: r.get(10)?,
         started: r.get(11)?,
         finished: r.get(12)?,
+        attempts: r.get(13)?,
+        runner: r.get(14)?,
     })
 }
-
-const JOB_COLUMNS: &str =
-    "id, mission, state, contractor, max_rounds, time_limit_s, round, diameter, fraction, error, created, started, finished";
 
 impl Store for SqliteStore {
     fn ping(&self) -> StoreResult<()> {
@@ -269,8 +159,12 @@ impl Store for SqliteStore {
 
     fn requeue_one(&self, id: &str) -> StoreResult<()> {
         self.with(|c| {
-            c.execute("UPDATE jobs SET state = 'queued', started = NULL WHERE id = ?1 AND state = 'running'", params![id])
-                .map(|_| ())
+            c.execute(
+                "UPDATE jobs SET state = 'queued', started = NULL, runner = NULL
+                 WHERE id = ?1 AND state = 'running' AND runner = ?2",
+                params![id, self.instance],
+            )
+            .map(|_| ())
         })
     }
 
@@ -321,11 +215,12 @@ impl Store for SqliteStore {
         self.with(|c| {
             c.query_row(
                 &format!(
-                    "UPDATE jobs SET state = 'running', started = ?1
+                    "UPDATE jobs SET state = 'running', started = ?1, heartbeat = ?1,
+                     runner = ?2, attempts = attempts + 1
                      WHERE id = (SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1)
                      RETURNING {JOB_COLUMNS}"
                 ),
-                params![now],
+                params![now, self.instance],
                 job_from_row,
             )
             .optional()
@@ -340,8 +235,9 @@ impl Store for SqliteStore {
         };
         self.with(|c| {
             c.execute(
-                "UPDATE jobs SET round = ?2, diameter = ?3, fraction = ?4 WHERE id = ?1 AND state = 'running'",
-                params![id, round, d, fraction],
+                "UPDATE jobs SET round = ?2, diameter = ?3, fraction = ?4
+                 WHERE id = ?1 AND state = 'running' AND runner = ?5",
+                params![id, round, d, fraction, self.instance],
             )
             .map(|_| ())
         })
@@ -359,8 +255,8 @@ impl Store for SqliteStore {
             c.execute(
                 "UPDATE jobs SET state = ?2, result = ?3, error = ?4, finished = ?5,
                  fraction = CASE WHEN ?2 = 'done' THEN 1 ELSE fraction END
-                 WHERE id = ?1 AND state = 'running'",
-                params![id, state, result, error, now],
+                 WHERE id = ?1 AND state = 'running' AND runner = ?6",
+                params![id, state, result, error, now, self.instance],
             )
             .map(|_| ())
         })
@@ -404,13 +300,28 @@ impl Store for SqliteStore {
         })
     }
 
-    fn requeue_running(&self) -> StoreResult<usize> {
+    fn heartbeat(&self, now: i64) -> StoreResult<()> {
         self.with(|c| {
             c.execute(
-                "UPDATE jobs SET state = 'queued', started = NULL WHERE state = 'running'",
-                [],
+                "UPDATE jobs SET heartbeat = ?1 WHERE state = 'running' AND runner = ?2",
+                params![now, self.instance],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn requeue_stale(&self, now: i64, lease_ms: i64) -> StoreResult<usize> {
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET state = 'queued', started = NULL, runner = NULL
+                 WHERE state = 'running' AND (heartbeat IS NULL OR heartbeat < ?1)",
+                params![now.saturating_sub(lease_ms)],
             )
         })
+    }
+
+    fn instance(&self) -> &str {
+        &self.instance
     }
 
     fn counts(&self) -> StoreResult<Vec<(String, i64)>> {
@@ -420,20 +331,5 @@ impl Store for SqliteStore {
             let rows = st.query_map([], |r| Ok((r.get(0)?, r.get(1)?)))?;
             rows.collect()
         })
-    }
-}
-
-/// A summary of a mission value for listing.
-pub fn mission_row(
-    id: String,
-    m: &nvector_core::slam::mission::Mission,
-    created: i64,
-) -> MissionRow {
-    MissionRow {
-        id,
-        name: m.name.clone(),
-        steps: m.steps as i64,
-        detections: m.detections.len() as i64,
-        created,
     }
 }

@@ -1,0 +1,390 @@
+//! PostgreSQL storage: several `nvector serve` processes on one database
+//! share the missions and the job queue. A job is claimed with
+//! `FOR UPDATE SKIP LOCKED`, so concurrent workers of every process each
+//! take a different queued job and never wait for each other.
+//!
+//! Connections come from a small fixed pool (one per worker plus a few for
+//! the HTTP handlers); a broken connection is dropped and reopened on the
+//! next use. The schema is created on open, under an advisory lock so that
+//! processes starting together do not race.
+
+use super::{JobRow, MissionRow, Store, StoreError, StoreResult, JOB_COLUMNS};
+use postgres::{Client, NoTls, Row};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Schema versions, applied in order; `schema_version` holds how many ran.
+const MIGRATIONS: &[&str] = &["CREATE TABLE missions (
+        seq BIGSERIAL UNIQUE, id TEXT PRIMARY KEY, owner TEXT NOT NULL, name TEXT NOT NULL,
+        steps BIGINT NOT NULL, detections BIGINT NOT NULL, body TEXT NOT NULL,
+        created BIGINT NOT NULL);
+     CREATE INDEX missions_owner ON missions (owner, seq);
+     CREATE TABLE jobs (
+        seq BIGSERIAL UNIQUE, id TEXT PRIMARY KEY, owner TEXT NOT NULL, mission TEXT NOT NULL,
+        state TEXT NOT NULL, contractor TEXT NOT NULL, max_rounds BIGINT NOT NULL,
+        time_limit_s DOUBLE PRECISION NOT NULL, round BIGINT NOT NULL DEFAULT 0,
+        diameter DOUBLE PRECISION, fraction DOUBLE PRECISION NOT NULL DEFAULT 0,
+        error TEXT, result TEXT, created BIGINT NOT NULL, started BIGINT, finished BIGINT,
+        runner TEXT, heartbeat BIGINT, attempts BIGINT NOT NULL DEFAULT 0);
+     CREATE INDEX jobs_state ON jobs (state, seq);
+     CREATE INDEX jobs_mission ON jobs (mission);"];
+
+/// An arbitrary key for `pg_advisory_xact_lock` around migrations.
+const MIGRATION_LOCK: i64 = 0x006e_7665_6374_6f72;
+
+/// PostgreSQL storage.
+pub struct PostgresStore {
+    url: String,
+    pool: Vec<Mutex<Option<Client>>>,
+    next: AtomicUsize,
+    instance: String,
+}
+
+impl PostgresStore {
+    /// Connects (`postgres://user@host:port/db`), creates or upgrades the
+    /// schema, and keeps up to `pool_size` connections.
+    pub fn open(url: &str, pool_size: usize) -> StoreResult<PostgresStore> {
+        let mut client = Client::connect(url, NoTls)
+            .map_err(|e| StoreError(format!("connecting to PostgreSQL: {e}")))?;
+        {
+            let mut tx = client.transaction()?;
+            tx.execute("SELECT pg_advisory_xact_lock($1)", &[&MIGRATION_LOCK])?;
+            tx.batch_execute(
+                "CREATE TABLE IF NOT EXISTS schema_version (version BIGINT NOT NULL)",
+            )?;
+            let version: i64 = match tx.query_opt("SELECT version FROM schema_version", &[])? {
+                Some(r) => r.get(0),
+                None => {
+                    tx.execute("INSERT INTO schema_version VALUES (0)", &[])?;
+                    0
+                }
+            };
+            for m in MIGRATIONS.iter().skip(version.max(0) as usize) {
+                tx.batch_execute(m)?;
+            }
+            tx.execute(
+                "UPDATE schema_version SET version = $1",
+                &[&(MIGRATIONS.len() as i64)],
+            )?;
+            tx.commit()?;
+        }
+        let pool: Vec<Mutex<Option<Client>>> =
+            (0..pool_size.max(1)).map(|_| Mutex::new(None)).collect();
+        if let Ok(mut first) = pool[0].lock() {
+            *first = Some(client);
+        }
+        Ok(PostgresStore {
+            url: url.to_string(),
+            pool,
+            next: AtomicUsize::new(0),
+            instance: super::new_instance_id(),
+        })
+    }
+
+    /// Runs `f` on a pooled connection: a free one if any, else waits for
+    /// one in turn. A connection that broke is reopened.
+    fn with<T>(&self, f: impl FnOnce(&mut Client) -> Result<T, postgres::Error>) -> StoreResult<T> {
+        let n = self.pool.len();
+        let start = self.next.fetch_add(1, Ordering::Relaxed) % n;
+        let mut guard = (0..n)
+            .find_map(|i| self.pool[(start + i) % n].try_lock().ok())
+            .map_or_else(|| self.pool[start].lock(), Ok)
+            .map_err(|_| StoreError("poisoned connection".into()))?;
+        if guard.as_ref().is_none_or(Client::is_closed) {
+            *guard = Some(
+                Client::connect(&self.url, NoTls)
+                    .map_err(|e| StoreError(format!("connecting to PostgreSQL: {e}")))?,
+            );
+        }
+        let client = guard.as_mut().expect("connection just opened");
+        let out = f(client);
+        if out.is_err() && client.is_closed() {
+            *guard = None;
+        }
+        Ok(out?)
+    }
+}
+
+fn job_from_row(r: &Row) -> JobRow {
+    JobRow {
+        id: r.get(0),
+        mission: r.get(1),
+        state: r.get(2),
+        contractor: r.get(3),
+        max_rounds: r.get(4),
+        time_limit_s: r.get(5),
+        round: r.get(6),
+        diameter: r.get(7),
+        fraction: r.get(8),
+        error: r.get(9),
+        created: r.get(10),
+        started: r.get(11),
+        finished: r.get(12),
+        attempts: r.get(13),
+        runner: r.get(14),
+    }
+}
+
+impl Store for PostgresStore {
+    fn ping(&self) -> StoreResult<()> {
+        self.with(|c| c.simple_query("SELECT 1").map(|_| ()))
+    }
+
+    fn insert_mission(&self, owner: &str, m: &MissionRow, body: &str) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "INSERT INTO missions (id, owner, name, steps, detections, body, created)
+                 VALUES ($1, $2, $3, $4, $5, $6, $7)",
+                &[
+                    &m.id,
+                    &owner,
+                    &m.name,
+                    &m.steps,
+                    &m.detections,
+                    &body,
+                    &m.created,
+                ],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn list_missions(
+        &self,
+        owner: &str,
+        after: Option<&str>,
+        limit: i64,
+    ) -> StoreResult<Vec<MissionRow>> {
+        self.with(|c| {
+            let after_seq: i64 = match after {
+                Some(a) => c
+                    .query_opt(
+                        "SELECT seq FROM missions WHERE id = $1 AND owner = $2",
+                        &[&a, &owner],
+                    )?
+                    .map_or(i64::MAX, |r| r.get(0)),
+                None => 0,
+            };
+            let rows = c.query(
+                "SELECT id, name, steps, detections, created FROM missions
+                 WHERE owner = $1 AND seq > $2 ORDER BY seq LIMIT $3",
+                &[&owner, &after_seq, &limit],
+            )?;
+            Ok(rows
+                .iter()
+                .map(|r| MissionRow {
+                    id: r.get(0),
+                    name: r.get(1),
+                    steps: r.get(2),
+                    detections: r.get(3),
+                    created: r.get(4),
+                })
+                .collect())
+        })
+    }
+
+    fn mission_body(&self, owner: &str, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            Ok(c.query_opt(
+                "SELECT body FROM missions WHERE id = $1 AND owner = $2",
+                &[&id, &owner],
+            )?
+            .map(|r| r.get(0)))
+        })
+    }
+
+    fn mission_body_any(&self, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            Ok(
+                c.query_opt("SELECT body FROM missions WHERE id = $1", &[&id])?
+                    .map(|r| r.get(0)),
+            )
+        })
+    }
+
+    fn requeue_one(&self, id: &str) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET state = 'queued', started = NULL, runner = NULL
+                 WHERE id = $1 AND state = 'running' AND runner = $2",
+                &[&id, &self.instance],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool> {
+        self.with(|c| {
+            let mut tx = c.transaction()?;
+            let n = tx.execute(
+                "DELETE FROM missions WHERE id = $1 AND owner = $2",
+                &[&id, &owner],
+            )?;
+            if n > 0 {
+                tx.execute("DELETE FROM jobs WHERE mission = $1", &[&id])?;
+            }
+            tx.commit()?;
+            Ok(n > 0)
+        })
+    }
+
+    fn insert_job(&self, owner: &str, j: &JobRow) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "INSERT INTO jobs (id, owner, mission, state, contractor, max_rounds, time_limit_s, created)
+                 VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7)",
+                &[
+                    &j.id,
+                    &owner,
+                    &j.mission,
+                    &j.contractor,
+                    &j.max_rounds,
+                    &j.time_limit_s,
+                    &j.created,
+                ],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn job(&self, owner: &str, id: &str) -> StoreResult<Option<JobRow>> {
+        self.with(|c| {
+            Ok(c.query_opt(
+                &format!("SELECT {JOB_COLUMNS} FROM jobs WHERE id = $1 AND owner = $2"),
+                &[&id, &owner],
+            )?
+            .map(|r| job_from_row(&r)))
+        })
+    }
+
+    fn queued_count(&self) -> StoreResult<i64> {
+        self.with(|c| {
+            Ok(
+                c.query_one("SELECT COUNT(*) FROM jobs WHERE state = 'queued'", &[])?
+                    .get(0),
+            )
+        })
+    }
+
+    fn claim_job(&self, now: i64) -> StoreResult<Option<JobRow>> {
+        self.with(|c| {
+            Ok(c.query_opt(
+                &format!(
+                    "UPDATE jobs SET state = 'running', started = $1, heartbeat = $1,
+                     runner = $2, attempts = attempts + 1
+                     WHERE id = (SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq
+                                 LIMIT 1 FOR UPDATE SKIP LOCKED)
+                       AND state = 'queued'
+                     RETURNING {JOB_COLUMNS}"
+                ),
+                &[&now, &self.instance],
+            )?
+            .map(|r| job_from_row(&r)))
+        })
+    }
+
+    fn heartbeat(&self, now: i64) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET heartbeat = $1 WHERE state = 'running' AND runner = $2",
+                &[&now, &self.instance],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn requeue_stale(&self, now: i64, lease_ms: i64) -> StoreResult<usize> {
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET state = 'queued', started = NULL, runner = NULL
+                 WHERE state = 'running' AND (heartbeat IS NULL OR heartbeat < $1)",
+                &[&now.saturating_sub(lease_ms)],
+            )
+            .map(|n| n as usize)
+        })
+    }
+
+    fn progress(&self, id: &str, round: i64, diameter: f64, fraction: f64) -> StoreResult<()> {
+        let d = diameter.is_finite().then_some(diameter);
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET round = $2, diameter = $3, fraction = $4
+                 WHERE id = $1 AND state = 'running' AND runner = $5",
+                &[&id, &round, &d, &fraction, &self.instance],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn finish_job(
+        &self,
+        id: &str,
+        state: &str,
+        result: Option<&str>,
+        error: Option<&str>,
+        now: i64,
+    ) -> StoreResult<()> {
+        self.with(|c| {
+            c.execute(
+                "UPDATE jobs SET state = $2, result = $3, error = $4, finished = $5,
+                 fraction = CASE WHEN $2 = 'done' THEN 1 ELSE fraction END
+                 WHERE id = $1 AND state = 'running' AND runner = $6",
+                &[&id, &state, &result, &error, &now, &self.instance],
+            )
+            .map(|_| ())
+        })
+    }
+
+    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            let mut tx = c.transaction()?;
+            let state: Option<String> = tx
+                .query_opt(
+                    "SELECT state FROM jobs WHERE id = $1 AND owner = $2 FOR UPDATE",
+                    &[&id, &owner],
+                )?
+                .map(|r| r.get(0));
+            if matches!(state.as_deref(), Some("queued" | "running")) {
+                tx.execute(
+                    "UPDATE jobs SET state = 'cancelled', finished = $2 WHERE id = $1",
+                    &[&id, &now],
+                )?;
+            }
+            tx.commit()?;
+            Ok(state)
+        })
+    }
+
+    fn job_state(&self, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            Ok(c.query_opt("SELECT state FROM jobs WHERE id = $1", &[&id])?
+                .map(|r| r.get(0)))
+        })
+    }
+
+    fn result(&self, owner: &str, id: &str) -> StoreResult<Option<String>> {
+        self.with(|c| {
+            Ok(c.query_opt(
+                "SELECT result FROM jobs WHERE id = $1 AND owner = $2",
+                &[&id, &owner],
+            )?
+            .and_then(|r| r.get(0)))
+        })
+    }
+
+    fn counts(&self) -> StoreResult<Vec<(String, i64)>> {
+        self.with(|c| {
+            Ok(c.query(
+                "SELECT state, COUNT(*) FROM jobs GROUP BY state ORDER BY state",
+                &[],
+            )?
+            .iter()
+            .map(|r| (r.get(0), r.get(1)))
+            .collect())
+        })
+    }
+
+    fn instance(&self) -> &str {
+        &self.instance
+    }
+}
