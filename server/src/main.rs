@@ -41,6 +41,22 @@ enum Command {
         /// Only the measures whose name contains this.
         #[arg(long)]
         only: Option<String>,
+        /// Instead of the table: the load run against a real `nvector
+        /// serve` started on loopback (one JSON line).
+        #[arg(long)]
+        service: bool,
+        /// Load run: clients at once.
+        #[arg(long, default_value_t = 200, requires = "service")]
+        clients: usize,
+        /// Load run: steps of each client's simulated mission.
+        #[arg(long, default_value_t = 1000, requires = "service")]
+        steps: usize,
+        /// Load run: storage URL (default: a fresh SQLite file).
+        #[arg(long, requires = "service")]
+        database: Option<String>,
+        /// Load run: worker threads of the service.
+        #[arg(long, requires = "service")]
+        workers: Option<usize>,
     },
 }
 
@@ -62,7 +78,21 @@ fn main() -> ExitCode {
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Import(a) => cli::import::run(a),
         Command::Plot(a) => cli::plot::run(a),
-        Command::Bench { quick, only } => cli::bench::run(quick, only.as_deref()),
+        Command::Bench {
+            service: true,
+            clients,
+            steps,
+            database,
+            workers,
+            ..
+        } => cli::bench_service::run(&cli::bench_service::Options {
+            clients,
+            steps,
+            database,
+            workers,
+        })
+        .map(|v| println!("{v}")),
+        Command::Bench { quick, only, .. } => cli::bench::run(quick, only.as_deref()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

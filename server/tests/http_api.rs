@@ -378,7 +378,33 @@ fn api_keys_separate_owners(b: &Backend) {
     );
 }
 
+/// `nvector bench --service`: clients at once against a real service; every
+/// client's job ends done, none fails.
+fn load_run_of_the_bench(b: &Backend) {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_nvector"));
+    cmd.args(["bench", "--service", "--clients", "24", "--steps", "300"]);
+    if let Backend::Postgres(c) = b {
+        cmd.args(["--database", &c.create_db()]);
+    }
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["name"], "service_load");
+    assert_eq!(v["clients"], 24);
+    assert_eq!(v["errors"], 0, "{v}");
+    assert!(
+        v["p50_ms"].as_f64().unwrap() <= v["p99_ms"].as_f64().unwrap(),
+        "{v}"
+    );
+    assert!(v["peak_rss_mib"].as_f64().unwrap() > 1.0, "{v}");
+}
+
 on_both_storages!(
+    load_run_of_the_bench,
     missions_jobs_results,
     cancel_a_long_job,
     contract_and_simulate_endpoints,

@@ -30,6 +30,9 @@ pub struct Workers {
     pub durations: Mutex<Vec<f64>>,
     /// Jobs currently running in this process.
     pub running: AtomicU64,
+    /// Ids of the jobs whose stored state this process just changed (for
+    /// the event streams).
+    pub changes: tokio::sync::broadcast::Sender<String>,
 }
 
 impl Workers {
@@ -41,7 +44,13 @@ impl Workers {
             stopping: AtomicBool::new(false),
             durations: Mutex::new(Vec::new()),
             running: AtomicU64::new(0),
+            changes: tokio::sync::broadcast::channel(4096).0,
         })
+    }
+
+    /// Tells the event streams that a job changed.
+    pub fn changed(&self, id: &str) {
+        let _ = self.changes.send(id.to_string());
     }
 
     /// Wakes one idle worker (a job was queued).
@@ -121,8 +130,11 @@ fn worker_loop(store: Arc<dyn Store>, workers: Arc<Workers>) {
         match store.claim_job(now_ms()) {
             Ok(Some(job)) => {
                 workers.running.fetch_add(1, Ordering::SeqCst);
+                workers.changed(&job.id);
+                let id = job.id.clone();
                 let start = Instant::now();
                 run_job(&*store, &workers, job);
+                workers.changed(&id);
                 workers.running.fetch_sub(1, Ordering::SeqCst);
                 if let Ok(mut d) = workers.durations.lock() {
                     d.push(start.elapsed().as_secs_f64() * 1e3);
@@ -189,6 +201,7 @@ fn run_job(store: &dyn Store, workers: &Workers, job: JobRow) {
                 p.max_trajectory_diameter,
                 p.fraction,
             );
+            workers.changed(&job.id);
             if let Ok(Some(s)) = store.job_state(&job.id) {
                 if s == "cancelled" {
                     cancel.store(true, Ordering::SeqCst);

@@ -519,7 +519,9 @@ async fn delete_job(
 ) -> ApiResult<(StatusCode, Json<Value>)> {
     let owner = owner(&state, &headers)?;
     let (o, i) = (owner.clone(), id.clone());
-    match state.db(move |st| st.cancel_job(&o, &i, now_ms())).await? {
+    let cancelled = state.db(move |st| st.cancel_job(&o, &i, now_ms())).await?;
+    state.workers.changed(&id);
+    match cancelled {
         None => Err(AppError::not_found("job")),
         Some(s) if s == "queued" || s == "running" => Ok((
             StatusCode::ACCEPTED,
@@ -546,12 +548,15 @@ async fn job_events(
             .await?
             .ok_or_else(|| AppError::not_found("job"))?;
     }
-    // Storage is polled, so progress made by any process sharing the
-    // database is streamed; an event is sent when the job changes, and the
-    // stream ends after the terminal state.
+    // The stream wakes when a worker of this process reports a change of
+    // this job (an in-memory broadcast of job ids), and polls storage every
+    // half second anyway, for jobs run by another process sharing the
+    // database. An event is sent when the job changes; the stream ends
+    // after the terminal state.
+    let rx = state.workers.changes.subscribe();
     let s = stream::unfold(
-        (state, owner, id, String::new(), false),
-        |(state, owner, id, last, done)| async move {
+        (state, owner, id, String::new(), false, rx),
+        |(state, owner, id, last, done, mut rx)| async move {
             if done {
                 return None;
             }
@@ -562,7 +567,7 @@ async fn job_events(
                     let ev = Event::default()
                         .event("end")
                         .data(json!({"id": id, "state": "deleted"}).to_string());
-                    return Some((Ok(ev), (state, owner, id, last, true)));
+                    return Some((Ok(ev), (state, owner, id, last, true, rx)));
                 };
                 let text = job_json(&job).to_string();
                 let terminal = matches!(job.state.as_str(), "done" | "failed" | "cancelled");
@@ -570,9 +575,23 @@ async fn job_events(
                     let ev = Event::default()
                         .event(if terminal { "end" } else { "progress" })
                         .data(text.clone());
-                    return Some((Ok(ev), (state, owner, id, text, terminal)));
+                    return Some((Ok(ev), (state, owner, id, text, terminal, rx)));
                 }
-                tokio::time::sleep(Duration::from_millis(150)).await;
+                let poll = tokio::time::sleep(Duration::from_millis(500));
+                tokio::pin!(poll);
+                loop {
+                    tokio::select! {
+                        _ = &mut poll => break,
+                        r = rx.recv() => match r {
+                            Ok(changed) if changed != id => continue,
+                            Err(tokio::sync::broadcast::error::RecvError::Closed) => {
+                                (&mut poll).await;
+                                break;
+                            }
+                            _ => break,
+                        },
+                    }
+                }
             }
         },
     );
