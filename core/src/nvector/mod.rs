@@ -163,6 +163,7 @@ fn intersect_groups(
     groups: &mut Groups,
     common: &mut Vec<Interval>,
     dirty: &mut [bool],
+    axes: Option<usize>,
 ) -> bool {
     let k = boxes.len();
     let roots: Vec<u32> = (0..k as u32).map(|i| groups.find(i)).collect();
@@ -171,7 +172,8 @@ fn intersect_groups(
     }
     let dim = boxes[0].dim();
     let mut changed = false;
-    for axis in 0..dim {
+    let (from, to) = axes.map_or((0, dim), |a| (a, a + 1));
+    for axis in from..to {
         common.clear();
         common.resize(k, Interval::ENTIRE);
         for (b, &r) in boxes.iter().zip(&roots) {
@@ -202,16 +204,17 @@ fn intersect_groups(
 /// cell shrinking to the intersection; a point of each cell hits its boxes).
 /// O(k log k + 8 k d).
 fn greedy_hitting_set(boxes: &[IntervalBox]) -> usize {
-    let mut order: Vec<(f64, u32)> = boxes
-        .iter()
-        .enumerate()
-        .map(|(i, b)| (b[0].hi(), i as u32))
-        .collect();
-    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut order = Vec::new();
+    crate::radix::sort_indices(
+        boxes.len(),
+        |i| boxes[i][0].hi(),
+        &mut order,
+        &mut crate::radix::RadixScratch::default(),
+    );
     // Cells visited last are the likeliest to meet the next box (boxes come
     // by increasing upper bound on axis 0): only the 8 most recent are tried.
     let mut cells: Vec<IntervalBox> = Vec::new();
-    for (_, i) in order {
+    for i in order {
         let b = &boxes[i as usize];
         let start = cells.len().saturating_sub(8);
         if let Some(c) = cells[start..].iter_mut().rev().find(|c| c.meets(b)) {
@@ -309,6 +312,8 @@ pub fn atmost_nvector(
             dirty[axis] = false;
             domains.clear();
             domains.extend(boxes.iter().map(|b| b[axis]));
+            let mut grew = false;
+            let mut moved = false;
             match nvalue::atmost_nvalue(n, &mut domains, &mut nv) {
                 NValue::Infeasible { m } => {
                     let reason = format!("axis {axis} needs at least {m} distinct values, n = {n}");
@@ -319,6 +324,7 @@ pub fn atmost_nvector(
                     lower = lower.max(n);
                     if changed {
                         witness_dirty = true;
+                        moved = true;
                         for (b, &x) in boxes.iter_mut().zip(domains.iter()) {
                             b[axis] = x;
                         }
@@ -334,13 +340,25 @@ pub fn atmost_nvector(
                         if *f == u32::MAX {
                             *f = i as u32;
                         } else {
-                            groups.union(*f, i as u32);
+                            grew |= groups.union(*f, i as u32);
                         }
                     }
                 }
             }
-            if whole_boxes && intersect_groups(boxes, &mut groups, &mut common, &mut dirty) {
-                witness_dirty = true;
+            // Members of a group are equal: intersect them on every axis
+            // when groups grew, else only on this axis when it moved (the
+            // other axes were intersected when the groups last changed).
+            let axes = if grew {
+                Some(None)
+            } else if moved {
+                Some(Some(axis))
+            } else {
+                None
+            };
+            if let (true, Some(axes)) = (whole_boxes, axes) {
+                if intersect_groups(boxes, &mut groups, &mut common, &mut dirty, axes) {
+                    witness_dirty = true;
+                }
             }
             if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
                 let reason =
@@ -372,7 +390,7 @@ pub fn atmost_nvector(
                 if changed {
                     dirty.iter_mut().for_each(|d| *d = true);
                 }
-                changed |= intersect_groups(boxes, &mut groups, &mut common, &mut dirty);
+                changed |= intersect_groups(boxes, &mut groups, &mut common, &mut dirty, None);
                 witness_dirty = changed;
                 if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
                     let reason = format!("box {i} meets no witness of the {n} distinct vectors");

@@ -36,16 +36,19 @@
 //!
 //! # Complexity
 //!
-//! Two sorts, O(k log k); the pruning pass locates each domain among the
+//! Two sorts, by a radix sort on the bounds' bits ([`crate::radix`]), O(k);
+//! the pruning pass locates each domain among the
 //! sorted kernels by binary search, O(k log n). Buffers are reused through
 //! [`NValueScratch`].
 
 use crate::interval::Interval;
+use crate::radix::{sort_indices, RadixScratch};
 
 /// Reusable buffers for [`atmost_nvalue`] (no allocation after warm-up).
 #[derive(Debug, Default, Clone)]
 pub struct NValueScratch {
-    order: Vec<(f64, u32)>,
+    order: Vec<u32>,
+    radix: RadixScratch,
     latest: Vec<f64>,
     earliest: Vec<f64>,
     /// Kernels of the last call (valid when it returned `Kernels`).
@@ -80,24 +83,23 @@ pub enum NValue {
 /// without pruning. Empty intervals are not allowed. O(k log k).
 pub fn min_values(domains: &[Interval], scratch: &mut NValueScratch) -> usize {
     let order = &mut scratch.order;
-    order.clear();
-    order.extend(domains.iter().enumerate().map(|(i, x)| (x.hi(), i as u32)));
-    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    sort_indices(
+        domains.len(),
+        |i| domains[i].hi(),
+        order,
+        &mut scratch.radix,
+    );
     left_greedy(domains, order, None)
 }
 
 /// Left greedy over `order` (sorted by upper bound): number of points, and
 /// the points themselves pushed to `points` when given.
-fn left_greedy(
-    domains: &[Interval],
-    order: &[(f64, u32)],
-    mut points: Option<&mut Vec<f64>>,
-) -> usize {
+fn left_greedy(domains: &[Interval], order: &[u32], mut points: Option<&mut Vec<f64>>) -> usize {
     let mut m = 0;
     let mut p = f64::NEG_INFINITY;
     let mut placed = false;
-    for &(hi, i) in order {
-        let lo = domains[i as usize].lo();
+    for &i in order {
+        let (lo, hi) = (domains[i as usize].lo(), domains[i as usize].hi());
         if !placed || lo > p {
             p = hi;
             placed = true;
@@ -122,15 +124,14 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
     let k = domains.len();
     let NValueScratch {
         order,
+        radix,
         latest,
         earliest,
         kernels,
         group_of,
     } = scratch;
     // Left greedy: latest points.
-    order.clear();
-    order.extend(domains.iter().enumerate().map(|(i, x)| (x.hi(), i as u32)));
-    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    sort_indices(k, |i| domains[i].hi(), order, radix);
     kernels.clear();
     latest.clear();
     let m = left_greedy(domains, order, Some(latest));
@@ -141,14 +142,12 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
         return NValue::Slack { m };
     }
     // Right greedy: earliest points, on decreasing lower bounds.
-    order.clear();
-    order.extend(domains.iter().enumerate().map(|(i, x)| (x.lo(), i as u32)));
-    order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    sort_indices(k, |i| -domains[i].lo(), order, radix);
     let mut q = f64::INFINITY;
     let mut placed = false;
     earliest.clear();
-    for &(lo, i) in order.iter() {
-        let hi = domains[i as usize].hi();
+    for &i in order.iter() {
+        let (lo, hi) = (domains[i as usize].lo(), domains[i as usize].hi());
         if !placed || hi < q {
             q = lo;
             placed = true;
@@ -283,5 +282,52 @@ mod tests {
             NValue::Kernels { changed: true }
         );
         assert_eq!(d, vec![iv(0.0, 1.0), iv(0.0, 1.0)]);
+    }
+
+    /// Large inputs take the radix path of the sorts: planted values
+    /// survive, and the minimum matches a comparison-sort greedy.
+    #[test]
+    fn large_planted_instances_keep_their_values() {
+        let mut seed = 0x5eedu64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..20 {
+            let n = 1 + case % 7;
+            let k = 1500 + case * 300;
+            let points: Vec<f64> = (0..n).map(|j| j as f64 * 3.0 + next()).collect();
+            let planted: Vec<f64> = (0..k).map(|i| points[i % n]).collect();
+            let mut domains: Vec<Interval> = planted
+                .iter()
+                .map(|&v| {
+                    let (a, b) = (next() * 4.0, next() * 4.0);
+                    if case % 3 == 0 {
+                        iv(v - (a * 8.0).floor() / 8.0, v + (b * 8.0).floor() / 8.0)
+                    } else {
+                        iv(v - a, v + b)
+                    }
+                })
+                .collect();
+            let mut by_hi: Vec<Interval> = domains.clone();
+            by_hi.sort_by(|x, y| x.hi().total_cmp(&y.hi()));
+            let mut m = 0;
+            let mut p = f64::NEG_INFINITY;
+            for x in &by_hi {
+                if m == 0 || x.lo() > p {
+                    p = x.hi();
+                    m += 1;
+                }
+            }
+            let mut scratch = NValueScratch::default();
+            assert_eq!(min_values(&domains, &mut scratch), m, "case {case}");
+            let r = atmost_nvalue(n, &mut domains, &mut scratch);
+            assert!(!matches!(r, NValue::Infeasible { .. }), "case {case}");
+            for (x, &v) in domains.iter().zip(&planted) {
+                assert!(x.contains(v), "case {case}: {v} lost from {x:?}");
+            }
+        }
     }
 }

@@ -1,7 +1,9 @@
 //! `nvector bench`: the performance table of BENCHMARKS.md, one JSON line
 //! per measure (spec/formats.md, "Benchmark lines"). Each measure is the
-//! median of repeated runs; a baseline, when given, is measured in the same
-//! run so that the ratio does not depend on the machine.
+//! median of repeated runs; a baseline, when given, is timed in alternation
+//! with the measure in the same run, and the ratio is the median of the
+//! per-pair ratios, so that it depends neither on the machine nor on its
+//! momentary load.
 
 use crate::CliError;
 use nvector_core::nvector::nvalue::{atmost_nvalue, NValueScratch};
@@ -59,12 +61,46 @@ pub fn median_ms<S, T>(
     times[times.len() / 2]
 }
 
-fn line(name: &str, ms: f64, baseline: Option<(&str, f64)>, goal: Option<f64>) -> Value {
+/// A measure and its baseline timed in alternation, `runs` pairs: returns
+/// the medians of the baseline, of the measure and of the per-pair ratios.
+/// Pairing keeps the ratio steady on a noisy machine: both sides of a pair
+/// see the same load.
+pub fn paired_ms<S, T, B, U>(
+    runs: usize,
+    mut base_setup: impl FnMut() -> B,
+    mut base: impl FnMut(B) -> U,
+    mut setup: impl FnMut() -> S,
+    mut f: impl FnMut(S) -> T,
+) -> (f64, f64, f64) {
+    let mut b = Vec::with_capacity(runs);
+    let mut m = Vec::with_capacity(runs);
+    let mut r = Vec::with_capacity(runs);
+    for _ in 0..runs {
+        let input = base_setup();
+        let t = Instant::now();
+        std::hint::black_box(base(input));
+        let tb = t.elapsed().as_secs_f64() * 1e3;
+        let input = setup();
+        let t = Instant::now();
+        std::hint::black_box(f(input));
+        let tm = t.elapsed().as_secs_f64() * 1e3;
+        b.push(tb);
+        m.push(tm);
+        r.push(tm / tb);
+    }
+    let med = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    (med(b), med(m), med(r))
+}
+
+fn line(name: &str, ms: f64, baseline: Option<(&str, f64, f64)>, goal: Option<f64>) -> Value {
     let mut v = json!({"name": name, "ms": round3(ms)});
-    if let Some((b, bms)) = baseline {
+    if let Some((b, bms, ratio)) = baseline {
         v["baseline"] = json!(b);
         v["baseline_ms"] = json!(round3(bms));
-        v["ratio"] = json!(round3(ms / bms));
+        v["ratio"] = json!(round3(ratio));
     }
     if let Some(g) = goal {
         v["goal"] = json!(g);
@@ -76,16 +112,13 @@ fn round3(x: f64) -> f64 {
     (x * 1000.0).round() / 1000.0
 }
 
-fn sort_baseline(rng: &mut Rng, k: usize, runs: usize) -> f64 {
-    let data: Vec<f64> = (0..k).map(|_| rng.range(-1e3, 1e3)).collect();
-    median_ms(
-        runs,
-        || data.clone(),
-        |mut v| {
-            v.sort_unstable_by(|a, b| a.total_cmp(b));
-            v
-        },
-    )
+fn sort_data(rng: &mut Rng, k: usize) -> Vec<f64> {
+    (0..k).map(|_| rng.range(-1e3, 1e3)).collect()
+}
+
+fn sort_f64(mut v: Vec<f64>) -> Vec<f64> {
+    v.sort_unstable_by(|a, b| a.total_cmp(b));
+    v
 }
 
 /// `k` intervals in `n` clusters: every interval of cluster j holds the
@@ -147,18 +180,20 @@ pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
     let name = format!("nvalue_1e6{suffix}");
     if wanted(&name) {
         let k = if quick { 100_000 } else { 1_000_000 };
-        let base = sort_baseline(&mut rng, k, runs);
+        let data = sort_data(&mut rng, k);
         let domains = clustered_intervals(&mut rng, k, 1000);
         let mut scratch = NValueScratch::default();
-        let ms = median_ms(
+        let (base, ms, ratio) = paired_ms(
             runs,
+            || data.clone(),
+            sort_f64,
             || domains.clone(),
             |mut d| atmost_nvalue(1000, &mut d, &mut scratch),
         );
         emit(line(
             &name,
             ms,
-            Some((&format!("sort_f64_1e6{suffix}"), base)),
+            Some((&format!("sort_f64_1e6{suffix}"), base, ratio)),
             Some(2.5),
         ));
     }
@@ -166,17 +201,19 @@ pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
     let name = format!("nvector_projection_1e5_3d{suffix}");
     if wanted(&name) {
         let k = if quick { 10_000 } else { 100_000 };
-        let base = sort_baseline(&mut rng, k, runs);
+        let data = sort_data(&mut rng, k);
         let boxes = clustered_boxes(&mut rng, k, 100, 3, 4.0);
-        let ms = median_ms(
+        let (base, ms, ratio) = paired_ms(
             runs,
+            || data.clone(),
+            sort_f64,
             || boxes.clone(),
             |mut b| atmost_nvector(100, &mut b, Mode::Projection),
         );
         emit(line(
             &name,
             ms,
-            Some((&format!("sort_f64_1e5{suffix}"), base)),
+            Some((&format!("sort_f64_1e5{suffix}"), base, ratio)),
             Some(10.0),
         ));
     }
