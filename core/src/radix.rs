@@ -24,92 +24,90 @@ pub struct RadixScratch {
     counts: Vec<u32>,
 }
 
-/// A monotone map of the keys to 32 bits: fixed point over the keys' finite
+/// A monotone map of f64 keys to 32 bits: fixed point over the keys' finite
 /// range when that range is finite and not empty, else the high 32 bits of
 /// [`f64_key`]. Monotone (non-decreasing) because subtraction,
 /// multiplication by a positive constant (rounded to nearest) and the
-/// saturating conversion to an integer all are.
-fn key32(k: usize, key: &impl Fn(usize) -> f64) -> impl Fn(f64) -> u64 {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for i in 0..k {
-        let x = key(i);
-        if x.is_finite() {
-            lo = lo.min(x);
-            hi = hi.max(x);
-        }
+/// saturating conversion to an integer all are. Hence, for any keys `x`,
+/// `y` in its domain: `image(x) < image(y)` implies `x < y`; only equal
+/// images leave the order open.
+#[derive(Debug, Clone, Copy)]
+pub struct KeyImage {
+    lo: f64,
+    scale: f64,
+    fixed: bool,
+}
+
+impl KeyImage {
+    /// The map for keys whose finite ones lie in `[lo, hi]` (`lo > hi`:
+    /// no finite key).
+    pub fn over(lo: f64, hi: f64) -> KeyImage {
+        let range = hi - lo;
+        let fixed = range.is_finite() && range > 0.0;
+        let scale = if fixed { 4_294_967_295.0 / range } else { 0.0 };
+        KeyImage { lo, scale, fixed }
     }
-    let range = hi - lo;
-    let fixed = range.is_finite() && range > 0.0;
-    let scale = if fixed { 4_294_967_295.0 / range } else { 0.0 };
-    move |x: f64| {
-        if fixed {
-            (((x - lo) * scale) as u64).min(u32::MAX as u64)
+
+    /// The image of `x` (not NaN).
+    #[inline]
+    pub fn image(&self, x: f64) -> u32 {
+        if self.fixed {
+            (((x - self.lo) * self.scale) as u64).min(u32::MAX as u64) as u32
         } else {
-            f64_key(x) >> 32
+            (f64_key(x) >> 32) as u32
         }
     }
 }
 
-/// The indices `0..k` ordered by increasing `key(i)` (`f64::total_cmp`
-/// order, ties by index), into `out`. Keys must not be NaN.
-///
-/// Each item is packed in one u64: a 32-bit monotone image of its key
-/// (see `key32`) above its index. Stable passes over those 32 bits (two of
-/// 16 bits for large inputs, three of 11 bits for small ones) sort the
-/// items by image, ties in index order. Only items with equal images can be
-/// out of order, and they are adjacent: each such run is then sorted by the
-/// full key. Runs longer than one are rare unless keys are equal or closer
-/// than their range / 2^32; the run sort (a comparison sort) keeps the
-/// worst case at O(k log k).
-pub fn sort_indices(
-    k: usize,
-    key: impl Fn(usize) -> f64,
-    out: &mut Vec<u32>,
-    scratch: &mut RadixScratch,
-) {
-    let RadixScratch { items, tmp, counts } = scratch;
-    let image = key32(k, &key);
-    items.clear();
-    let radix = k >= 1024;
+/// Sorts items `image << 32 | index` by image, ties in index order: that is
+/// by the whole u64. Stable LSD passes over the 32 image bits (two of 16
+/// bits for large inputs, three of 11 for mid-sized ones, a comparison sort
+/// below 1024 items); passes where every item has the same digit are
+/// skipped.
+pub fn sort_items(items: &mut Vec<u64>, scratch: &mut RadixScratch) {
+    let k = items.len();
+    if k < 1024 {
+        items.sort_unstable();
+        return;
+    }
+    let RadixScratch { tmp, counts, .. } = scratch;
     let bits: u32 = if k >= 1 << 17 { 16 } else { 11 };
     let buckets = 1usize << bits;
     let mask = buckets - 1;
     let shifts: Vec<u32> = (32..64).step_by(bits as usize).collect();
-    items.extend((0..k).map(|i| image(key(i)) << 32 | i as u64));
-    if radix {
-        counts.clear();
-        counts.resize(buckets * shifts.len(), 0);
-        for &item in items.iter() {
-            for (p, &shift) in shifts.iter().enumerate() {
-                counts[p * buckets + (((item >> shift) as usize) & mask)] += 1;
-            }
-        }
-    }
-    if radix {
-        tmp.clear();
-        tmp.resize(k, 0);
+    counts.clear();
+    counts.resize(buckets * shifts.len(), 0);
+    for &item in items.iter() {
         for (p, &shift) in shifts.iter().enumerate() {
-            let c = &mut counts[p * buckets..(p + 1) * buckets];
-            if c.iter().any(|&n| n as usize == k) {
-                continue; // every item has the same digit here
-            }
-            let mut sum = 0u32;
-            for n in c.iter_mut() {
-                let here = *n;
-                *n = sum;
-                sum += here;
-            }
-            for &item in items.iter() {
-                let d = ((item >> shift) as usize) & mask;
-                tmp[c[d] as usize] = item;
-                c[d] += 1;
-            }
-            std::mem::swap(items, tmp);
+            counts[p * buckets + (((item >> shift) as usize) & mask)] += 1;
         }
-    } else {
-        items.sort_unstable();
     }
-    // Runs of equal images: order by the full key, then index.
+    tmp.clear();
+    tmp.resize(k, 0);
+    for (p, &shift) in shifts.iter().enumerate() {
+        let c = &mut counts[p * buckets..(p + 1) * buckets];
+        if c.iter().any(|&n| n as usize == k) {
+            continue; // every item has the same digit here
+        }
+        let mut sum = 0u32;
+        for n in c.iter_mut() {
+            let here = *n;
+            *n = sum;
+            sum += here;
+        }
+        for &item in items.iter() {
+            let d = ((item >> shift) as usize) & mask;
+            tmp[c[d] as usize] = item;
+            c[d] += 1;
+        }
+        std::mem::swap(items, tmp);
+    }
+}
+
+/// Within each run of items of equal image (adjacent after
+/// [`sort_items`]), orders the items by `cmp` of their indices.
+pub fn fix_runs(items: &mut [u64], cmp: impl Fn(usize, usize) -> std::cmp::Ordering) {
+    let k = items.len();
     let mut start = 0;
     while start < k {
         let high = items[start] >> 32;
@@ -118,15 +116,52 @@ pub fn sort_indices(
             end += 1;
         }
         if end - start > 1 {
-            items[start..end].sort_unstable_by(|&a, &b| {
-                let (ia, ib) = ((a & 0xFFFF_FFFF) as usize, (b & 0xFFFF_FFFF) as usize);
-                key(ia).total_cmp(&key(ib)).then(ia.cmp(&ib))
-            });
+            let by_cmp =
+                |a: &u64, b: &u64| cmp((a & 0xFFFF_FFFF) as usize, (b & 0xFFFF_FFFF) as usize);
+            // Runs of equal keys (boxes of one group, contracted alike) are
+            // already in index order: check before sorting.
+            let run = &mut items[start..end];
+            if !run.is_sorted_by(|a, b| by_cmp(a, b).is_le()) {
+                run.sort_unstable_by(by_cmp);
+            }
         }
         start = end;
     }
+}
+
+/// The indices `0..k` ordered by increasing `key(i)` (`f64::total_cmp`
+/// order, ties by index), into `out`. Keys must not be NaN.
+///
+/// Each item is packed in one u64: a 32-bit monotone image of its key
+/// ([`KeyImage`] over the keys' finite range) above its index, sorted by
+/// [`sort_items`]. Only items with equal images can be out of order, and
+/// they are adjacent: each such run is then sorted by the full key
+/// ([`fix_runs`]). Runs longer than one are rare unless keys are equal or
+/// closer than their range / 2^32; the run sort (a comparison sort) keeps
+/// the worst case at O(k log k).
+pub fn sort_indices(
+    k: usize,
+    key: impl Fn(usize) -> f64,
+    out: &mut Vec<u32>,
+    scratch: &mut RadixScratch,
+) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..k {
+        let x = key(i);
+        if x.is_finite() {
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+    }
+    let image = KeyImage::over(lo, hi);
+    let mut items = std::mem::take(&mut scratch.items);
+    items.clear();
+    items.extend((0..k).map(|i| (image.image(key(i)) as u64) << 32 | i as u64));
+    sort_items(&mut items, scratch);
+    fix_runs(&mut items, |a, b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
     out.clear();
     out.extend(items.iter().map(|&it| (it & 0xFFFF_FFFF) as u32));
+    scratch.items = items;
 }
 
 #[cfg(test)]

@@ -150,6 +150,16 @@ proptest! {
     }
 
     #[test]
+    fn outward_add_and_sub_contain_and_enclose_the_tight_ones((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
+        let s = x.add_outward(y);
+        prop_assert!(holds(s, &(rat(a) + rat(b))), "{:?} +out {:?} = {:?} misses {} + {}", x, y, s, a, b);
+        prop_assert!((x + y).is_subset(s), "{:?} +out {:?} = {:?} is tighter than {:?}", x, y, s, x + y);
+        let d = x.sub_outward(y);
+        prop_assert!(holds(d, &(rat(a) - rat(b))), "{:?} -out {:?} = {:?} misses {} - {}", x, y, d, a, b);
+        prop_assert!((x - y).is_subset(d), "{:?} -out {:?} = {:?} is tighter than {:?}", x, y, d, x - y);
+    }
+
+    #[test]
     fn mul_contains((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
         let z = x * y;
         prop_assert!(holds(z, &(rat(a) * rat(b))), "{:?} * {:?} = {:?} misses {} * {}", x, y, z, a, b);

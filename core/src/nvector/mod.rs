@@ -202,8 +202,11 @@ fn intersect_groups(
 /// An upper bound of the minimum number of distinct vectors: the size of a
 /// hitting set built greedily (each box joins the first cell it meets, the
 /// cell shrinking to the intersection; a point of each cell hits its boxes).
-/// O(k log k + 8 k d).
+/// The boxes are first copied, in order, to a flat array by a loop of
+/// independent loads (the memory system overlaps them), so the greedy
+/// itself reads sequentially. O(k log k + 8 k d).
 fn greedy_hitting_set(boxes: &[IntervalBox]) -> usize {
+    let dim = boxes[0].dim();
     let mut order = Vec::new();
     crate::radix::sort_indices(
         boxes.len(),
@@ -211,19 +214,27 @@ fn greedy_hitting_set(boxes: &[IntervalBox]) -> usize {
         &mut order,
         &mut crate::radix::RadixScratch::default(),
     );
+    let mut sorted: Vec<Interval> = Vec::with_capacity(boxes.len() * dim);
+    for &i in &order {
+        sorted.extend_from_slice(boxes[i as usize].axes());
+    }
     // Cells visited last are the likeliest to meet the next box (boxes come
     // by increasing upper bound on axis 0): only the 8 most recent are tried.
-    let mut cells: Vec<IntervalBox> = Vec::new();
-    for i in order {
-        let b = &boxes[i as usize];
-        let start = cells.len().saturating_sub(8);
-        if let Some(c) = cells[start..].iter_mut().rev().find(|c| c.meets(b)) {
-            c.intersect_with(b);
+    let mut cells: Vec<Interval> = Vec::new();
+    for b in sorted.chunks_exact(dim) {
+        let start = cells.len().saturating_sub(8 * dim);
+        let hit = cells[start..]
+            .rchunks_exact_mut(dim)
+            .find(|c| c.iter().zip(b).all(|(x, y)| x.meets(*y)));
+        if let Some(c) = hit {
+            for (x, y) in c.iter_mut().zip(b) {
+                *x = x.intersect(*y);
+            }
         } else {
-            cells.push(b.clone());
+            cells.extend_from_slice(b);
         }
     }
-    cells.len()
+    cells.len() / dim
 }
 
 fn infeasible(boxes: &mut [IntervalBox], reason: String, lower: usize, rounds: u32) -> Outcome {

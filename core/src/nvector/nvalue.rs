@@ -36,19 +36,29 @@
 //!
 //! # Complexity
 //!
-//! Two sorts, by a radix sort on the bounds' bits ([`crate::radix`]), O(k);
-//! the pruning pass locates each domain among the
-//! sorted kernels by binary search, O(k log n). Buffers are reused through
-//! [`NValueScratch`].
+//! Two sorts, by a radix sort of 32-bit monotone images of the bounds
+//! ([`crate::radix`]), O(k) unless many bounds are closer than their range
+//! / 2^32 (then O(k log k)); the greedies compare images and read exact
+//! bounds only on equal images; the pruning pass locates each domain among
+//! the sorted kernels through a table over the images and a short scan
+//! (a binary search when the scan is long), O(k + n) on spread-out
+//! kernels, O(k log n) at worst. Buffers are reused
+//! through [`NValueScratch`].
 
 use crate::interval::Interval;
-use crate::radix::{sort_indices, RadixScratch};
+use crate::radix::{fix_runs, sort_indices, sort_items, KeyImage, RadixScratch};
+
+const INDEX: u64 = 0xFFFF_FFFF;
 
 /// Reusable buffers for [`atmost_nvalue`] (no allocation after warm-up).
 #[derive(Debug, Default, Clone)]
 pub struct NValueScratch {
     order: Vec<u32>,
     radix: RadixScratch,
+    items: Vec<u64>,
+    lo_image: Vec<u32>,
+    hi_image: Vec<u32>,
+    table: Vec<u32>,
     latest: Vec<f64>,
     earliest: Vec<f64>,
     /// Kernels of the last call (valid when it returned `Kernels`).
@@ -123,35 +133,91 @@ fn left_greedy(domains: &[Interval], order: &[u32], mut points: Option<&mut Vec<
 pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScratch) -> NValue {
     let k = domains.len();
     let NValueScratch {
-        order,
+        order: _,
         radix,
+        items,
+        lo_image,
+        hi_image,
+        table,
         latest,
         earliest,
         kernels,
         group_of,
     } = scratch;
-    // Left greedy: latest points.
-    sort_indices(k, |i| domains[i].hi(), order, radix);
+    // One monotone 32-bit image for all bounds: the sorts order the images
+    // and the greedies compare them, reading an exact bound only when two
+    // images are equal (image(x) < image(y) implies x < y).
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for x in domains.iter() {
+        for b in [x.lo(), x.hi()] {
+            if b.is_finite() {
+                lo = lo.min(b);
+                hi = hi.max(b);
+            }
+        }
+    }
+    let image = KeyImage::over(lo, hi);
+    lo_image.clear();
+    hi_image.clear();
+    items.clear();
+    for (i, x) in domains.iter().enumerate() {
+        let (a, b) = (image.image(x.lo()), image.image(x.hi()));
+        lo_image.push(a);
+        hi_image.push(b);
+        items.push((b as u64) << 32 | i as u64);
+    }
+    // Left greedy, by increasing upper bound: latest points.
+    sort_items(items, radix);
+    fix_runs(items, |a, b| {
+        domains[a].hi().total_cmp(&domains[b].hi()).then(a.cmp(&b))
+    });
     kernels.clear();
     latest.clear();
-    let m = left_greedy(domains, order, Some(latest));
+    let (mut p, mut p_image, mut placed) = (f64::NEG_INFINITY, 0u32, false);
+    for &item in items.iter() {
+        let i = (item & INDEX) as usize;
+        let l = lo_image[i];
+        if !placed || l > p_image || l == p_image && domains[i].lo() > p {
+            p = domains[i].hi();
+            p_image = (item >> 32) as u32;
+            placed = true;
+            latest.push(p);
+            if p == f64::INFINITY {
+                // Every later interval has hi = +inf and is stabbed by a
+                // large enough point: one more point covers them all.
+                break;
+            }
+        }
+    }
+    let m = latest.len();
     if m > n {
         return NValue::Infeasible { m };
     }
     if m < n {
         return NValue::Slack { m };
     }
-    // Right greedy: earliest points, on decreasing lower bounds.
-    sort_indices(k, |i| -domains[i].lo(), order, radix);
-    let mut q = f64::INFINITY;
-    let mut placed = false;
+    // Right greedy, by decreasing lower bound: earliest points.
+    items.clear();
+    items.extend(
+        lo_image
+            .iter()
+            .enumerate()
+            .map(|(i, &a)| ((!a) as u64) << 32 | i as u64),
+    );
+    sort_items(items, radix);
+    fix_runs(items, |a, b| {
+        domains[b].lo().total_cmp(&domains[a].lo()).then(a.cmp(&b))
+    });
+    let (mut q, mut q_image, mut placed) = (f64::INFINITY, 0u32, false);
     earliest.clear();
-    for &i in order.iter() {
-        let (lo, hi) = (domains[i as usize].lo(), domains[i as usize].hi());
-        if !placed || hi < q {
-            q = lo;
+    for &item in items.iter() {
+        let i = (item & INDEX) as usize;
+        let h = hi_image[i];
+        if !placed || h < q_image || h == q_image && domains[i].hi() < q {
+            q = domains[i].lo();
+            q_image = !((item >> 32) as u32);
             placed = true;
-            earliest.push(lo);
+            earliest.push(q);
             if q == f64::NEG_INFINITY {
                 break;
             }
@@ -164,17 +230,31 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
     }
     // Each domain: hull of its intersections with the kernels; group when it
     // meets exactly one. Kernels are sorted and disjoint, so the kernels a
-    // domain meets form a contiguous run found by binary search.
+    // domain meets form a contiguous run; its first kernel (the first whose
+    // upper bound is >= x.lo) is found from a table over the images: the
+    // kernels before table[b] have upper bounds of image below every image
+    // of bucket b, hence below x.lo; a short scan finishes.
+    let buckets_log = (4 * kernels.len())
+        .next_power_of_two()
+        .trailing_zeros()
+        .min(16);
+    let shift = 32 - buckets_log;
+    table.clear();
+    let mut j = 0;
+    for b in 0..1u64 << buckets_log {
+        let start = b << shift;
+        while j < kernels.len() && (image.image(kernels[j].hi()) as u64) < start {
+            j += 1;
+        }
+        table.push(j as u32);
+    }
     group_of.clear();
     group_of.resize(k, u32::MAX);
     let mut changed = false;
     for (i, x) in domains.iter_mut().enumerate() {
-        // First kernel whose upper bound is >= x.lo.
-        let first = kernels.partition_point(|kj| kj.hi() < x.lo());
-        let mut last = first;
-        while last < kernels.len() && kernels[last].lo() <= x.hi() {
-            last += 1;
-        }
+        let mut first = table[(lo_image[i] as u64 >> shift) as usize] as usize;
+        first += run_length(&kernels[first..], |kj| kj.hi() < x.lo());
+        let last = first + run_length(&kernels[first..], |kj| kj.lo() <= x.hi());
         if first == last {
             // Cannot happen for a correct greedy (every domain is stabbed by
             // some p_j in K_j); treat as a proof of emptiness to stay total.
@@ -213,6 +293,23 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
         }
     }
     NValue::Kernels { changed }
+}
+
+/// The length of the prefix of `kernels` where `pred` holds (`pred` true
+/// then false along the slice): a short scan, then a binary search when the
+/// prefix is long, so the worst case stays O(log n).
+#[inline]
+fn run_length(kernels: &[Interval], pred: impl Fn(&Interval) -> bool) -> usize {
+    const SCAN: usize = 4;
+    for (j, kj) in kernels.iter().take(SCAN).enumerate() {
+        if !pred(kj) {
+            return j;
+        }
+    }
+    if kernels.len() <= SCAN {
+        return kernels.len();
+    }
+    SCAN + kernels[SCAN..].partition_point(pred)
 }
 
 #[cfg(test)]
@@ -282,6 +379,119 @@ mod tests {
             NValue::Kernels { changed: true }
         );
         assert_eq!(d, vec![iv(0.0, 1.0), iv(0.0, 1.0)]);
+    }
+
+    /// The textbook version: comparison sorts, the kernels each domain meets
+    /// by a linear scan. The image-based one must give the same bits.
+    fn reference(n: usize, domains: &mut [Interval]) -> (NValue, Vec<u32>) {
+        let mut by_hi: Vec<Interval> = domains.to_vec();
+        by_hi.sort_by(|x, y| x.hi().total_cmp(&y.hi()));
+        let mut latest: Vec<f64> = Vec::new();
+        for x in &by_hi {
+            if latest.last().is_none_or(|&p| x.lo() > p) {
+                latest.push(x.hi());
+            }
+        }
+        let m = latest.len();
+        if m > n {
+            return (NValue::Infeasible { m }, Vec::new());
+        }
+        if m < n {
+            return (NValue::Slack { m }, Vec::new());
+        }
+        let mut by_lo: Vec<Interval> = domains.to_vec();
+        by_lo.sort_by(|x, y| y.lo().total_cmp(&x.lo()));
+        let mut earliest: Vec<f64> = Vec::new();
+        for x in &by_lo {
+            if earliest.last().is_none_or(|&q| x.hi() < q) {
+                earliest.push(x.lo());
+            }
+        }
+        earliest.reverse();
+        let kernels: Vec<Interval> = (0..m).map(|j| iv(earliest[j], latest[j])).collect();
+        let mut group_of = vec![u32::MAX; domains.len()];
+        let mut changed = false;
+        for (i, x) in domains.iter_mut().enumerate() {
+            let met: Vec<usize> = (0..m)
+                .filter(|&j| !x.intersect(kernels[j]).is_empty())
+                .collect();
+            let y = iv(
+                x.intersect(kernels[met[0]]).lo(),
+                x.intersect(kernels[*met.last().unwrap()]).hi(),
+            );
+            changed |= y != *x;
+            *x = y;
+            if met.len() == 1 {
+                group_of[i] = met[0] as u32;
+            }
+        }
+        let mut common = kernels.clone();
+        for (i, x) in domains.iter().enumerate() {
+            if group_of[i] != u32::MAX {
+                common[group_of[i] as usize] = common[group_of[i] as usize].intersect(*x);
+            }
+        }
+        for (i, x) in domains.iter_mut().enumerate() {
+            if group_of[i] != u32::MAX {
+                changed |= common[group_of[i] as usize] != *x;
+                *x = common[group_of[i] as usize];
+            }
+        }
+        (NValue::Kernels { changed }, group_of)
+    }
+
+    /// Same results as the textbook version, on spread-out bounds, on
+    /// bounds closer than their range / 2^32 (equal images everywhere: an
+    /// outlier stretches the range), with ties, infinities and signed zeros.
+    #[test]
+    fn same_bits_as_the_textbook_version() {
+        let mut seed = 0x2001u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..60 {
+            let k = [5, 50, 1500, 3000][case % 4];
+            let clusters = 1 + case % 9;
+            let unit = match case % 3 {
+                0 => 1.0,
+                1 => 1e-12, // with the outlier below: equal images
+                _ => 0.25,  // dyadic: ties and touching bounds
+            };
+            let mut domains: Vec<Interval> = (0..k)
+                .map(|i| {
+                    let c = (i % clusters) as f64 * 10.0 * unit;
+                    let (a, b) = (next() * 4.0 * unit, next() * 4.0 * unit);
+                    if unit == 0.25 {
+                        iv(c - (a * 4.0).floor() * 0.25, c + (b * 4.0).floor() * 0.25)
+                    } else {
+                        iv(c - a, c + b)
+                    }
+                })
+                .collect();
+            match case % 5 {
+                0 => domains.push(iv(1e6, 1e6)),
+                1 => domains.push(iv(f64::NEG_INFINITY, 0.0)),
+                2 => domains.push(iv(-0.0, f64::INFINITY)),
+                3 => domains.push(iv(-1e300, 1e300)),
+                _ => domains.push(iv(0.0, 0.0)),
+            }
+            let m = min_values(&domains, &mut NValueScratch::default());
+            for n in [m.saturating_sub(1).max(1), m, m + 1] {
+                let mut want = domains.clone();
+                let (r_want, g_want) = reference(n, &mut want);
+                let mut got = domains.clone();
+                let mut scratch = NValueScratch::default();
+                let r = atmost_nvalue(n, &mut got, &mut scratch);
+                assert_eq!(r, r_want, "case {case} n {n}");
+                if let NValue::Kernels { .. } = r {
+                    assert_eq!(got, want, "case {case} n {n}");
+                    assert_eq!(scratch.group_of, g_want, "case {case} n {n}");
+                }
+            }
+        }
     }
 
     /// Large inputs take the radix path of the sorts: planted values

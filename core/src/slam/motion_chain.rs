@@ -85,9 +85,108 @@ pub enum Sweep {
     Empty(usize),
 }
 
+/// One step of a sweep in dimension `D`: `p ∩= q ⊕ d` where `⊕` is `+`
+/// (forward) or `-` (backward), each bound rounded one ulp outwards
+/// (branch-free, see [`Interval::add_outward`]). Returns `None` when `p`
+/// becomes empty, else whether it changed and by how much its bounds moved
+/// (computed only when `measure`).
+#[inline(always)]
+fn step<const D: usize, const FORWARD: bool>(
+    p: &mut [Interval],
+    q: &[Interval; D],
+    d: &[Interval],
+    measure: bool,
+) -> Option<(bool, f64)> {
+    let mut changed = false;
+    let mut bad = false;
+    let mut moved = 0.0f64;
+    let mut new = [Interval::EMPTY; D];
+    for a in 0..D {
+        let (old, q, d) = (p[a], q[a], d[a]);
+        // An empty displacement empties the step (checked off the chain of
+        // dependent bounds).
+        bad |= d.is_empty();
+        let (lo, hi) = if FORWARD {
+            ((q.lo() + d.lo()).next_down(), (q.hi() + d.hi()).next_up())
+        } else {
+            ((q.lo() - d.hi()).next_down(), (q.hi() - d.lo()).next_up())
+        };
+        // `max`/`min` ignore a NaN operand (a non-empty q and d give none),
+        // so neither bound is NaN.
+        let (lo, hi) = (old.lo().max(lo), old.hi().min(hi));
+        bad |= lo > hi;
+        changed |= lo != old.lo() || hi != old.hi();
+        if measure {
+            let dl = lo - old.lo();
+            let dh = old.hi() - hi;
+            let dl = if dl.is_nan() { 0.0 } else { dl };
+            let dh = if dh.is_nan() { 0.0 } else { dh };
+            moved = moved.max(dl).max(dh);
+        }
+        new[a] = Interval::new(lo, hi);
+    }
+    if bad {
+        return None;
+    }
+    if changed {
+        p.copy_from_slice(&new);
+    }
+    Some((changed, moved))
+}
+
+/// Forward sweep in dimension `D` over steps `from..steps`.
+fn forward<const D: usize>(
+    pos: &mut [Interval],
+    disp: &[Interval],
+    from: usize,
+    steps: usize,
+    tol: f64,
+) -> Sweep {
+    let mut cur = [Interval::EMPTY; D];
+    cur.copy_from_slice(&pos[from * D..(from + 1) * D]);
+    let measure = tol > 0.0;
+    let next = pos[(from + 1) * D..(steps + 1) * D].chunks_exact_mut(D);
+    let ds = disp[from * D..steps * D].chunks_exact(D);
+    for (visited, (p, d)) in next.zip(ds).enumerate() {
+        let Some((changed, moved)) = step::<D, true>(p, &cur, d, measure) else {
+            return Sweep::Empty(from + visited + 1);
+        };
+        cur.copy_from_slice(p);
+        if !changed || measure && moved <= tol {
+            return Sweep::Done(visited + 1);
+        }
+    }
+    Sweep::Done(steps - from)
+}
+
+/// Backward sweep in dimension `D` over steps `from-1` down to 0.
+fn backward<const D: usize>(
+    pos: &mut [Interval],
+    disp: &[Interval],
+    from: usize,
+    tol: f64,
+) -> Sweep {
+    let mut next = [Interval::EMPTY; D];
+    next.copy_from_slice(&pos[from * D..(from + 1) * D]);
+    let measure = tol > 0.0;
+    let ps = pos[..from * D].chunks_exact_mut(D).rev();
+    let ds = disp[..from * D].chunks_exact(D).rev();
+    for (visited, (p, d)) in ps.zip(ds).enumerate() {
+        let Some((changed, moved)) = step::<D, false>(p, &next, d, measure) else {
+            return Sweep::Empty(from - visited - 1);
+        };
+        next.copy_from_slice(p);
+        if !changed || measure && moved <= tol {
+            return Sweep::Done(visited + 1);
+        }
+    }
+    Sweep::Done(from)
+}
+
 /// Forward sweep from step `from`: `p(i+1) ∩= p(i) + D(i)` for i = from..,
 /// stopping at the first step whose bounds move by at most `tol` (with
-/// `tol = 0`: do not move at all). `pos` has (N+1)·dim entries, `disp` N·dim.
+/// `tol = 0`: do not move at all). `pos` has (N+1)·dim entries, `disp` N·dim;
+/// `dim` is 1, 2 or 3.
 pub fn sweep_forward(
     pos: &mut [Interval],
     disp: &[Interval],
@@ -99,41 +198,12 @@ pub fn sweep_forward(
     if from >= steps {
         return Sweep::Done(0);
     }
-    // The box of the current step is carried in registers.
-    let mut cur = [Interval::EMPTY; 3];
-    let big = dim > 3;
-    if !big {
-        cur[..dim].copy_from_slice(&pos[from * dim..(from + 1) * dim]);
+    match dim {
+        1 => forward::<1>(pos, disp, from, steps, tol),
+        2 => forward::<2>(pos, disp, from, steps, tol),
+        3 => forward::<3>(pos, disp, from, steps, tol),
+        _ => panic!("sweep_forward: dimension {dim} is not 1, 2 or 3"),
     }
-    let mut visited = 0;
-    for i in from..steps {
-        let base = (i + 1) * dim;
-        let mut moved = 0.0f64;
-        let mut changed = false;
-        for a in 0..dim {
-            let c = if big { pos[i * dim + a] } else { cur[a] };
-            let old = pos[base + a];
-            let new = old.intersect(c + disp[i * dim + a]);
-            if new != old {
-                if new.is_empty() {
-                    return Sweep::Empty(i + 1);
-                }
-                changed = true;
-                if tol > 0.0 {
-                    moved = moved.max(shrinkage(old, new));
-                }
-                pos[base + a] = new;
-            }
-            if !big {
-                cur[a] = new;
-            }
-        }
-        visited += 1;
-        if !changed || moved <= tol && tol > 0.0 {
-            break;
-        }
-    }
-    Sweep::Done(visited)
 }
 
 /// Backward sweep from step `from` down: `p(i) ∩= p(i+1) - D(i)` for
@@ -151,40 +221,12 @@ pub fn sweep_backward(
     if from == 0 {
         return Sweep::Done(0);
     }
-    let mut next = [Interval::EMPTY; 3];
-    let big = dim > 3;
-    if !big {
-        next[..dim].copy_from_slice(&pos[from * dim..(from + 1) * dim]);
+    match dim {
+        1 => backward::<1>(pos, disp, from, tol),
+        2 => backward::<2>(pos, disp, from, tol),
+        3 => backward::<3>(pos, disp, from, tol),
+        _ => panic!("sweep_backward: dimension {dim} is not 1, 2 or 3"),
     }
-    let mut visited = 0;
-    for i in (0..from).rev() {
-        let base = i * dim;
-        let mut moved = 0.0f64;
-        let mut changed = false;
-        for a in 0..dim {
-            let nx = if big { pos[base + dim + a] } else { next[a] };
-            let old = pos[base + a];
-            let new = old.intersect(nx - disp[base + a]);
-            if new != old {
-                if new.is_empty() {
-                    return Sweep::Empty(i);
-                }
-                changed = true;
-                if tol > 0.0 {
-                    moved = moved.max(shrinkage(old, new));
-                }
-                pos[base + a] = new;
-            }
-            if !big {
-                next[a] = new;
-            }
-        }
-        visited += 1;
-        if !changed || moved <= tol && tol > 0.0 {
-            break;
-        }
-    }
-    Sweep::Done(visited)
 }
 
 #[cfg(test)]

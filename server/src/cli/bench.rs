@@ -43,7 +43,7 @@ impl Rng {
 }
 
 /// Median wall time in milliseconds of `runs` calls of `f`, each after a
-/// fresh `setup` (not timed).
+/// fresh `setup` (not timed; nor is dropping what `f` returns).
 pub fn median_ms<S, T>(
     runs: usize,
     mut setup: impl FnMut() -> S,
@@ -53,8 +53,10 @@ pub fn median_ms<S, T>(
         .map(|_| {
             let input = setup();
             let t = Instant::now();
-            std::hint::black_box(f(input));
-            t.elapsed().as_secs_f64() * 1e3
+            let out = std::hint::black_box(f(input));
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            drop(out);
+            ms
         })
         .collect();
     times.sort_by(f64::total_cmp);
@@ -64,7 +66,7 @@ pub fn median_ms<S, T>(
 /// A measure and its baseline timed in alternation, `runs` pairs: returns
 /// the medians of the baseline, of the measure and of the per-pair ratios.
 /// Pairing keeps the ratio steady on a noisy machine: both sides of a pair
-/// see the same load.
+/// see the same load. Set-ups and the dropping of results are not timed.
 pub fn paired_ms<S, T, B, U>(
     runs: usize,
     mut base_setup: impl FnMut() -> B,
@@ -78,12 +80,14 @@ pub fn paired_ms<S, T, B, U>(
     for _ in 0..runs {
         let input = base_setup();
         let t = Instant::now();
-        std::hint::black_box(base(input));
+        let out = std::hint::black_box(base(input));
         let tb = t.elapsed().as_secs_f64() * 1e3;
+        drop(out);
         let input = setup();
         let t = Instant::now();
-        std::hint::black_box(f(input));
+        let out = std::hint::black_box(f(input));
         let tm = t.elapsed().as_secs_f64() * 1e3;
+        drop(out);
         b.push(tb);
         m.push(tm);
         r.push(tm / tb);

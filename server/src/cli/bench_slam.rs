@@ -6,7 +6,7 @@
 use super::bench::{median_ms, paired_ms};
 use nvector_core::nvector::Mode;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward};
+use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward, Sweep};
 use nvector_core::slam::propagator::{solve, Association, SolveOptions};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::Interval;
@@ -48,14 +48,31 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
                 Interval::new(x, x + 0.01)
             })
             .collect();
+        // Positions unknown but the start (0) and the end, known to 5 mm
+        // (a GPS fix): the forward sweep bounds every step from the start,
+        // the backward sweep then tightens every step from the end. Both
+        // directions visit all N steps (checked below).
         let mut fresh = vec![Interval::ENTIRE; (n + 1) * dim];
         fresh[0] = Interval::ZERO;
         fresh[1] = Interval::ZERO;
-        let mut pos = fresh.clone();
-        // Bounded positions first (dead reckoning), then the measured sweep
-        // moves every step: both directions visit all N steps.
-        sweep_forward(&mut pos, &disp, dim, 0, 0.0);
-        let start = pos.clone();
+        let mut reckoned = fresh.clone();
+        sweep_forward(&mut reckoned, &disp, dim, 0, 0.0);
+        let last = n * dim;
+        for a in 0..dim {
+            let lo = reckoned[last + a].lo();
+            fresh[last + a] = Interval::new(lo, lo + 0.005);
+        }
+        let visits = {
+            let mut p = fresh.clone();
+            let f = sweep_forward(&mut p, &disp, dim, 0, 0.0);
+            let b = sweep_backward(&mut p, &disp, dim, n, 0.0);
+            (f, b)
+        };
+        assert_eq!(
+            visits,
+            (Sweep::Done(n), Sweep::Done(n)),
+            "both sweeps visit every step"
+        );
         // Baseline: one pass summing the same arrays (both bounds of the
         // displacements and of the positions), timed in alternation.
         let (base, ms, ratio) = paired_ms(
@@ -68,17 +85,10 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
                 }
                 s
             },
-            || {
-                let mut p = start.clone();
-                let last = n * dim;
-                p[last] = p[last].intersect(Interval::new(p[last].lo(), p[last].lo() + 0.005));
-                p[last + 1] = p[last + 1]
-                    .intersect(Interval::new(p[last + 1].lo(), p[last + 1].lo() + 0.005));
-                p
-            },
+            || fresh.clone(),
             |mut p| {
-                sweep_backward(&mut p, &disp, dim, n, 0.0);
                 sweep_forward(&mut p, &disp, dim, 0, 0.0);
+                sweep_backward(&mut p, &disp, dim, n, 0.0);
                 p
             },
         );
