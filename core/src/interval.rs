@@ -39,6 +39,25 @@ fn up(x: f64) -> f64 {
     x.next_up()
 }
 
+/// `x.next_down()` for non-NaN `x` in a few integer operations, except
+/// that `-inf` gives NaN (callers take `max` with a real bound, which
+/// ignores it, as it would ignore `-inf`). For hot loops.
+#[inline]
+pub(crate) fn pred(x: f64) -> f64 {
+    let b = x.to_bits() as i64;
+    let b = if b == 0 { i64::MIN } else { b }; // +0 as -0
+    f64::from_bits((if b > 0 { b - 1 } else { b + 1 }) as u64)
+}
+
+/// `x.next_up()` for non-NaN `x`, except that `+inf` gives NaN (see
+/// [`pred`]).
+#[inline]
+pub(crate) fn succ(x: f64) -> f64 {
+    let b = x.to_bits() as i64;
+    let b = if b == i64::MIN { 0 } else { b }; // -0 as +0
+    f64::from_bits((if b >= 0 { b + 1 } else { b - 1 }) as u64)
+}
+
 /// Error of the rounded sum `s = fl(a + b)`: `a + b = s + err` exactly
 /// (Knuth's TwoSum), valid when `s` is finite.
 #[inline]
@@ -105,6 +124,13 @@ impl Interval {
         } else {
             Interval::EMPTY
         }
+    }
+
+    /// `[lo, hi]` for bounds known to satisfy the invariant (`lo <= hi`,
+    /// `lo < +inf`, `hi > -inf`, no NaN), without checking them.
+    #[inline]
+    pub(crate) const fn new_unchecked(lo: f64, hi: f64) -> Interval {
+        Interval { lo, hi }
     }
 
     /// The degenerate interval `[x, x]` (empty for a non-finite `x`).
@@ -666,5 +692,46 @@ mod tests {
         let x = Interval::sqr_rev(Interval::new(4.0, 9.0), Interval::new(0.0, 10.0));
         assert!(x.lo() > 1.99 && x.hi() < 3.01);
         assert!(Interval::sqr_rev(Interval::new(-2.0, -1.0), Interval::ENTIRE).is_empty());
+    }
+
+    #[test]
+    fn pred_and_succ_are_next_down_and_next_up() {
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::from_bits(1),
+            -f64::from_bits(1),
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1.0,
+            -1.0,
+        ];
+        let mut seed = 7u64;
+        for _ in 0..100_000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let x = f64::from_bits(seed);
+            if !x.is_nan() {
+                xs.push(x);
+            }
+        }
+        for x in xs {
+            let (p, s) = (pred(x), succ(x));
+            if x == f64::NEG_INFINITY {
+                assert!(p.is_nan());
+            } else {
+                assert_eq!(p.to_bits(), x.next_down().to_bits(), "pred({x:e})");
+            }
+            if x == f64::INFINITY {
+                assert!(s.is_nan());
+            } else {
+                assert_eq!(s.to_bits(), x.next_up().to_bits(), "succ({x:e})");
+            }
+        }
     }
 }

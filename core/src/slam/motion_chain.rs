@@ -22,7 +22,7 @@
 //! the stretch it really tightens. Positions and displacements are flat
 //! arrays (step-major): no allocation in sweeps.
 
-use crate::interval::Interval;
+use crate::interval::{pred, succ, Interval};
 
 /// The displacement of one unicycle2d step.
 pub fn unicycle_displacement(
@@ -86,16 +86,16 @@ pub enum Sweep {
 }
 
 /// One step of a sweep in dimension `D`: `p ∩= q ⊕ d` where `⊕` is `+`
-/// (forward) or `-` (backward), each bound rounded one ulp outwards
-/// (branch-free, see [`Interval::add_outward`]). Returns `None` when `p`
-/// becomes empty, else whether it changed and by how much its bounds moved
-/// (computed only when `measure`).
+/// (forward) or `-` (backward), each bound rounded one ulp outwards by a
+/// few integer operations (`pred`/`succ`; a NaN they give for an infinite
+/// sum loses to the old bound, as the infinity would). Returns `None` when
+/// `p` becomes empty, else whether it changed and by how much its bounds
+/// moved (0 unless `MEASURE`).
 #[inline(always)]
-fn step<const D: usize, const FORWARD: bool>(
+fn step<const D: usize, const FORWARD: bool, const MEASURE: bool>(
     p: &mut [Interval],
     q: &[Interval; D],
     d: &[Interval],
-    measure: bool,
 ) -> Option<(bool, f64)> {
     let mut changed = false;
     let mut bad = false;
@@ -106,24 +106,27 @@ fn step<const D: usize, const FORWARD: bool>(
         // An empty displacement empties the step (checked off the chain of
         // dependent bounds).
         bad |= d.is_empty();
+        // With q and d not empty no sum is NaN (no inf - inf).
         let (lo, hi) = if FORWARD {
-            ((q.lo() + d.lo()).next_down(), (q.hi() + d.hi()).next_up())
+            (pred(q.lo() + d.lo()), succ(q.hi() + d.hi()))
         } else {
-            ((q.lo() - d.hi()).next_down(), (q.hi() - d.lo()).next_up())
+            (pred(q.lo() - d.hi()), succ(q.hi() - d.lo()))
         };
-        // `max`/`min` ignore a NaN operand (a non-empty q and d give none),
-        // so neither bound is NaN.
-        let (lo, hi) = (old.lo().max(lo), old.hi().min(hi));
+        // These comparisons keep the old bound when the new one is NaN.
+        let lo = if lo > old.lo() { lo } else { old.lo() };
+        let hi = if hi < old.hi() { hi } else { old.hi() };
         bad |= lo > hi;
         changed |= lo != old.lo() || hi != old.hi();
-        if measure {
+        if MEASURE {
             let dl = lo - old.lo();
             let dh = old.hi() - hi;
             let dl = if dl.is_nan() { 0.0 } else { dl };
             let dh = if dh.is_nan() { 0.0 } else { dh };
             moved = moved.max(dl).max(dh);
         }
-        new[a] = Interval::new(lo, hi);
+        // lo <= hi when not `bad`; lo < +inf and hi > -inf as the old bounds
+        // are and pred/succ never give those.
+        new[a] = Interval::new_unchecked(lo, hi);
     }
     if bad {
         return None;
@@ -135,7 +138,7 @@ fn step<const D: usize, const FORWARD: bool>(
 }
 
 /// Forward sweep in dimension `D` over steps `from..steps`.
-fn forward<const D: usize>(
+fn forward<const D: usize, const MEASURE: bool>(
     pos: &mut [Interval],
     disp: &[Interval],
     from: usize,
@@ -144,15 +147,14 @@ fn forward<const D: usize>(
 ) -> Sweep {
     let mut cur = [Interval::EMPTY; D];
     cur.copy_from_slice(&pos[from * D..(from + 1) * D]);
-    let measure = tol > 0.0;
     let next = pos[(from + 1) * D..(steps + 1) * D].chunks_exact_mut(D);
     let ds = disp[from * D..steps * D].chunks_exact(D);
     for (visited, (p, d)) in next.zip(ds).enumerate() {
-        let Some((changed, moved)) = step::<D, true>(p, &cur, d, measure) else {
+        let Some((changed, moved)) = step::<D, true, MEASURE>(p, &cur, d) else {
             return Sweep::Empty(from + visited + 1);
         };
         cur.copy_from_slice(p);
-        if !changed || measure && moved <= tol {
+        if !changed || MEASURE && moved <= tol {
             return Sweep::Done(visited + 1);
         }
     }
@@ -160,7 +162,7 @@ fn forward<const D: usize>(
 }
 
 /// Backward sweep in dimension `D` over steps `from-1` down to 0.
-fn backward<const D: usize>(
+fn backward<const D: usize, const MEASURE: bool>(
     pos: &mut [Interval],
     disp: &[Interval],
     from: usize,
@@ -168,15 +170,14 @@ fn backward<const D: usize>(
 ) -> Sweep {
     let mut next = [Interval::EMPTY; D];
     next.copy_from_slice(&pos[from * D..(from + 1) * D]);
-    let measure = tol > 0.0;
     let ps = pos[..from * D].chunks_exact_mut(D).rev();
     let ds = disp[..from * D].chunks_exact(D).rev();
     for (visited, (p, d)) in ps.zip(ds).enumerate() {
-        let Some((changed, moved)) = step::<D, false>(p, &next, d, measure) else {
+        let Some((changed, moved)) = step::<D, false, MEASURE>(p, &next, d) else {
             return Sweep::Empty(from - visited - 1);
         };
         next.copy_from_slice(p);
-        if !changed || measure && moved <= tol {
+        if !changed || MEASURE && moved <= tol {
             return Sweep::Done(visited + 1);
         }
     }
@@ -198,10 +199,13 @@ pub fn sweep_forward(
     if from >= steps {
         return Sweep::Done(0);
     }
-    match dim {
-        1 => forward::<1>(pos, disp, from, steps, tol),
-        2 => forward::<2>(pos, disp, from, steps, tol),
-        3 => forward::<3>(pos, disp, from, steps, tol),
+    match (dim, tol > 0.0) {
+        (1, false) => forward::<1, false>(pos, disp, from, steps, tol),
+        (2, false) => forward::<2, false>(pos, disp, from, steps, tol),
+        (3, false) => forward::<3, false>(pos, disp, from, steps, tol),
+        (1, true) => forward::<1, true>(pos, disp, from, steps, tol),
+        (2, true) => forward::<2, true>(pos, disp, from, steps, tol),
+        (3, true) => forward::<3, true>(pos, disp, from, steps, tol),
         _ => panic!("sweep_forward: dimension {dim} is not 1, 2 or 3"),
     }
 }
@@ -221,10 +225,13 @@ pub fn sweep_backward(
     if from == 0 {
         return Sweep::Done(0);
     }
-    match dim {
-        1 => backward::<1>(pos, disp, from, tol),
-        2 => backward::<2>(pos, disp, from, tol),
-        3 => backward::<3>(pos, disp, from, tol),
+    match (dim, tol > 0.0) {
+        (1, false) => backward::<1, false>(pos, disp, from, tol),
+        (2, false) => backward::<2, false>(pos, disp, from, tol),
+        (3, false) => backward::<3, false>(pos, disp, from, tol),
+        (1, true) => backward::<1, true>(pos, disp, from, tol),
+        (2, true) => backward::<2, true>(pos, disp, from, tol),
+        (3, true) => backward::<3, true>(pos, disp, from, tol),
         _ => panic!("sweep_backward: dimension {dim} is not 1, 2 or 3"),
     }
 }
@@ -256,5 +263,105 @@ mod tests {
         let disp = vec![Interval::new(1.0, 1.1)];
         let mut pos = vec![Interval::ZERO, Interval::new(5.0, 6.0)];
         assert_eq!(sweep_forward(&mut pos, &disp, 1, 0, 0.0), Sweep::Empty(1));
+    }
+
+    /// The sweeps give the same bits as the plain formulation with
+    /// `Interval` operations (outward sums, intersection), and stop at the
+    /// same steps, on random chains with unknown, degenerate, zero and
+    /// unbounded positions, in 1 to 3 dimensions, with and without a
+    /// tolerance.
+    #[test]
+    fn same_bits_as_plain_interval_operations() {
+        fn plain(
+            pos: &mut [Interval],
+            disp: &[Interval],
+            dim: usize,
+            from: usize,
+            tol: f64,
+            forward: bool,
+        ) -> Sweep {
+            let steps = disp.len() / dim;
+            let order: Vec<usize> = if forward {
+                (from..steps).collect()
+            } else {
+                (0..from).rev().collect()
+            };
+            for (visited, i) in order.into_iter().enumerate() {
+                let (src, dst) = if forward { (i, i + 1) } else { (i + 1, i) };
+                let mut changed = false;
+                let mut moved = 0.0f64;
+                let mut new = Vec::new();
+                for a in 0..dim {
+                    let (q, d, old) = (pos[src * dim + a], disp[i * dim + a], pos[dst * dim + a]);
+                    let c = if forward {
+                        q.add_outward(d)
+                    } else {
+                        q.sub_outward(d)
+                    };
+                    let n = old.intersect(c);
+                    if n.is_empty() {
+                        return Sweep::Empty(dst);
+                    }
+                    changed |= n != old;
+                    moved = moved.max(shrinkage(old, n));
+                    new.push(n);
+                }
+                pos[dst * dim..(dst + 1) * dim].copy_from_slice(&new);
+                if !changed || tol > 0.0 && moved <= tol {
+                    return Sweep::Done(visited + 1);
+                }
+            }
+            Sweep::Done(if forward { steps - from } else { from })
+        }
+        let mut seed = 0xBEEFu64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            seed >> 11
+        };
+        for case in 0..3000 {
+            let dim = 1 + case % 3;
+            let steps = 1 + (next() % 30) as usize;
+            let value = |next: &mut dyn FnMut() -> u64| match next() % 8 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => (next() % 9) as f64 * 0.25 - 1.0,
+                3 => f64::from_bits(next() % 5),
+                _ => (next() % 1000) as f64 * 1e-3 - 0.5,
+            };
+            let disp: Vec<Interval> = (0..steps * dim)
+                .map(|_| {
+                    let (a, b) = (value(&mut next), value(&mut next));
+                    Interval::new(a.min(b), a.max(b))
+                })
+                .collect();
+            let pos: Vec<Interval> = (0..(steps + 1) * dim)
+                .map(|_| match next() % 6 {
+                    0 | 1 => Interval::ENTIRE,
+                    2 => Interval::new(f64::NEG_INFINITY, value(&mut next)),
+                    3 => Interval::new(value(&mut next) - 3.0, f64::INFINITY),
+                    _ => {
+                        let c = value(&mut next) * (next() % 40) as f64;
+                        Interval::new(c - 5.0, c + 5.0)
+                    }
+                })
+                .collect();
+            let tol = [0.0, 1e-3, 0.1][case % 3];
+            let from = (next() as usize) % (steps + 1);
+            for forward in [true, false] {
+                let (mut a, mut b) = (pos.clone(), pos.clone());
+                let got = if forward {
+                    sweep_forward(&mut a, &disp, dim, from, tol)
+                } else {
+                    sweep_backward(&mut a, &disp, dim, from, tol)
+                };
+                let want = plain(&mut b, &disp, dim, from, tol, forward);
+                assert_eq!(got, want, "case {case} forward {forward}");
+                if let Sweep::Done(_) = want {
+                    assert_eq!(a, b, "case {case} forward {forward}");
+                }
+            }
+        }
     }
 }
