@@ -59,22 +59,35 @@ impl KeyImage {
     }
 }
 
-/// Sorts items `image << 32 | index` by image, ties in index order: that is
-/// by the whole u64. Stable LSD passes over the 32 image bits (two of 16
-/// bits for large inputs, three of 11 for mid-sized ones, a comparison sort
-/// below 1024 items); passes where every item has the same digit are
-/// skipped.
-pub fn sort_items(items: &mut Vec<u64>, scratch: &mut RadixScratch) {
+/// How many high bits of the 32-bit image [`sort_items`] orders by for `k`
+/// items: all 32 (three passes of 11 bits) up to 2^17 items; beyond, the
+/// high 24 (two passes of 12 bits: the counters stay in the L1 cache, and
+/// [`fix_runs`] orders the few items whose high 24 bits tie by their full
+/// image first).
+pub fn sort_bits(k: usize) -> u32 {
+    if k >= 1 << 17 {
+        24
+    } else {
+        32
+    }
+}
+
+/// Sorts items `image << 32 | index` by the high `bits` bits of the image
+/// ([`sort_bits`]), ties in index order (for `bits = 32`: by the whole
+/// u64). Stable LSD passes (a comparison sort below 1024 items); passes
+/// where every item has the same digit are skipped.
+pub fn sort_items(items: &mut Vec<u64>, bits: u32, scratch: &mut RadixScratch) {
     let k = items.len();
     if k < 1024 {
-        items.sort_unstable();
+        items.sort_unstable_by_key(|&it| (it >> (64 - bits), it & 0xFFFF_FFFF));
         return;
     }
     let RadixScratch { tmp, counts, .. } = scratch;
-    let bits: u32 = if k >= 1 << 17 { 16 } else { 11 };
-    let buckets = 1usize << bits;
+    let passes = bits.div_ceil(12);
+    let digit = bits.div_ceil(passes);
+    let buckets = 1usize << digit;
     let mask = buckets - 1;
-    let shifts: Vec<u32> = (32..64).step_by(bits as usize).collect();
+    let shifts: Vec<u32> = (0..passes).map(|p| 64 - bits + p * digit).collect();
     counts.clear();
     counts.resize(buckets * shifts.len(), 0);
     for &item in items.iter() {
@@ -104,25 +117,30 @@ pub fn sort_items(items: &mut Vec<u64>, scratch: &mut RadixScratch) {
     }
 }
 
-/// Within each run of items of equal image (adjacent after
-/// [`sort_items`]), orders the items by `cmp` of their indices.
-pub fn fix_runs(items: &mut [u64], cmp: impl Fn(usize, usize) -> std::cmp::Ordering) {
+/// Within each run of items whose high `bits` image bits are equal
+/// (adjacent after [`sort_items`] with the same `bits`), orders the items
+/// by full image, then by `cmp` of their indices.
+pub fn fix_runs(items: &mut [u64], bits: u32, cmp: impl Fn(usize, usize) -> std::cmp::Ordering) {
     let k = items.len();
+    let shift = 64 - bits;
+    let by = |a: &u64, b: &u64| {
+        (a >> 32)
+            .cmp(&(b >> 32))
+            .then_with(|| cmp((a & 0xFFFF_FFFF) as usize, (b & 0xFFFF_FFFF) as usize))
+    };
     let mut start = 0;
     while start < k {
-        let high = items[start] >> 32;
+        let high = items[start] >> shift;
         let mut end = start + 1;
-        while end < k && items[end] >> 32 == high {
+        while end < k && items[end] >> shift == high {
             end += 1;
         }
         if end - start > 1 {
-            let by_cmp =
-                |a: &u64, b: &u64| cmp((a & 0xFFFF_FFFF) as usize, (b & 0xFFFF_FFFF) as usize);
             // Runs of equal keys (boxes of one group, contracted alike) are
             // already in index order: check before sorting.
             let run = &mut items[start..end];
-            if !run.is_sorted_by(|a, b| by_cmp(a, b).is_le()) {
-                run.sort_unstable_by(by_cmp);
+            if !run.is_sorted_by(|a, b| by(a, b).is_le()) {
+                run.sort_unstable_by(by);
             }
         }
         start = end;
@@ -134,11 +152,11 @@ pub fn fix_runs(items: &mut [u64], cmp: impl Fn(usize, usize) -> std::cmp::Order
 ///
 /// Each item is packed in one u64: a 32-bit monotone image of its key
 /// ([`KeyImage`] over the keys' finite range) above its index, sorted by
-/// [`sort_items`]. Only items with equal images can be out of order, and
-/// they are adjacent: each such run is then sorted by the full key
-/// ([`fix_runs`]). Runs longer than one are rare unless keys are equal or
-/// closer than their range / 2^32; the run sort (a comparison sort) keeps
-/// the worst case at O(k log k).
+/// [`sort_items`] on its high [`sort_bits`] bits. Only items with equal
+/// sorted bits can be out of order, and they are adjacent: each such run is
+/// then sorted by full image and key ([`fix_runs`]). Runs longer than one
+/// are rare unless keys are equal or closer than their range / 2^bits; the
+/// run sort (a comparison sort) keeps the worst case at O(k log k).
 pub fn sort_indices(
     k: usize,
     key: impl Fn(usize) -> f64,
@@ -157,8 +175,11 @@ pub fn sort_indices(
     let mut items = std::mem::take(&mut scratch.items);
     items.clear();
     items.extend((0..k).map(|i| (image.image(key(i)) as u64) << 32 | i as u64));
-    sort_items(&mut items, scratch);
-    fix_runs(&mut items, |a, b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+    let bits = sort_bits(k);
+    sort_items(&mut items, bits, scratch);
+    fix_runs(&mut items, bits, |a, b| {
+        key(a).total_cmp(&key(b)).then(a.cmp(&b))
+    });
     out.clear();
     out.extend(items.iter().map(|&it| (it & 0xFFFF_FFFF) as u32));
     scratch.items = items;

@@ -46,7 +46,7 @@
 //! through [`NValueScratch`].
 
 use crate::interval::Interval;
-use crate::radix::{fix_runs, sort_indices, sort_items, KeyImage, RadixScratch};
+use crate::radix::{fix_runs, sort_bits, sort_indices, sort_items, KeyImage, RadixScratch};
 
 const INDEX: u64 = 0xFFFF_FFFF;
 
@@ -157,6 +157,7 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
         }
     }
     let image = KeyImage::over(lo, hi);
+    let bits = sort_bits(k);
     lo_image.clear();
     hi_image.clear();
     items.clear();
@@ -167,8 +168,8 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
         items.push((b as u64) << 32 | i as u64);
     }
     // Left greedy, by increasing upper bound: latest points.
-    sort_items(items, radix);
-    fix_runs(items, |a, b| {
+    sort_items(items, bits, radix);
+    fix_runs(items, bits, |a, b| {
         domains[a].hi().total_cmp(&domains[b].hi()).then(a.cmp(&b))
     });
     kernels.clear();
@@ -204,8 +205,8 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
             .enumerate()
             .map(|(i, &a)| ((!a) as u64) << 32 | i as u64),
     );
-    sort_items(items, radix);
-    fix_runs(items, |a, b| {
+    sort_items(items, bits, radix);
+    fix_runs(items, bits, |a, b| {
         domains[b].lo().total_cmp(&domains[a].lo()).then(a.cmp(&b))
     });
     let (mut q, mut q_image, mut placed) = (f64::INFINITY, 0u32, false);
@@ -452,8 +453,13 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        for case in 0..60 {
-            let k = [5, 50, 1500, 3000][case % 4];
+        for case in 0..64 {
+            // The last cases are large enough for the 24-bit radix path.
+            let k = if case >= 60 {
+                140_000
+            } else {
+                [5, 50, 1500, 3000][case % 4]
+            };
             let clusters = 1 + case % 9;
             let unit = match case % 3 {
                 0 => 1.0,
@@ -471,7 +477,7 @@ mod tests {
                     }
                 })
                 .collect();
-            match case % 5 {
+            match if case >= 60 { 0 } else { case % 5 } {
                 0 => domains.push(iv(1e6, 1e6)),
                 1 => domains.push(iv(f64::NEG_INFINITY, 0.0)),
                 2 => domains.push(iv(-0.0, f64::INFINITY)),
