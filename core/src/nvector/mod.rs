@@ -217,19 +217,21 @@ fn intersect_groups(
 /// cell shrinking to the intersection; a point of each cell hits its boxes).
 /// The boxes are first copied, in order, to a flat array by a loop of
 /// independent loads (the memory system overlaps them), so the greedy
-/// itself reads sequentially. O(k log k + 8 k d).
-fn greedy_hitting_set(boxes: &[IntervalBox]) -> usize {
+/// itself reads sequentially. Only the boxes listed in `members` are used
+/// (one per group when the groups' boxes are equal: a point hitting one
+/// hits all). O(k log k + 8 k d).
+fn greedy_hitting_set(boxes: &[IntervalBox], members: &[u32]) -> usize {
     let dim = boxes[0].dim();
     let mut order = Vec::new();
     crate::radix::sort_indices(
-        boxes.len(),
-        |i| boxes[i][0].hi(),
+        members.len(),
+        |i| boxes[members[i] as usize][0].hi(),
         &mut order,
         &mut crate::radix::RadixScratch::default(),
     );
-    let mut sorted: Vec<Interval> = Vec::with_capacity(boxes.len() * dim);
+    let mut sorted: Vec<Interval> = Vec::with_capacity(members.len() * dim);
     for &i in &order {
-        sorted.extend_from_slice(boxes[i as usize].axes());
+        sorted.extend_from_slice(boxes[members[i as usize] as usize].axes());
     }
     // Cells visited last are the likeliest to meet the next box (boxes come
     // by increasing upper bound on axis 0): only the 8 most recent are tried.
@@ -477,7 +479,19 @@ fn contract(
             break;
         }
     }
-    let mut upper = greedy_hitting_set(boxes).max(lower);
+    // One member per group when every group's boxes are equal (always
+    // after `projection`), else every box.
+    groups.roots_into(&mut roots);
+    let equal = boxes
+        .iter()
+        .zip(&roots)
+        .all(|(b, &r)| *b == boxes[r as usize]);
+    let members: Vec<u32> = if equal {
+        (0..k as u32).filter(|&i| roots[i as usize] == i).collect()
+    } else {
+        (0..k as u32).collect()
+    };
+    let mut upper = greedy_hitting_set(boxes, &members).max(lower);
     if mode == Mode::Exact {
         let snapshot = boxes.to_vec();
         let mut hs = hitting_set::HittingSet::new(&snapshot);
