@@ -13,6 +13,8 @@ pub mod json;
 pub mod nvector;
 pub mod radix;
 pub mod slam;
+#[cfg(test)]
+mod test_rng;
 
 pub use error::InputError;
 pub use ibox::IntervalBox;

@@ -231,13 +231,8 @@ mod tests {
 
     #[test]
     fn sorts_like_a_stable_comparison_sort() {
-        let mut s = 0x2009u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            s >> 11
-        };
+        let mut rng = crate::test_rng::Lcg::new(0x2009);
+        let mut next = || rng.bits();
         for &k in &[0usize, 1, 5, 300, 1023, 1024, 5000, 70_000, 140_000] {
             let v: Vec<f64> = (0..k)
                 .map(|i| match next() % 7 {

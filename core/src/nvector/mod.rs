@@ -571,13 +571,8 @@ mod tests {
     /// and infeasible ones.
     #[test]
     fn passes_over_groups_give_the_same_bits() {
-        let mut seed = 0xC0FFEEu64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::Lcg::new(0xC0FFEE);
+        let mut next = || rng.unit();
         for case in 0..300 {
             let dim = 1 + case % 3;
             let clusters = 1 + case % 6;

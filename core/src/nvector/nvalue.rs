@@ -446,13 +446,8 @@ mod tests {
     /// outlier stretches the range), with ties, infinities and signed zeros.
     #[test]
     fn same_bits_as_the_textbook_version() {
-        let mut seed = 0x2001u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::Lcg::new(0x2001);
+        let mut next = || rng.unit();
         for case in 0..64 {
             // The last cases are large enough for the 24-bit radix path.
             let k = if case >= 60 {
@@ -504,13 +499,8 @@ mod tests {
     /// survive, and the minimum matches a comparison-sort greedy.
     #[test]
     fn large_planted_instances_keep_their_values() {
-        let mut seed = 0x5eedu64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::Lcg::new(0x5eed);
+        let mut next = || rng.unit();
         for case in 0..20 {
             let n = 1 + case % 7;
             let k = 1500 + case * 300;

@@ -313,13 +313,8 @@ mod tests {
             }
             Sweep::Done(if forward { steps - from } else { from })
         }
-        let mut seed = 0xBEEFu64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            seed >> 11
-        };
+        let mut rng = crate::test_rng::Lcg::new(0xBEEF);
+        let mut next = || rng.bits();
         for case in 0..3000 {
             let dim = 1 + case % 3;
             let steps = 1 + (next() % 30) as usize;
