@@ -396,6 +396,55 @@ fn the_page_in_headless_chromium() {
     );
     d.screenshot("missions-result");
 
+    // Basic model against nvector, side by side: run the stored mission
+    // again with `none` from the missions list, no second upload.
+    d.js("const s = document.getElementById('ms-mode'); s.value = 'none'; return s.value");
+    let run = d.wait(
+        "return document.querySelector('#ms-missions li[data-id] button.run') !== null",
+        Duration::from_secs(30),
+    );
+    assert_eq!(run, true);
+    let run = d.element("#ms-missions li[data-id] button.run");
+    d.cmd("POST", &format!("/element/{run}/click"), Some(json!({})));
+    let shown = d.wait(
+        "const s = document.getElementById('rv-summary').dataset; return s.state === 'drawn' && s.shown === '2' && s.contractors",
+        Duration::from_secs(120),
+    );
+    assert_eq!(shown, "none,best", "the newest result is on the left");
+    let diameters: Vec<f64> = d
+        .js("return document.getElementById('rv-summary').dataset.diameters")
+        .as_str()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!(
+        diameters[0] > 2.0 * diameters[1],
+        "the basic model should be much wider than nvector: {diameters:?}"
+    );
+    assert!(d
+        .js("return document.getElementById('rv-cap-1').textContent")
+        .as_str()
+        .unwrap()
+        .contains("best"));
+    d.screenshot("missions-side-by-side");
+
+    // A reload still lists both jobs (remembered by the browser) and shows
+    // the older one again on request.
+    d.goto(&format!("{base}/?tab=missions"));
+    let states = d.wait(
+        "const l = [...document.querySelectorAll('#ms-jobs li')].map(li => li.dataset.state); return l.length === 2 && l.join(',')",
+        Duration::from_secs(30),
+    );
+    assert_eq!(states, "done,done");
+    let show = d.element("#ms-jobs li:last-child button.show");
+    d.cmd("POST", &format!("/element/{show}/click"), Some(json!({})));
+    let shown = d.wait(
+        "const s = document.getElementById('rv-summary').dataset; return s.state === 'drawn' && s.contractors",
+        Duration::from_secs(30),
+    );
+    assert_eq!(shown, "best", "the older job of the list is the best run");
+
     // A narrow window (a phone held upright): every view fits its width,
     // nothing scrolls sideways.
     d.cmd(

@@ -31,6 +31,7 @@ export async function submitJob(job) {
 export async function getJob(id) { return check(await fetch(`/api/v1/jobs/${id}`)); }
 export async function cancelJob(id) { return check(await fetch(`/api/v1/jobs/${id}`, { method: 'DELETE' })); }
 export async function getResult(id) { return check(await fetch(`/api/v1/jobs/${id}/result`)); }
+export async function deleteMission(id) { return check(await fetch(`/api/v1/missions/${id}`, { method: 'DELETE' })); }
 export async function getMission(id) { return check(await fetch(`/api/v1/missions/${id}`)); }
 export function resultUrl(id, format) { return `/api/v1/jobs/${id}/result?format=${format}`; }
 

@@ -158,9 +158,17 @@ function slamDemo() {
 $('sl-run').addEventListener('click', slamDemo);
 
 // ---- missions (service) -----------------------------------------------
+// Jobs submitted from this browser are remembered in localStorage (the API
+// lists missions, not jobs), so a reload still lists them and their results.
 let pendingFile = null;
-let current = { mission: null, job: null };
-const shown = []; // up to two {result, mission, view, drawn}
+let current = { job: null };
+const shown = []; // up to two {result, mission, jobId, view, drawn}
+const JOBS_KEY = 'nvector.jobs';
+const el = (tag, text, cls) => { const e = document.createElement(tag); if (text !== undefined) e.textContent = text; if (cls) e.className = cls; return e; };
+function savedJobs() { try { return JSON.parse(localStorage.getItem(JOBS_KEY) || '[]'); } catch (_) { return []; } }
+function saveJobs(jobs) { try { localStorage.setItem(JOBS_KEY, JSON.stringify(jobs.slice(0, 50))); } catch (_) { /* private mode */ } }
+function rememberJob(job) { saveJobs([job, ...savedJobs().filter((j) => j.id !== job.id)]); }
+
 function setFile(f) { pendingFile = f; $('ms-submit').disabled = !f; $('ms-state').textContent = f ? `ready: ${f.name || 'mission'}` : ''; }
 $('ms-file').addEventListener('change', (ev) => setFile(ev.target.files[0] || null));
 const drop = $('drop');
@@ -171,53 +179,128 @@ drop.addEventListener('drop', (ev) => { ev.preventDefault(); drop.classList.remo
 async function refreshLists() {
   try {
     const ms = await api.listMissions();
-    $('ms-missions').innerHTML = '';
-    ms.missions.forEach((m) => { const li = document.createElement('li'); li.textContent = `${m.name} (${m.steps} steps, ${m.detections} detections) ${m.id}`; $('ms-missions').append(li); });
+    const ul = $('ms-missions');
+    ul.replaceChildren();
+    ms.missions.forEach((m) => {
+      const li = el('li'); li.dataset.id = m.id;
+      li.append(el('span', `${m.name} (${m.steps} steps, ${m.detections} detections) `));
+      const run = el('button', 'run', 'run'); run.title = 'run a job on this mission with the contractor and limits above';
+      run.addEventListener('click', () => runJob(m.id, m.name));
+      const del = el('button', 'delete', 'delete'); del.title = 'delete this mission and its jobs';
+      del.addEventListener('click', async () => {
+        if (!confirm(`Delete mission ${m.name} and its jobs?`)) return;
+        try { await api.deleteMission(m.id); saveJobs(savedJobs().filter((j) => j.mission !== m.id)); } catch (e) { $('ms-state').textContent = `error: ${e.message}`; }
+        refreshLists();
+      });
+      li.append(run, ' ', del);
+      ul.append(li);
+    });
+    if (!ms.missions.length) ul.append(el('li', 'no mission yet: upload one above', 'hint'));
   } catch (e) { $('ms-missions').textContent = `service unavailable: ${e.message}`; }
+  await refreshJobs();
 }
 
-$('ms-submit').addEventListener('click', async () => {
+function jobItem(job) {
+  const id = `job-${job.id}`;
+  let li = $(id);
+  if (!li) { li = el('li'); li.id = id; $('ms-jobs').prepend(li); }
+  li.dataset.state = job.state;
+  li.replaceChildren(el('span', `${job.name} · ${job.contractor}: ${job.state} `));
+  if (job.state === 'done') {
+    const show = el('button', 'show', 'show');
+    show.addEventListener('click', () => showResult(job.id, job.mission).catch((e) => { $('ms-state').textContent = `error: ${e.message}`; }));
+    li.append(show);
+  } else if (job.state === 'queued' || job.state === 'running') {
+    const cancel = el('button', 'cancel', 'cancel');
+    cancel.addEventListener('click', () => api.cancelJob(job.id).catch((e) => { $('ms-state').textContent = e.message; }));
+    li.append(cancel);
+  } else if (job.error) li.title = job.error;
+  return li;
+}
+
+async function refreshJobs() {
+  const jobs = savedJobs();
+  const kept = [];
+  for (const j of jobs) {
+    try {
+      const now = await api.getJob(j.id);
+      kept.push({ ...j, state: now.state, error: now.error });
+    } catch (_) { $(`job-${j.id}`)?.remove(); /* deleted, or another service */ }
+  }
+  saveJobs(kept);
+  kept.slice().reverse().forEach(jobItem);
+}
+
+/** Queues a job on a stored mission with the chosen contractor and limits, follows it and shows its result. */
+async function runJob(missionId, name) {
   const summary = $('rv-summary');
+  const contractor = $('ms-mode').value;
   try {
-    $('ms-submit').disabled = true;
-    const m = await api.uploadMission(pendingFile);
-    current.mission = m.id;
-    const job = await api.submitJob({ mission: m.id, contractor: $('ms-mode').value, max_rounds: Number($('ms-rounds').value), time_limit_s: Number($('ms-limit').value) });
+    const job = await api.submitJob({ mission: missionId, contractor, max_rounds: Number($('ms-rounds').value), time_limit_s: Number($('ms-limit').value) });
+    const entry = { id: job.id, mission: missionId, name, contractor, state: job.state };
+    rememberJob(entry);
+    jobItem(entry);
     current.job = job.id;
     $('ms-cancel').disabled = false;
-    const li = document.createElement('li'); li.id = `job-${job.id}`; li.textContent = `${job.id}: queued`; $('ms-jobs').prepend(li);
+    $('ms-progress').value = 0;
     summary.dataset.state = 'queued';
     const end = await api.followJob(job.id, (j) => {
       $('ms-progress').value = j.progress.fraction;
-      $('ms-state').textContent = `${j.state} — round ${j.progress.round}, max diameter ${j.progress.max_trajectory_diameter ?? '∞'}`;
-      li.textContent = `${j.id}: ${j.state}`;
+      const d = j.progress.max_trajectory_diameter;
+      $('ms-state').textContent = `${name}, ${contractor}: ${j.state} — round ${j.progress.round}, max diameter ${d == null ? '∞' : `${Number(d).toFixed(3)} m`}`;
+      jobItem({ ...entry, state: j.state, error: j.error });
       summary.dataset.state = j.state;
     });
-    $('ms-cancel').disabled = true;
-    if (end && end.state === 'done') await showResult(job.id, m.id);
-    refreshLists();
+    if (current.job === job.id) $('ms-cancel').disabled = true;
+    if (end) { entry.state = end.state; entry.error = end.error; rememberJob(entry); jobItem(entry); }
+    if (end && end.state === 'done') {
+      const result = await showResult(job.id, missionId);
+      $('ms-progress').value = 1;
+      $('ms-state').textContent = `${name}, ${contractor}: done — ${result.status}, ${result.metrics.rounds} rounds, max diameter ${Number(result.metrics.max_trajectory_diameter).toFixed(3)} m, ${Number(result.metrics.elapsed_ms).toFixed(1)} ms`;
+    } else if (end) {
+      $('ms-state').textContent = `${name}, ${contractor}: ${end.state}${end.error ? ` — ${end.error}` : ''}`;
+      summary.dataset.state = end.state;
+    }
   } catch (e) {
     $('ms-state').textContent = `error: ${e.message}`;
     summary.dataset.state = 'error';
+  }
+}
+
+$('ms-submit').addEventListener('click', async () => {
+  $('ms-submit').disabled = true;
+  try {
+    const m = await api.uploadMission(pendingFile);
+    refreshLists();
+    await runJob(m.id, m.name);
+  } catch (e) {
+    $('ms-state').textContent = `error: ${e.message}`;
+    $('rv-summary').dataset.state = 'error';
   } finally { $('ms-submit').disabled = !pendingFile; }
 });
 $('ms-cancel').addEventListener('click', async () => { if (current.job) { try { await api.cancelJob(current.job); } catch (e) { $('ms-state').textContent = e.message; } } });
 
+/** Shows a finished job's result in the left panel; the one shown before moves to the right. */
 async function showResult(jobId, missionId) {
   const [result, mission] = await Promise.all([api.getResult(jobId), api.getMission(missionId)]);
+  const i = shown.findIndex((s) => s.jobId === jobId);
+  if (i >= 0) shown.splice(i, 1);
   shown.unshift({ result, mission, jobId });
   shown.length = Math.min(shown.length, 2);
   for (const [fmt, id] of [['json', 'rv-json'], ['csv', 'rv-csv'], ['svg', 'rv-svg']]) $(id).href = api.resultUrl(jobId, fmt);
   const area = hull(shown.flatMap((s) => s.result.trajectory.map(rect)));
   shown.forEach((s, k) => { s.view = new View($(`rv-${k}`)); s.view.fit(area); });
-  $('rv-time').max = String(result.trajectory.length - 1);
+  $('rv-time').max = String(Math.max(...shown.map((s) => s.result.trajectory.length)) - 1);
   $('rv-time').value = $('rv-time').max;
   redrawResults();
   Object.assign($('rv-summary').dataset, {
     trajectory: result.trajectory.length, detections: result.detections.length, landmarks: result.landmarks.length,
     diameter: result.metrics.max_trajectory_diameter, truthInside: String(result.score ? result.score.truth_inside : ''), state: 'drawn',
+    shown: shown.length, diameters: shown.map((s) => s.result.metrics.max_trajectory_diameter).join(','),
+    contractors: shown.map((s) => s.result.options.contractor).join(','),
   });
   $('rv-summary').textContent = `${result.mission}: ${result.status}, ${result.trajectory.length} positions, ${result.detections.length} detections, ${result.landmarks.length} landmarks, max diameter ${result.metrics.max_trajectory_diameter}`;
+  return result;
 }
 function redrawResults() {
   const t = Number($('rv-time').value);
@@ -225,6 +308,15 @@ function redrawResults() {
     s.drawn = drawResult($(`rv-${k}`), s.view, s.result, s.mission, t);
     $(`rv-cap-${k}`).textContent = `${s.result.mission} — ${s.result.options.contractor} — max diameter ${Number(s.result.metrics.max_trajectory_diameter).toFixed(2)}`;
   });
+  if (shown.length === 1) {
+    const c = $('rv-1'); const ctx = c.getContext('2d');
+    ctx.clearRect(0, 0, c.width, c.height);
+    ctx.fillStyle = '#777'; ctx.font = '14px system-ui, sans-serif'; ctx.textAlign = 'center';
+    ctx.fillText('To compare, run another job:', c.width / 2, c.height / 2 - 10);
+    ctx.fillText('choose a contractor (none for the basic', c.width / 2, c.height / 2 + 12);
+    ctx.fillText('model) and press run next to the mission.', c.width / 2, c.height / 2 + 32);
+    $('rv-cap-1').textContent = '';
+  }
 }
 $('rv-time').addEventListener('input', redrawResults);
 [0, 1].forEach((k) => {
