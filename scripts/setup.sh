@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs what the build and the tests need, when missing: the wasm32
 # target, wasm-bindgen-cli at the Cargo.lock version, Chromium and
-# chromedriver, PostgreSQL (server binaries for the storage tests).
+# chromedriver, PostgreSQL (server binaries for the storage tests), Node.js
+# and npm, and wasm-opt (npm's binaryen, at the version of
+# web/tools/package-lock.json).
 # Idempotent and quick when everything is there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,9 +27,19 @@ apt_pkgs=()
 command -v chromium >/dev/null || apt_pkgs+=(chromium)
 command -v chromedriver >/dev/null || apt_pkgs+=(chromium-driver)
 ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || apt_pkgs+=(postgresql)
+command -v npm >/dev/null || apt_pkgs+=(nodejs npm)
 if [ ${#apt_pkgs[@]} -gt 0 ]; then
   echo "setup: installing ${apt_pkgs[*]} from Debian's packages"
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO=sudo
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${apt_pkgs[@]}" >/dev/null
+fi
+
+# wasm-opt shrinks the page's wasm (scripts/web.sh build); pinned by the
+# lock file, installed under web/tools/node_modules.
+want=$(awk -F'"' '/"node_modules\/binaryen"/ {getline; print $4; exit}' web/tools/package-lock.json)
+have=$(awk -F'"' '/"version"/ {print $4; exit}' web/tools/node_modules/binaryen/package.json 2>/dev/null || true)
+if [ "$have" != "$want" ]; then
+  echo "setup: installing binaryen $want (wasm-opt) with npm (found '${have:-none}')"
+  npm ci --prefix web/tools --no-audit --no-fund --loglevel=error
 fi
