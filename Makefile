@@ -2,7 +2,7 @@
 SHELL := /bin/bash
 .SHELLFLAGS := -euo pipefail -c
 
-.PHONY: run test setup lint web test-rust test-web
+.PHONY: run test setup lint web test-rust test-web test-inari
 
 setup:
 	@scripts/setup.sh
@@ -25,4 +25,7 @@ test-rust: web
 test-web: web
 	scripts/web.sh test
 
-test: setup lint test-rust test-web
+test-inari: setup
+	scripts/inari.sh
+
+test: setup lint test-rust test-web test-inari

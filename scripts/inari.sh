@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Checks the interval operations against inari (core/tests/interval_props.rs,
+# module inari_reference). inari needs AVX2 and FMA, so this build uses
+# `-C target-cpu=haswell`, in its own target directory so that the other
+# builds keep their flags and caches. On a CPU without AVX2 or FMA it
+# cannot run and says so.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if ! grep -qw avx2 /proc/cpuinfo || ! grep -qw fma /proc/cpuinfo; then
+  echo "inari: SKIPPED — this CPU has no AVX2/FMA, inari cannot run here" >&2
+  exit 0
+fi
+export RUSTFLAGS="-C target-cpu=haswell" CARGO_TARGET_DIR=target/haswell
+cargo clippy -q -p nvector-core --tests -- -D warnings
+cargo test -p nvector-core --test interval_props inari_reference
