@@ -89,38 +89,37 @@ fn add_up(a: f64, b: f64) -> f64 {
     }
 }
 
-/// `a * b` with `0 * inf = 0` (the product of bounds of intervals, where a
-/// zero bound times an infinite one contributes 0 to the hull).
-/// `a / b` rounded down, for `b > 0` (`b` may be +inf; `a` may be
-/// infinite): exact limits (0 for a finite `a` over +inf, 0 for `a = 0`,
-/// infinities kept), else the rounded quotient moved one ulp down.
+/// `a / b` for `b >= 0` (`b = 0` standing for 0+, `b` may be +inf) when
+/// it is an exact limit: an infinite `a` stays, `0 / b` and `a / +inf` are 0,
+/// `a / 0+` is the infinity of `a`'s sign. `None` when it must be rounded.
+#[inline]
+fn div_limit(a: f64, b: f64) -> Option<f64> {
+    if a.is_infinite() {
+        Some(a)
+    } else if a == 0.0 || b == f64::INFINITY {
+        Some(0.0)
+    } else if b == 0.0 {
+        Some(f64::INFINITY.copysign(a))
+    } else {
+        None
+    }
+}
+
+/// `a / b` rounded down, for `b >= 0` (see [`div_limit`]): the exact limit,
+/// else the rounded quotient moved one ulp down.
 #[inline]
 fn div_down(a: f64, b: f64) -> f64 {
-    if a == 0.0 || (a.is_finite() && b == f64::INFINITY) || a.is_infinite() {
-        if a.is_infinite() {
-            a
-        } else {
-            0.0
-        }
-    } else {
-        down(a / b)
-    }
+    div_limit(a, b).unwrap_or_else(|| down(a / b))
 }
 
-/// `a / b` rounded up, for `b > 0` (see [`div_down`]).
+/// `a / b` rounded up, for `b >= 0` (see [`div_down`]).
 #[inline]
 fn div_up(a: f64, b: f64) -> f64 {
-    if a == 0.0 || (a.is_finite() && b == f64::INFINITY) || a.is_infinite() {
-        if a.is_infinite() {
-            a
-        } else {
-            0.0
-        }
-    } else {
-        up(a / b)
-    }
+    div_limit(a, b).unwrap_or_else(|| up(a / b))
 }
 
+/// `a * b` with `0 * inf = 0` (the product of bounds of intervals, where a
+/// zero bound times an infinite one contributes 0 to the hull).
 #[inline]
 fn mul0(a: f64, b: f64) -> f64 {
     if a == 0.0 || b == 0.0 {
@@ -413,32 +412,15 @@ impl Interval {
     /// `self / y` for `y = [l, h]` with `l > 0`, or `y = [0, h]` with
     /// `h > 0` (then the quotient is over (0, h]).
     fn div_positive(self, y: Interval) -> Interval {
-        let x = self;
-        // With y.lo = 0 the quotients by y.lo are the limits 0+ gives.
-        let by_lo = |a: f64, toward_up: bool| {
-            if y.lo > 0.0 {
-                if toward_up {
-                    div_up(a, y.lo)
-                } else {
-                    div_down(a, y.lo)
-                }
-            } else if a > 0.0 {
-                f64::INFINITY
-            } else if a < 0.0 {
-                f64::NEG_INFINITY
-            } else {
-                0.0
-            }
-        };
-        let lo = if x.lo >= 0.0 {
-            div_down(x.lo, y.hi)
+        let lo = if self.lo >= 0.0 {
+            div_down(self.lo, y.hi)
         } else {
-            by_lo(x.lo, false)
+            div_down(self.lo, y.lo)
         };
-        let hi = if x.hi <= 0.0 {
-            div_up(x.hi, y.hi)
+        let hi = if self.hi <= 0.0 {
+            div_up(self.hi, y.hi)
         } else {
-            by_lo(x.hi, true)
+            div_up(self.hi, y.lo)
         };
         Interval::new(lo, hi)
     }
