@@ -161,6 +161,11 @@ impl Driver {
             .to_string()
     }
 
+    fn click(&self, css: &str) {
+        let e = self.element(css);
+        self.cmd("POST", &format!("/element/{e}/click"), Some(json!({})));
+    }
+
     fn screenshot(&self, name: &str) {
         let b64 = self.cmd("GET", "/screenshot", None);
         let bytes = base64_decode(b64.as_str().unwrap());
@@ -374,8 +379,7 @@ fn the_page_in_headless_chromium() {
         &format!("/element/{file}/value"),
         Some(json!({"text": upload.to_str().unwrap()})),
     );
-    let submit = d.element("#ms-submit");
-    d.cmd("POST", &format!("/element/{submit}/click"), Some(json!({})));
+    d.click("#ms-submit");
     let state = d.wait(
         "const s = document.getElementById('rv-summary').dataset.state; return (s === 'drawn' || s === 'error' || s === 'failed') && s",
         Duration::from_secs(120),
@@ -399,13 +403,11 @@ fn the_page_in_headless_chromium() {
     // Basic model against nvector, side by side: run the stored mission
     // again with `none` from the missions list, no second upload.
     d.js("const s = document.getElementById('ms-mode'); s.value = 'none'; return s.value");
-    let run = d.wait(
+    d.wait(
         "return document.querySelector('#ms-missions li[data-id] button.run') !== null",
         Duration::from_secs(30),
     );
-    assert_eq!(run, true);
-    let run = d.element("#ms-missions li[data-id] button.run");
-    d.cmd("POST", &format!("/element/{run}/click"), Some(json!({})));
+    d.click("#ms-missions li[data-id] button.run");
     let shown = d.wait(
         "const s = document.getElementById('rv-summary').dataset; return s.state === 'drawn' && s.shown === '2' && s.contractors",
         Duration::from_secs(120),
@@ -437,8 +439,7 @@ fn the_page_in_headless_chromium() {
         Duration::from_secs(30),
     );
     assert_eq!(states, "done,done");
-    let show = d.element("#ms-jobs li:last-child button.show");
-    d.cmd("POST", &format!("/element/{show}/click"), Some(json!({})));
+    d.click("#ms-jobs li:last-child button.show");
     let shown = d.wait(
         "const s = document.getElementById('rv-summary').dataset; return s.state === 'drawn' && s.contractors",
         Duration::from_secs(30),

@@ -161,9 +161,10 @@ $('sl-run').addEventListener('click', slamDemo);
 // Jobs submitted from this browser are remembered in localStorage (the API
 // lists missions, not jobs), so a reload still lists them and their results.
 let pendingFile = null;
-let current = { job: null };
+let currentJob = null; // the job the cancel button stops
 const shown = []; // up to two {result, mission, jobId, view, drawn}
 const JOBS_KEY = 'nvector.jobs';
+const fail = (e) => { $('ms-state').textContent = `error: ${e.message}`; };
 const el = (tag, text, cls) => { const e = document.createElement(tag); if (text !== undefined) e.textContent = text; if (cls) e.className = cls; return e; };
 function savedJobs() { try { return JSON.parse(localStorage.getItem(JOBS_KEY) || '[]'); } catch (_) { return []; } }
 function saveJobs(jobs) { try { localStorage.setItem(JOBS_KEY, JSON.stringify(jobs.slice(0, 50))); } catch (_) { /* private mode */ } }
@@ -189,7 +190,7 @@ async function refreshLists() {
       const del = el('button', 'delete', 'delete'); del.title = 'delete this mission and its jobs';
       del.addEventListener('click', async () => {
         if (!confirm(`Delete mission ${m.name} and its jobs?`)) return;
-        try { await api.deleteMission(m.id); saveJobs(savedJobs().filter((j) => j.mission !== m.id)); } catch (e) { $('ms-state').textContent = `error: ${e.message}`; }
+        try { await api.deleteMission(m.id); saveJobs(savedJobs().filter((j) => j.mission !== m.id)); } catch (e) { fail(e); }
         refreshLists();
       });
       li.append(run, ' ', del);
@@ -208,11 +209,11 @@ function jobItem(job) {
   li.replaceChildren(el('span', `${job.name} · ${job.contractor}: ${job.state} `));
   if (job.state === 'done') {
     const show = el('button', 'show', 'show');
-    show.addEventListener('click', () => showResult(job.id, job.mission).catch((e) => { $('ms-state').textContent = `error: ${e.message}`; }));
+    show.addEventListener('click', () => showResult(job.id, job.mission).catch(fail));
     li.append(show);
   } else if (job.state === 'queued' || job.state === 'running') {
     const cancel = el('button', 'cancel', 'cancel');
-    cancel.addEventListener('click', () => api.cancelJob(job.id).catch((e) => { $('ms-state').textContent = e.message; }));
+    cancel.addEventListener('click', () => api.cancelJob(job.id).catch(fail));
     li.append(cancel);
   } else if (job.error) li.title = job.error;
   return li;
@@ -240,7 +241,7 @@ async function runJob(missionId, name) {
     const entry = { id: job.id, mission: missionId, name, contractor, state: job.state };
     rememberJob(entry);
     jobItem(entry);
-    current.job = job.id;
+    currentJob = job.id;
     $('ms-cancel').disabled = false;
     $('ms-progress').value = 0;
     summary.dataset.state = 'queued';
@@ -251,18 +252,21 @@ async function runJob(missionId, name) {
       jobItem({ ...entry, state: j.state, error: j.error });
       summary.dataset.state = j.state;
     });
-    if (current.job === job.id) $('ms-cancel').disabled = true;
-    if (end) { entry.state = end.state; entry.error = end.error; rememberJob(entry); jobItem(entry); }
-    if (end && end.state === 'done') {
+    if (currentJob === job.id) $('ms-cancel').disabled = true;
+    if (!end) return;
+    Object.assign(entry, { state: end.state, error: end.error });
+    rememberJob(entry);
+    jobItem(entry);
+    if (end.state === 'done') {
       const result = await showResult(job.id, missionId);
       $('ms-progress').value = 1;
       $('ms-state').textContent = `${name}, ${contractor}: done — ${result.status}, ${result.metrics.rounds} rounds, max diameter ${Number(result.metrics.max_trajectory_diameter).toFixed(3)} m, ${Number(result.metrics.elapsed_ms).toFixed(1)} ms`;
-    } else if (end) {
+    } else {
       $('ms-state').textContent = `${name}, ${contractor}: ${end.state}${end.error ? ` — ${end.error}` : ''}`;
       summary.dataset.state = end.state;
     }
   } catch (e) {
-    $('ms-state').textContent = `error: ${e.message}`;
+    fail(e);
     summary.dataset.state = 'error';
   }
 }
@@ -274,11 +278,11 @@ $('ms-submit').addEventListener('click', async () => {
     refreshLists();
     await runJob(m.id, m.name);
   } catch (e) {
-    $('ms-state').textContent = `error: ${e.message}`;
+    fail(e);
     $('rv-summary').dataset.state = 'error';
   } finally { $('ms-submit').disabled = !pendingFile; }
 });
-$('ms-cancel').addEventListener('click', async () => { if (current.job) { try { await api.cancelJob(current.job); } catch (e) { $('ms-state').textContent = e.message; } } });
+$('ms-cancel').addEventListener('click', () => { if (currentJob) api.cancelJob(currentJob).catch(fail); });
 
 /** Shows a finished job's result in the left panel; the one shown before moves to the right. */
 async function showResult(jobId, missionId) {
