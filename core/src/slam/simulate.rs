@@ -40,6 +40,40 @@ impl Scenario {
     }
 }
 
+/// Where the paper scenario puts its landmarks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// 10 m apart along x, alternating north and south (the paper's
+    /// Figure 9; today's default).
+    Line,
+    /// Evenly on a circle around the start, with jitter: the x and y
+    /// projections interleave.
+    Ring,
+    /// Uniformly in a square around the start, with a minimum separation.
+    Random,
+}
+
+impl Layout {
+    /// Parses `line` / `ring` / `random`.
+    pub fn parse(s: &str) -> Option<Layout> {
+        match s {
+            "line" => Some(Layout::Line),
+            "ring" => Some(Layout::Ring),
+            "random" => Some(Layout::Random),
+            _ => None,
+        }
+    }
+
+    /// The name `parse` reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Layout::Line => "line",
+            Layout::Ring => "ring",
+            Layout::Random => "random",
+        }
+    }
+}
+
 /// Simulation options.
 #[derive(Debug, Clone)]
 pub struct SimulateOptions {
@@ -55,6 +89,13 @@ pub struct SimulateOptions {
     pub operator: bool,
     /// Scale of the sensor noise bounds (1 = the scenario's defaults).
     pub noise: f64,
+    /// Landmark layout (paper only; default `Line`).
+    pub layout: Layout,
+    /// Range-only detections with a rough landmark region instead of a
+    /// bearing (paper only: the paper's P''; default false).
+    pub range_only: bool,
+    /// Extra detections of no landmark (paper only; default 0).
+    pub false_detections: usize,
 }
 
 impl SimulateOptions {
@@ -67,6 +108,9 @@ impl SimulateOptions {
             landmarks: None,
             operator: false,
             noise: 1.0,
+            layout: Layout::Line,
+            range_only: false,
+            false_detections: 0,
         }
     }
 }

@@ -55,6 +55,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         landmarks: a.landmarks,
         operator: a.operator,
         noise: a.noise,
+        ..SimulateOptions::new(a.scenario, a.seed)
     };
     let mission = simulate(&options);
     let text = serde_json::to_string(&mission)?;
