@@ -1,0 +1,88 @@
+//! The service's one error type: every failure becomes the spec's JSON
+//! error body `{"error": {"code", "message", "path"}}` with a 4xx status
+//! for the caller's faults and 5xx only for the service's own.
+
+use super::store;
+use axum::http::{header, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use serde_json::{json, Value};
+
+/// A client or service error, as the spec's JSON error body.
+#[derive(Debug)]
+pub struct AppError {
+    pub(super) status: StatusCode,
+    code: &'static str,
+    message: String,
+    path: String,
+    pub(super) retry_after: Option<u64>,
+}
+
+impl AppError {
+    pub(super) fn new(
+        status: StatusCode,
+        code: &'static str,
+        message: impl Into<String>,
+    ) -> AppError {
+        AppError {
+            status,
+            code,
+            message: message.into(),
+            path: String::new(),
+            retry_after: None,
+        }
+    }
+
+    pub(super) fn at(mut self, path: impl Into<String>) -> AppError {
+        self.path = path.into();
+        self
+    }
+
+    pub(super) fn not_found(what: &str) -> AppError {
+        AppError::new(
+            StatusCode::NOT_FOUND,
+            "not_found",
+            format!("no such {what}"),
+        )
+    }
+
+    pub(super) fn bad(code: &'static str, e: nvector_core::InputError) -> AppError {
+        AppError::new(StatusCode::UNPROCESSABLE_ENTITY, code, e.message).at(e.path)
+    }
+}
+
+impl From<store::StoreError> for AppError {
+    fn from(e: store::StoreError) -> Self {
+        tracing::error!("{e}");
+        AppError::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "storage_unavailable",
+            "the storage is unavailable, try again",
+        )
+    }
+}
+
+impl IntoResponse for AppError {
+    fn into_response(self) -> Response {
+        let body =
+            json!({"error": {"code": self.code, "message": self.message, "path": self.path}});
+        let mut r = (self.status, Json(body)).into_response();
+        if let Some(s) = self.retry_after {
+            r.headers_mut()
+                .insert(header::RETRY_AFTER, HeaderValue::from(s));
+        }
+        r
+    }
+}
+
+pub(super) type ApiResult<T> = Result<T, AppError>;
+
+pub(super) fn parse_json(bytes: &[u8]) -> ApiResult<Value> {
+    serde_json::from_slice(bytes).map_err(|e| {
+        AppError::new(
+            StatusCode::BAD_REQUEST,
+            "invalid_json",
+            format!("invalid JSON: {e}"),
+        )
+    })
+}

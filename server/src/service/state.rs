@@ -1,0 +1,64 @@
+//! The state shared by the handlers, and the owner of a request (its API
+//! key).
+
+use super::config::Config;
+use super::error::{ApiResult, AppError};
+use super::store::{self, Store};
+use super::worker::Workers;
+use axum::http::{header, HeaderMap, StatusCode};
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
+
+/// Shared state of the handlers.
+#[derive(Clone)]
+pub struct AppState {
+    /// Storage.
+    pub store: Arc<dyn Store>,
+    /// Configuration.
+    pub config: Arc<Config>,
+    /// Workers (wake-ups, metrics).
+    pub workers: Arc<Workers>,
+    /// Requests by (route, status).
+    pub requests: Arc<Mutex<BTreeMap<(String, u16), u64>>>,
+}
+
+impl AppState {
+    /// Runs a storage call on the blocking pool: database drivers block, and
+    /// the async workers must keep serving.
+    pub(super) async fn db<T: Send + 'static>(
+        &self,
+        f: impl FnOnce(&dyn Store) -> store::StoreResult<T> + Send + 'static,
+    ) -> ApiResult<T> {
+        let st = self.store.clone();
+        tokio::task::spawn_blocking(move || f(&*st))
+            .await
+            .map_err(|_| {
+                AppError::new(
+                    StatusCode::INTERNAL_SERVER_ERROR,
+                    "internal",
+                    "storage task failed",
+                )
+            })?
+            .map_err(AppError::from)
+    }
+}
+
+/// The owner of a request: its API key, or "" when keys are off.
+pub(super) fn owner(state: &AppState, headers: &HeaderMap) -> ApiResult<String> {
+    if state.config.api_keys.is_empty() {
+        return Ok(String::new());
+    }
+    let key = headers
+        .get(header::AUTHORIZATION)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.strip_prefix("Bearer "))
+        .map(str::trim);
+    match key {
+        Some(k) if state.config.api_keys.contains(k) => Ok(k.to_string()),
+        _ => Err(AppError::new(
+            StatusCode::UNAUTHORIZED,
+            "unauthorized",
+            "missing or unknown API key (Authorization: Bearer KEY)",
+        )),
+    }
+}
