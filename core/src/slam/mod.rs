@@ -6,6 +6,7 @@ pub mod distance;
 pub mod mission;
 pub mod model;
 pub mod motion_chain;
+pub mod outliers;
 pub mod propagator;
 pub mod result;
 pub mod simulate;

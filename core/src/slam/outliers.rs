@@ -1,0 +1,547 @@
+//! Robust propagation for missions with false detections
+//! (`max_outliers` = q > 0).
+//!
+//! # Constraint
+//!
+//! The solution set is the union, over every set F of at most q dropped
+//! detections, of the solutions of the mission without F. Every position box
+//! must hold every position of every such sub-mission; the box of d(j) must
+//! hold every value d(j) takes in the sub-missions that keep j. With q = 0
+//! this module is not used (the ordinary propagator is exact for it).
+//!
+//! # Math
+//!
+//! - The motion chain, the initial and final positions hold in every
+//!   sub-mission: the usual sweeps `p(i+1) ∩= p(i) + D(i)`,
+//!   `p(i) ∩= p(i+1) - D(i)`.
+//! - A detection j holds only where j is kept. From the current boxes it
+//!   gives an *evidence* box `M(j)` for p(t_j): p(t_j) contracted by the
+//!   distance (and bearing) constraint towards d(j), where d(j) is j's own
+//!   box intersected with its landmark box. In a sub-mission keeping j,
+//!   `p(t_j) ∈ M(j)`, and along the chain, for t >= t_j,
+//!   `p(t) >= M(j).lo + Σ_{s=t_j}^{t-1} D(s).lo` (and the three mirror
+//!   bounds). Evidence is never applied directly: a sub-mission drops at most
+//!   q of the detections, so p(t) lies in the *q-relaxed intersection* of
+//!   the evidence (the points lying in all but at most q of the sets): on
+//!   each axis, its lower bound is at least the (q+1)-th largest of the
+//!   evidence lower bounds, its upper bound at most the (q+1)-th smallest
+//!   upper bound. A forward pass applies this to the evidence of detections
+//!   at or before t, a backward pass to those at or after t (each is a
+//!   subset, so each bound is sound; merging the two sides would be tighter
+//!   and is left for later).
+//! - Keys: the sums of displacement bounds are carried as running interval
+//!   sums `S(t) ∋ Σ_{s<t} D(s).lo` (outward-rounded), so an evidence lower
+//!   bound at t is `M.lo - S(t_j) + S(t) >= down(M.lo - S(t_j).hi) +
+//!   S(t).lo`: the key `down(M.lo - S(t_j).hi)` does not depend on t, and
+//!   the (q+1) largest keys are kept in a small sorted list: O(log q) per
+//!   detection, O(1) per step. An unbounded displacement voids the evidence
+//!   behind it (the list is cleared and the sums restart).
+//! - Landmarks: detections with the same operator `landmark` share one
+//!   landmark L. In a sub-mission keeping j, L lies in the own box of every
+//!   kept member, that is in all but at most q of the members' boxes: per
+//!   axis, the q-relaxed intersection of the members' boxes holds L, and
+//!   d(j) lies in it and in j's own box.
+//! - Proved false: when j's own constraints (range, bearing, region) have no
+//!   solution within the current box of p(t_j), j is dropped in every
+//!   feasible sub-mission; it gives no evidence, its box becomes empty, and
+//!   the budget left for the others is q minus the number proved false
+//!   (below zero: the mission is infeasible).
+//! - atmost_nvector is not applied here: its contractors reason on every
+//!   detection (a false one would make their groups unsound). Matchings come
+//!   from the operator's `landmark` fields only.
+//!
+//! # Soundness
+//!
+//! Every box computed encloses, by induction over the passes, every
+//! solution of every sub-mission with at most q dropped detections: the
+//! chain sweeps use constraints that hold in all of them; an evidence box is
+//! computed from enclosures by sound contractors, so it holds p(t_j) in each
+//! sub-mission keeping j; in a sub-mission, at most q (or the budget left)
+//! of the listed evidences are dropped, so the true bound is at least the
+//! largest kept one, hence at least the (q+1)-th largest overall. Every
+//! rounding of a key or a bound goes outward (`pred`/`succ` after each
+//! rounded operation, sums through `Interval::add`).
+//!
+//! # Complexity
+//!
+//! A round is O(N·d + k·(d + log q)) time (two passes over the chain, one
+//! contraction per detection, sorted lists of q+1 keys per axis and bound)
+//! and O(k·q·d) memory beyond the model.
+
+use super::bearing::contract_bearing;
+use super::distance::contract_distance;
+use super::mission::Mission;
+use super::model::Model;
+use super::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
+use super::propagator::{Progress, SolveOptions};
+use super::result::{Solution, SolveStatus};
+use crate::ibox::IntervalBox;
+use crate::interval::{pred, succ, Interval};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The (m+1) largest values seen (or smallest, mirrored by the caller):
+/// a sorted list, largest first.
+#[derive(Debug, Clone, Default)]
+struct TopKeys {
+    keep: usize,
+    keys: Vec<f64>,
+}
+
+impl TopKeys {
+    fn new(keep: usize) -> TopKeys {
+        TopKeys {
+            keep,
+            keys: Vec::with_capacity(keep + 1),
+        }
+    }
+
+    /// Adds a key (NaN never comes in: callers map it to -inf first).
+    fn push(&mut self, key: f64) {
+        if self.keys.len() == self.keep && self.keys.last().is_some_and(|&m| key <= m) {
+            return;
+        }
+        let at = self.keys.partition_point(|&k| k >= key);
+        self.keys.insert(at, key);
+        self.keys.truncate(self.keep);
+    }
+
+    /// The keep-th largest key, when `keep` keys were seen.
+    fn kth(&self) -> Option<f64> {
+        (self.keys.len() == self.keep).then(|| self.keys[self.keep - 1])
+    }
+}
+
+/// A lower bound of the real `a + b` (a NaN from `inf - inf` is -inf:
+/// no information).
+#[inline]
+fn add_lo(a: f64, b: f64) -> f64 {
+    let s = pred(a + b);
+    if s.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        s
+    }
+}
+
+/// An upper bound of the real `a + b` (NaN is +inf).
+#[inline]
+fn add_hi(a: f64, b: f64) -> f64 {
+    let s = succ(a + b);
+    if s.is_nan() {
+        f64::INFINITY
+    } else {
+        s
+    }
+}
+
+/// Running interval sums of the lower and upper displacement bounds of one
+/// axis, with the evidence keys relative to them.
+struct Side {
+    /// Encloses the exact sum of the displacement lower bounds so far.
+    sum_lo: Interval,
+    /// Encloses the exact sum of the displacement upper bounds so far.
+    sum_hi: Interval,
+    /// Keys of evidence lower bounds (the q+1 largest).
+    lower: TopKeys,
+    /// Negated keys of evidence upper bounds (the q+1 largest, i.e. the
+    /// q+1 smallest upper bounds).
+    upper: TopKeys,
+}
+
+impl Side {
+    fn new(keep: usize) -> Side {
+        Side {
+            sum_lo: Interval::ZERO,
+            sum_hi: Interval::ZERO,
+            lower: TopKeys::new(keep),
+            upper: TopKeys::new(keep),
+        }
+    }
+}
+
+/// Per-detection state of a round.
+struct Evidence {
+    /// Proved false (dropped in every feasible sub-mission).
+    proved_false: Vec<bool>,
+    /// The evidence box of p(t_j) (empty: none).
+    boxes: Vec<IntervalBox>,
+}
+
+/// Contracts (copies of) p(t_j) and d(j) by j's own constraints. Returns
+/// `None` when they have no solution.
+fn own(
+    mission: &Mission,
+    model: &Model,
+    j: usize,
+    d: &IntervalBox,
+) -> Option<(IntervalBox, IntervalBox)> {
+    let det = &mission.detections[j];
+    let mut p = model.position(det.step);
+    let mut d = d.clone();
+    let mut range = det.range;
+    let ok = contract_distance(p.axes_mut(), d.axes_mut(), &mut range)
+        && det.bearing.is_none_or(|b| {
+            contract_bearing(p.axes_mut(), d.axes_mut(), model.heading_at[j], b, range)
+        });
+    (ok && !p.is_empty() && !d.is_empty()).then_some((p, d))
+}
+
+/// The q-relaxed intersection of boxes, per axis: on each axis the
+/// (q+1)-th largest lower bound and (q+1)-th smallest upper bound (entire
+/// when fewer than q+1 boxes).
+fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> IntervalBox {
+    let mut out = IntervalBox::entire(dim);
+    if boxes.len() <= q {
+        return out;
+    }
+    let mut lo: Vec<f64> = Vec::with_capacity(boxes.len());
+    let mut hi: Vec<f64> = Vec::with_capacity(boxes.len());
+    for a in 0..dim {
+        lo.clear();
+        hi.clear();
+        lo.extend(boxes.iter().map(|b| b[a].lo()));
+        hi.extend(boxes.iter().map(|b| b[a].hi()));
+        lo.sort_unstable_by(|x, y| y.total_cmp(x));
+        hi.sort_unstable_by(|x, y| x.total_cmp(y));
+        let (l, h) = (lo[q], hi[q]);
+        out[a] = if l <= h {
+            Interval::new(l, h)
+        } else {
+            Interval::EMPTY
+        };
+    }
+    out
+}
+
+/// Evidence of every detection from the current boxes; shrinks the
+/// detection boxes. `Err` names why the mission is infeasible.
+fn gather(
+    mission: &Mission,
+    model: &mut Model,
+    prior: &[IntervalBox],
+    groups: &[Vec<usize>],
+    q: usize,
+    ev: &mut Evidence,
+) -> Result<usize, String> {
+    let k = mission.detections.len();
+    let dim = model.dim;
+    // Own boxes.
+    let mut own_box: Vec<IntervalBox> = Vec::with_capacity(k);
+    #[allow(clippy::needless_range_loop)] // parallel per-detection arrays
+    for j in 0..k {
+        if ev.proved_false[j] {
+            own_box.push(IntervalBox::empty(dim));
+            continue;
+        }
+        let start = prior[j].intersect(&model.det[j]);
+        match own(mission, model, j, &start) {
+            Some((_, d)) => own_box.push(d),
+            None => {
+                ev.proved_false[j] = true;
+                own_box.push(IntervalBox::empty(dim));
+            }
+        }
+    }
+    let false_count = ev.proved_false.iter().filter(|&&f| f).count();
+    if false_count > q {
+        let list: Vec<usize> = (0..k).filter(|&j| ev.proved_false[j]).collect();
+        return Err(format!(
+            "{false_count} detections {list:?} cannot reach any landmark position, more than max_outliers = {q}"
+        ));
+    }
+    let budget = q - false_count;
+    // Landmark boxes of the operator's groups, q-relaxed.
+    let mut landmark_of: Vec<Option<IntervalBox>> = vec![None; k];
+    for g in groups {
+        let members: Vec<&IntervalBox> = g
+            .iter()
+            .filter(|&&j| !ev.proved_false[j])
+            .map(|&j| &own_box[j])
+            .collect();
+        let l = relaxed_intersection(&members, budget, dim);
+        if l.is_empty() {
+            return Err(format!(
+                "landmark of detections {g:?}: their boxes have no common point even with {budget} of them dropped"
+            ));
+        }
+        for &j in g {
+            landmark_of[j] = Some(l.clone());
+        }
+    }
+    // Evidence boxes and the detections' final boxes.
+    for j in 0..k {
+        if ev.proved_false[j] {
+            ev.boxes[j] = IntervalBox::empty(dim);
+            model.det[j].set_empty();
+            continue;
+        }
+        let mut d = own_box[j].clone();
+        if let Some(l) = &landmark_of[j] {
+            d.intersect_with(l);
+        }
+        match own(mission, model, j, &d) {
+            Some((p, d)) => {
+                ev.boxes[j] = p;
+                model.det[j] = d;
+            }
+            None => {
+                // In every sub-mission keeping j, d(j) lies in its own box
+                // and in the landmark box (relaxed with the budget left,
+                // a superset of the one with a smaller budget): no point
+                // satisfies j, so j is dropped in every feasible
+                // sub-mission. The count is checked next round.
+                ev.proved_false[j] = true;
+                ev.boxes[j] = IntervalBox::empty(dim);
+                model.det[j].set_empty();
+            }
+        }
+    }
+    Ok(budget)
+}
+
+/// One relaxed pass over the chain (forward or backward), applying the
+/// chain step and the q-relaxed evidence bounds. Returns the largest move,
+/// or `Err(step)` when a position becomes empty.
+fn relaxed_pass(
+    mission: &Mission,
+    model: &mut Model,
+    order: &[usize],
+    ev: &Evidence,
+    keep: usize,
+    forward: bool,
+) -> Result<f64, usize> {
+    let dim = model.dim;
+    let n = model.steps;
+    let mut sides: Vec<Side> = (0..dim).map(|_| Side::new(keep)).collect();
+    let mut moved = 0.0f64;
+    // Detections sorted by step; walk them along with t.
+    let mut next = if forward { 0 } else { order.len() };
+    let steps: Box<dyn Iterator<Item = usize>> = if forward {
+        Box::new(0..=n)
+    } else {
+        Box::new((0..=n).rev())
+    };
+    for t in steps {
+        // Chain step into t, and the running sums over the displacement of
+        // that step.
+        let link = if forward {
+            t.checked_sub(1)
+        } else {
+            (t < n).then_some(t)
+        };
+        if let Some(s) = link {
+            for (a, side) in sides.iter_mut().enumerate() {
+                let d = model.disp[s * dim + a];
+                if !d.lo().is_finite() || !d.hi().is_finite() {
+                    *side = Side::new(keep);
+                    continue;
+                }
+                side.sum_lo = side.sum_lo + Interval::point(d.lo());
+                side.sum_hi = side.sum_hi + Interval::point(d.hi());
+            }
+            let (from, to) = if forward { (s, s + 1) } else { (s + 1, s) };
+            for a in 0..dim {
+                let q = model.pos[from * dim + a];
+                let d = model.disp[s * dim + a];
+                let old = model.pos[to * dim + a];
+                let new = if forward { q + d } else { q - d };
+                let new = old.intersect(new);
+                if new.is_empty() {
+                    return Err(to);
+                }
+                model.pos[to * dim + a] = new;
+            }
+        }
+        // Evidence of the detections at step t joins the lists.
+        loop {
+            let j = if forward {
+                match order.get(next) {
+                    Some(&j) if mission.detections[j].step == t => {
+                        next += 1;
+                        j
+                    }
+                    _ => break,
+                }
+            } else {
+                match next.checked_sub(1).map(|i| order[i]) {
+                    Some(j) if mission.detections[j].step == t => {
+                        next -= 1;
+                        j
+                    }
+                    _ => break,
+                }
+            };
+            let m = &ev.boxes[j];
+            if ev.proved_false[j] || m.is_empty() {
+                continue;
+            }
+            for (a, side) in sides.iter_mut().enumerate() {
+                // Forward: p(t') >= M.lo + S_lo(t') - S_lo(t_j), with S_lo
+                // the sum of lower displacement bounds; backward: p(t') >=
+                // M.lo - (sum of upper bounds from t' to t_j), the running
+                // sum then being of upper bounds. Mirror for the upper
+                // bound of p.
+                let (lo_sum, hi_sum) = if forward {
+                    (side.sum_lo, side.sum_hi)
+                } else {
+                    (side.sum_hi, side.sum_lo)
+                };
+                let key_lo = if forward {
+                    add_lo(m[a].lo(), -lo_sum.hi())
+                } else {
+                    add_lo(m[a].lo(), lo_sum.lo())
+                };
+                let key_hi = if forward {
+                    add_hi(m[a].hi(), -hi_sum.lo())
+                } else {
+                    add_hi(m[a].hi(), hi_sum.hi())
+                };
+                side.lower.push(key_lo);
+                side.upper.push(-key_hi);
+            }
+        }
+        // The q-relaxed bounds at t.
+        for (a, side) in sides.iter().enumerate() {
+            let (lo_sum, hi_sum) = if forward {
+                (side.sum_lo, side.sum_hi)
+            } else {
+                (side.sum_hi, side.sum_lo)
+            };
+            let old = model.pos[t * dim + a];
+            let (mut lo, mut hi) = (old.lo(), old.hi());
+            if let Some(k) = side.lower.kth() {
+                let b = if forward {
+                    add_lo(k, lo_sum.lo())
+                } else {
+                    add_lo(k, -lo_sum.hi())
+                };
+                lo = lo.max(b);
+            }
+            if let Some(k) = side.upper.kth() {
+                let b = if forward {
+                    add_hi(-k, hi_sum.hi())
+                } else {
+                    add_hi(-k, -hi_sum.lo())
+                };
+                hi = hi.min(b);
+            }
+            let new = Interval::new(lo, hi);
+            if new.is_empty() {
+                return Err(t);
+            }
+            moved = moved.max(shrinkage(old, new));
+            model.pos[t * dim + a] = new;
+        }
+    }
+    Ok(moved)
+}
+
+/// Solves a mission with `max_outliers` = q > 0 (see the module doc).
+pub fn solve_robust(
+    mission: &Mission,
+    q: usize,
+    options: &SolveOptions,
+    progress: &mut dyn FnMut(&Progress),
+    cancel: &AtomicBool,
+) -> Solution {
+    let mut model = Model::new(mission);
+    let k = mission.detections.len();
+    let dim = model.dim;
+    let tol = options.tolerance.max(0.0);
+    let prior = model.det.clone();
+    // The operator's groups.
+    let mut by_landmark: Vec<(usize, usize)> = mission
+        .detections
+        .iter()
+        .enumerate()
+        .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
+        .collect();
+    by_landmark.sort_unstable();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (x, &(l, j)) in by_landmark.iter().enumerate() {
+        if x > 0 && by_landmark[x - 1].0 == l {
+            groups.last_mut().expect("a group was opened").push(j);
+        } else {
+            groups.push(vec![j]);
+        }
+    }
+    let mut matching: Vec<Vec<usize>> = groups.iter().filter(|g| g.len() >= 2).cloned().collect();
+    for g in &mut matching {
+        g.sort_unstable();
+    }
+    matching.sort_unstable();
+    let mut order: Vec<usize> = (0..k).collect();
+    order.sort_by_key(|&j| (mission.detections[j].step, j));
+    let mut ev = Evidence {
+        proved_false: vec![false; k],
+        boxes: vec![IntervalBox::empty(dim); k],
+    };
+    let mut contractions: u64 = 0;
+    let mut round = 0u32;
+    let end = |model: Model, status: SolveStatus, round: u32, contractions: u64| Solution {
+        status,
+        matching: matching.clone(),
+        rounds: round,
+        contractions,
+        model,
+    };
+    let chain_empty = |s: usize| {
+        SolveStatus::Infeasible(format!(
+            "motion chain: the position of step {s} is empty (the inputs cannot join the initial and final positions)"
+        ))
+    };
+    if let Sweep::Empty(s) = sweep_forward(&mut model.pos, &model.disp, dim, 0, 0.0) {
+        return end(model, chain_empty(s), 0, 0);
+    }
+    if mission.final_position.is_some() {
+        if let Sweep::Empty(s) = sweep_backward(&mut model.pos, &model.disp, dim, model.steps, 0.0)
+        {
+            return end(model, chain_empty(s), 0, 0);
+        }
+    }
+    loop {
+        if round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
+            return end(model, SolveStatus::Stopped, round, contractions);
+        }
+        round += 1;
+        let det_before = model.det.clone();
+        let budget = match gather(mission, &mut model, &prior, &groups, q, &mut ev) {
+            Ok(b) => b,
+            Err(reason) => return end(model, SolveStatus::Infeasible(reason), round, contractions),
+        };
+        contractions += 2 * k as u64;
+        let mut moved = 0.0f64;
+        for forward in [true, false] {
+            match relaxed_pass(mission, &mut model, &order, &ev, budget + 1, forward) {
+                Ok(m) => moved = moved.max(m),
+                Err(t) => {
+                    let reason = format!(
+                        "the position of step {t} is empty: no choice of at most {q} false detections is consistent"
+                    );
+                    return end(model, SolveStatus::Infeasible(reason), round, contractions);
+                }
+            }
+            contractions += model.steps as u64;
+        }
+        for (a, b) in det_before.iter().zip(&model.det) {
+            if b.is_empty() {
+                continue;
+            }
+            for x in 0..dim {
+                if !a[x].is_empty() {
+                    moved = moved.max(shrinkage(a[x], b[x]));
+                }
+            }
+        }
+        let (max_d, _) = model.trajectory_diameters();
+        progress(&Progress {
+            round,
+            max_trajectory_diameter: max_d,
+            fraction: if moved > tol { 0.5 } else { 1.0 },
+        });
+        if moved <= tol {
+            break;
+        }
+    }
+    end(model, SolveStatus::Consistent, round, contractions)
+}
