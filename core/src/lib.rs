@@ -12,6 +12,7 @@ pub mod interval;
 pub mod json;
 pub mod nvector;
 pub mod radix;
+pub mod shapes;
 pub mod slam;
 #[cfg(test)]
 mod test_rng;

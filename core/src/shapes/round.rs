@@ -1,0 +1,509 @@
+//! The `shapes` contractor of a SLAM round: landmark regions of the proved
+//! groups, shape witnesses and branch contraction, run over every
+//! detection (DESIGN.md, "Detection shapes").
+//!
+//! # Constraint
+//!
+//! The detection constraints (range, bearing, region, depth: the shapes of
+//! [`super::shape`]) with atmost_nvector(n, {d(1)..d(k)}) and the proved
+//! groups (detections known to see one landmark).
+//!
+//! # Math
+//!
+//! A round, given the current boxes of p(0..=N) and d(1..k):
+//! 1. **Landmark regions.** Each group of size >= 2 keeps a [`Paving`] of
+//!    its landmark ([`super::region`]): cut by every member's shape whose
+//!    centre box changed since it last cut it, bisected down to a bounded
+//!    count (halves cut by the thinnest members). Each member is then
+//!    contracted by [`branch`] against its group's region alone: d(j) and
+//!    p(step) shrink to the hulls of the pieces.
+//! 2. **Witnesses.** Items are the groups' regions and the shapes of the
+//!    detections in no group. [`find_witnesses`] looks for n + 1 pairwise
+//!    disjoint items: n + 1 is infeasible (the items' detections are
+//!    named); n gives n regions R(1..n) (a singleton's region is its shape,
+//!    paved) holding the n distinct landmarks, one each.
+//! 3. **Branch contraction.** With n witnesses, every other detection j
+//!    (in step order) is contracted by [`branch`] against R(1..n): its
+//!    landmark is one of the n. A single surviving region proves the
+//!    matching: j (with its group) joins that witness's group, whose region
+//!    is cut by j's shape at once, so later detections meet a smaller
+//!    region (a sequential filter).
+//!
+//! Whenever p(step) shrinks by more than the tolerance the caller's
+//! `settle` callback propagates it along the motion chain before the next
+//! detection is read.
+//!
+//! # Soundness
+//!
+//! Each step is one of the sound contractors of this module's files; a
+//! group is proved once and stays proved (contractions keep every
+//! solution, so a proof made on smaller boxes holds for the input boxes).
+//! Regions are sound enclosures of their group's landmark at every moment,
+//! so they stay sound as groups merge (intersection of two enclosures of
+//! one point) and as boxes shrink.
+//!
+//! With false detections allowed (`max_outliers` q > 0) the argument needs
+//! n + q witnesses and must not contract the witnesses themselves; this
+//! round does nothing when q > 0 (soundness first; see docs/shapes.md).
+//!
+//! # Complexity
+//!
+//! Per round: O(c · m d) for the region cuts (c changed members, m <=
+//! `max_boxes` boxes per region), O(k n m d) at most for the branches (a
+//! region whose hull the shape misses costs O(d)), O(k log k + 64^2 + k n)
+//! for the witness search. Memory O(k + g · m) for g groups.
+
+use super::branch::{branch, Branches};
+use super::region::Paving;
+use super::shape::Shape;
+use super::witnesses::{find_witnesses, Item};
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use crate::slam::mission::Mission;
+
+/// Tuning of the shapes round.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapesOptions {
+    /// Most boxes in one region's paving.
+    pub max_boxes: usize,
+    /// Boxes narrower than this are not bisected further (metres).
+    pub resolution: f64,
+    /// Most members whose shapes cut the halves of a bisection (the
+    /// thinnest ones).
+    pub refine_shapes: usize,
+    /// Node budget of the exact witness search.
+    pub node_budget: usize,
+}
+
+impl Default for ShapesOptions {
+    fn default() -> Self {
+        ShapesOptions {
+            max_boxes: 256,
+            resolution: 0.0,
+            refine_shapes: 16,
+            node_budget: 20_000,
+        }
+    }
+}
+
+/// The domains a round reads and contracts.
+#[derive(Debug)]
+pub struct Domains<'a> {
+    /// Dimension of positions (2 or 3).
+    pub dim: usize,
+    /// Position domains, (N+1)·dim, step-major.
+    pub pos: &'a mut [Interval],
+    /// Detection variables d(j).
+    pub det: &'a mut [IntervalBox],
+    /// Heading (or yaw) at each detection's step.
+    pub heading_at: &'a [Interval],
+}
+
+/// What a round did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ShapesOutcome {
+    /// Pairs of detections proved to see the same landmark.
+    pub unions: Vec<(usize, usize)>,
+    /// Whether a bound moved by more than the tolerance.
+    pub moved: bool,
+    /// Contractor calls (pieces contracted).
+    pub contractions: u64,
+    /// Why the mission is infeasible, when it was proved.
+    pub infeasible: Option<String>,
+}
+
+/// State kept across rounds: the regions of the groups and the last
+/// witnesses.
+#[derive(Debug, Clone, Default)]
+pub struct ShapesState {
+    /// Tuning.
+    pub options: ShapesOptions,
+    /// Region of each group, stored at one member (the root).
+    regions: Vec<Option<Paving>>,
+    /// The centre box with which each detection last cut its group's
+    /// region (`None`: never).
+    cut_with: Vec<Option<IntervalBox>>,
+    /// One detection of each of the last witnesses.
+    witnesses: Vec<usize>,
+}
+
+/// Union-find with the smallest index as root.
+struct Uf(Vec<usize>);
+
+impl Uf {
+    fn find(&mut self, i: usize) -> usize {
+        let mut r = i;
+        while self.0[r] != r {
+            r = self.0[r];
+        }
+        let mut j = i;
+        while self.0[j] != r {
+            let n = self.0[j];
+            self.0[j] = r;
+            j = n;
+        }
+        r
+    }
+
+    fn union(&mut self, a: usize, b: usize) -> usize {
+        let (ra, rb) = (self.find(a), self.find(b));
+        let (lo, hi) = (ra.min(rb), ra.max(rb));
+        self.0[hi] = lo;
+        lo
+    }
+
+    /// Groups of size >= 2, members sorted, by smallest member.
+    fn groups(&mut self) -> Vec<Vec<usize>> {
+        let k = self.0.len();
+        let mut by: Vec<Vec<usize>> = vec![Vec::new(); k];
+        for i in 0..k {
+            let r = self.find(i);
+            by[r].push(i);
+        }
+        by.into_iter().filter(|g| g.len() >= 2).collect()
+    }
+}
+
+fn shape_of(mission: &Mission, dom: &Domains, j: usize) -> Shape {
+    let det = &mission.detections[j];
+    let dim = dom.dim;
+    let t = det.step;
+    Shape::new(
+        IntervalBox::new(&dom.pos[t * dim..(t + 1) * dim]),
+        det.range,
+        det.bearing.map(|b| (dom.heading_at[j], b)),
+        dom.det[j].clone(),
+    )
+}
+
+fn shrinkage(before: Interval, after: Interval) -> f64 {
+    if after.is_empty() {
+        return f64::INFINITY;
+    }
+    let lo = after.lo() - before.lo();
+    let hi = before.hi() - after.hi();
+    if lo.is_nan() || hi.is_nan() {
+        // Infinite bound moved to a finite one.
+        return f64::INFINITY;
+    }
+    lo.max(hi).max(0.0)
+}
+
+impl ShapesState {
+    /// A state for `k` detections.
+    pub fn new(k: usize) -> ShapesState {
+        ShapesState {
+            options: ShapesOptions::default(),
+            regions: vec![None; k],
+            cut_with: vec![None; k],
+            witnesses: Vec::new(),
+        }
+    }
+
+    /// The region of a group (any member may hold it), when one was built.
+    pub fn region_of(&self, group: &[usize]) -> Option<&Paving> {
+        group.iter().find_map(|&j| self.regions.get(j)?.as_ref())
+    }
+
+    /// One round (module doc). `groups`: the proved groups (size >= 2);
+    /// `n`: the landmark count when known; `max_outliers`: q (the round
+    /// does nothing when q > 0); `settle(pos, step)` propagates a shrunk
+    /// p(step) along the motion chain and returns an infeasibility reason
+    /// when a position empties.
+    #[allow(clippy::too_many_arguments)]
+    pub fn contract(
+        &mut self,
+        mission: &Mission,
+        dom: Domains,
+        groups: &[Vec<usize>],
+        n: Option<usize>,
+        max_outliers: usize,
+        tolerance: f64,
+        settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+    ) -> ShapesOutcome {
+        let mut out = ShapesOutcome::default();
+        let k = mission.detections.len();
+        if max_outliers > 0 || k == 0 {
+            return out;
+        }
+        if self.regions.len() != k {
+            *self = ShapesState {
+                options: self.options.clone(),
+                ..ShapesState::new(k)
+            };
+        }
+        let mut dom = dom;
+        let mut uf = Uf((0..k).collect());
+        for g in groups {
+            for &j in &g[1..] {
+                uf.union(g[0], j);
+            }
+        }
+        if let Err(reason) =
+            self.group_regions(mission, &mut dom, &mut uf, tolerance, settle, &mut out)
+        {
+            out.infeasible = Some(reason);
+            return out;
+        }
+        if let Some(n) = n {
+            if let Err(reason) =
+                self.witness_branches(mission, &mut dom, &mut uf, n, tolerance, settle, &mut out)
+            {
+                out.infeasible = Some(reason);
+            }
+        }
+        out
+    }
+
+    /// Step 1: regions of the groups, and their members contracted.
+    fn group_regions(
+        &mut self,
+        mission: &Mission,
+        dom: &mut Domains,
+        uf: &mut Uf,
+        tol: f64,
+        settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+        out: &mut ShapesOutcome,
+    ) -> Result<(), String> {
+        let opts = self.options.clone();
+        for g in uf.groups() {
+            let root = g[0];
+            let region = self.gather(&g, dom, opts.max_boxes);
+            let mut region = match region {
+                Some(r) => r,
+                None => {
+                    let mut common = dom.det[root].clone();
+                    for &j in &g[1..] {
+                        common.intersect_with(&dom.det[j]);
+                    }
+                    for &j in &g {
+                        self.cut_with[j] = None;
+                    }
+                    Paving::from_box(&common)
+                }
+            };
+            let shapes: Vec<Shape> = g.iter().map(|&j| shape_of(mission, dom, j)).collect();
+            for (s, &j) in shapes.iter().zip(&g) {
+                if self.cut_with[j].as_ref() != Some(&s.centre) {
+                    region.cut(s);
+                    out.contractions += region.boxes().len() as u64;
+                    self.cut_with[j] = Some(s.centre.clone());
+                }
+            }
+            let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
+            by_thickness.sort_by(|a, b| a.thickness().total_cmp(&b.thickness()));
+            by_thickness.truncate(opts.refine_shapes);
+            region.refine(&by_thickness, opts.resolution, opts.max_boxes);
+            if region.is_empty() {
+                return Err(format!(
+                    "landmark of detections {g:?}: their shapes (ranges and bearings around their positions) have no common point"
+                ));
+            }
+            for (s, &j) in shapes.iter().zip(&g) {
+                let br = branch(s, &[&region]);
+                out.contractions += region.boxes().len() as u64;
+                apply(mission, dom, j, &br, tol, settle, out)?;
+            }
+            self.regions[root] = Some(region);
+        }
+        Ok(())
+    }
+
+    /// Takes the regions stored at the members of `g` and intersects them.
+    fn gather(&mut self, g: &[usize], _dom: &Domains, max_boxes: usize) -> Option<Paving> {
+        let mut region: Option<Paving> = None;
+        for &j in g {
+            if let Some(p) = self.regions[j].take() {
+                region = Some(match region {
+                    None => p,
+                    Some(mut r) => {
+                        r.intersect(&p, max_boxes);
+                        r
+                    }
+                });
+            }
+        }
+        region
+    }
+
+    /// Steps 2 and 3: witnesses and branch contraction.
+    #[allow(clippy::too_many_arguments)]
+    fn witness_branches(
+        &mut self,
+        mission: &Mission,
+        dom: &mut Domains,
+        uf: &mut Uf,
+        n: usize,
+        tol: f64,
+        settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+        out: &mut ShapesOutcome,
+    ) -> Result<(), String> {
+        let k = mission.detections.len();
+        let opts = self.options.clone();
+        // Items: one per group (its region) and per ungrouped detection.
+        let mut roots: Vec<usize> = Vec::new();
+        let mut size = vec![0usize; k];
+        for j in 0..k {
+            let r = uf.find(j);
+            size[r] += 1;
+        }
+        let mut singles: Vec<Shape> = Vec::new();
+        let mut single_of: Vec<usize> = Vec::new();
+        for j in 0..k {
+            if uf.find(j) == j {
+                roots.push(j);
+                if size[j] == 1 {
+                    single_of.push(j);
+                    singles.push(shape_of(mission, dom, j));
+                }
+            }
+        }
+        let chosen: Vec<usize> = {
+            let mut items: Vec<Item> = Vec::with_capacity(roots.len());
+            let mut item_root: Vec<usize> = Vec::with_capacity(roots.len());
+            let mut si = 0;
+            for &r in &roots {
+                if size[r] == 1 {
+                    items.push(Item::Shape(&singles[si]));
+                    si += 1;
+                    item_root.push(r);
+                } else if let Some(p) = self.regions[r].as_ref() {
+                    items.push(Item::Region(p));
+                    item_root.push(r);
+                }
+            }
+            let mut seed = Vec::new();
+            for &w in &self.witnesses {
+                let r = uf.find(w);
+                if let Some(i) = item_root.iter().position(|&x| x == r) {
+                    seed.push(i);
+                }
+            }
+            let w = find_witnesses(&items, n + 1, &seed, opts.node_budget);
+            w.into_iter().map(|i| item_root[i]).collect()
+        };
+        out.contractions += 1;
+        if chosen.len() > n {
+            let mut named: Vec<usize> = chosen.clone();
+            named.sort_unstable();
+            return Err(format!(
+                "detections {named:?} (with their groups): {} pairwise-disjoint shapes, so at least {} distinct landmarks, more than landmark_count {n}",
+                chosen.len(),
+                chosen.len()
+            ));
+        }
+        if chosen.len() < n {
+            return Ok(());
+        }
+        self.witnesses = chosen.clone();
+        // The n regions, taken out while the detections are read.
+        let mut wregions: Vec<Paving> = Vec::with_capacity(n);
+        for &r in &chosen {
+            let p = match self.regions[r].take() {
+                Some(p) => p,
+                None => {
+                    let s = shape_of(mission, dom, r);
+                    let mut p = Paving::from_box(&s.hull());
+                    p.refine(&[&s], opts.resolution, opts.max_boxes);
+                    self.cut_with[r] = Some(s.centre.clone());
+                    p
+                }
+            };
+            wregions.push(p);
+        }
+        let mut slot_root: Vec<usize> = chosen.clone();
+        let mut order: Vec<usize> = (0..k).collect();
+        order.sort_by_key(|&j| (mission.detections[j].step, j));
+        let mut result = Ok(());
+        for &j in &order {
+            let rj = uf.find(j);
+            if slot_root.contains(&rj) {
+                continue;
+            }
+            let s = shape_of(mission, dom, j);
+            let br = {
+                let refs: Vec<&Paving> = wregions.iter().collect();
+                branch(&s, &refs)
+            };
+            out.contractions += wregions.iter().map(|p| p.boxes().len() as u64).sum::<u64>();
+            if br.surviving.is_empty() {
+                result = Err(format!(
+                    "detection {j} (step {}): its shape meets none of the {n} landmark regions of the pairwise-disjoint witnesses {:?}",
+                    mission.detections[j].step, slot_root
+                ));
+                break;
+            }
+            if let [i] = br.surviving[..] {
+                // j (and its group) sees the landmark of witness i.
+                out.unions.push((slot_root[i], j));
+                out.moved = true;
+                if let Some(p) = self.regions[rj].take() {
+                    wregions[i].intersect(&p, opts.max_boxes);
+                }
+                let new_root = uf.union(slot_root[i], j);
+                slot_root[i] = new_root;
+                wregions[i].cut(&s);
+                self.cut_with[j] = Some(s.centre.clone());
+                out.contractions += wregions[i].boxes().len() as u64;
+                if wregions[i].is_empty() {
+                    result = Err(format!(
+                        "landmark of detection {j} and witness group {}: no common point",
+                        slot_root[i]
+                    ));
+                    break;
+                }
+            }
+            if let Err(e) = apply(mission, dom, j, &br, tol, settle, out) {
+                result = Err(e);
+                break;
+            }
+        }
+        for (p, r) in wregions.into_iter().zip(slot_root) {
+            self.regions[r] = Some(p);
+        }
+        result
+    }
+}
+
+/// Intersects p(step) and d(j) with a branch result; settles a shrunk
+/// position.
+fn apply(
+    mission: &Mission,
+    dom: &mut Domains,
+    j: usize,
+    br: &Branches,
+    tol: f64,
+    settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+    out: &mut ShapesOutcome,
+) -> Result<(), String> {
+    let dim = dom.dim;
+    let t = mission.detections[j].step;
+    if br.p.is_empty() || br.d.is_empty() {
+        return Err(format!(
+            "detection {j} (step {t}): its shape meets no part of its landmark's region"
+        ));
+    }
+    let mut p_moved = 0.0f64;
+    for a in 0..dim {
+        let before = dom.pos[t * dim + a];
+        let after = before.intersect(br.p[a]);
+        p_moved = p_moved.max(shrinkage(before, after));
+        dom.pos[t * dim + a] = after;
+        let before = dom.det[j][a];
+        let after = before.intersect(br.d[a]);
+        if shrinkage(before, after) > tol {
+            out.moved = true;
+        }
+        dom.det[j][a] = after;
+    }
+    if dom.det[j].is_empty() || dom.pos[t * dim..(t + 1) * dim].iter().any(|x| x.is_empty()) {
+        return Err(format!(
+            "detection {j} (step {t}): its shape meets no part of its landmark's region"
+        ));
+    }
+    if p_moved > tol {
+        out.moved = true;
+        settle(dom.pos, t)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,307 @@
+//! Detection shapes: the set of landmark positions one detection allows
+//! given the current box of its robot position (DESIGN.md, "Detection
+//! shapes").
+//!
+//! # The set
+//!
+//! Detection j at step t with range r (and bearing β relative to the
+//! heading θ, when measured) allows the landmark positions
+//!
+//! `A(j) = {x ∈ C : ∃ p ∈ P, |x - p| ∈ r, [β: x - p points along θ + β]}`
+//!
+//! where P is the box of p(t) and C the box d(j) (which holds the detection's
+//! region, depth and the mission's landmark region, and whatever the other
+//! contractors proved). Without a bearing A(j) is an annulus (a spherical
+//! shell in 3-D) around an uncertain centre; with one, an annular sector.
+//! Its hull is the box d(j); the shape itself is much thinner, and two shapes
+//! are often disjoint where their hulls overlap.
+//!
+//! # Tests (each sound: `false` for "meets" and `true` for "disjoint" are
+//! proofs)
+//!
+//! - [`Shape::contract_piece`] / [`Shape::meets_box`]: the branch "landmark
+//!   in box B": copies of P and B ∩ C contracted by the detection's own
+//!   constraints ([`contract_distance`], then [`contract_bearing`] and
+//!   [`contract_distance`] again when a bearing is known). The forward pass
+//!   of the distance contractor evaluates `Σ (P_i - B_i)^2`, which is the
+//!   exact range of the squared distance between the two boxes (the terms
+//!   are separable), rounded outwards; B is excluded when that range misses
+//!   r^2, or when the bearing cone from P misses B.
+//! - [`Shape::disjoint`]: the hulls are disjoint, or, with
+//!   `[dlo, dhi]` the interval of distances between points of the two centre
+//!   boxes P and Q, `dlo > r1hi + r2hi` (each annulus lies within r_hi of
+//!   its centre box, and the boxes are further apart than that), or
+//!   `dhi + r1hi < r2lo` (every point of A(1) is within `r1hi + dhi` of every
+//!   point of Q, so closer than r2lo to it: inside the hole of A(2)), or the
+//!   symmetric case. The interval sums are rounded outwards.
+//! - [`disjoint_paved`]: for sectors, whose cone the annulus test ignores:
+//!   the common hull is bisected (bounded count) and every piece must be
+//!   excluded by one of the two shapes.
+//!
+//! # Complexity
+//!
+//! O(d) per test, O(budget · d) for [`disjoint_paved`].
+
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use crate::slam::bearing::contract_bearing;
+use crate::slam::distance::contract_distance;
+
+/// Most axes of a shape (missions are 2-D or 3-D).
+pub const MAX_DIM: usize = 3;
+
+/// The landmark set of one detection (see the module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shape {
+    /// P: the box of the robot position p(step).
+    pub centre: IntervalBox,
+    /// r: the range, intersected with [0, +inf).
+    pub range: Interval,
+    /// (θ, β): the heading (or yaw) at the step and the bearing, when a
+    /// bearing is measured.
+    pub bearing: Option<(Interval, Interval)>,
+    /// C: a box known to hold the landmark (the detection variable d(j)).
+    pub cut: IntervalBox,
+}
+
+/// One branch of a detection: the robot position and the landmark position
+/// contracted under "landmark in a given box".
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Piece {
+    /// Contracted copy of P (first `dim` axes).
+    pub p: [Interval; MAX_DIM],
+    /// Contracted copy of the box ∩ C.
+    pub d: [Interval; MAX_DIM],
+}
+
+/// The interval of distances between a point of `p` and a point of `q`
+/// (boxes of one dimension). Tightness: the exact range, rounded outwards
+/// (the squared distance is a sum of separable squares).
+pub fn distance_between(p: &[Interval], q: &[Interval]) -> Interval {
+    let mut s = Interval::ZERO;
+    for (a, b) in p.iter().zip(q) {
+        s = s + (*a - *b).sqr();
+    }
+    s.sqrt()
+}
+
+impl Shape {
+    /// A shape; `range` is cut to [0, +inf).
+    pub fn new(
+        centre: IntervalBox,
+        range: Interval,
+        bearing: Option<(Interval, Interval)>,
+        cut: IntervalBox,
+    ) -> Shape {
+        debug_assert!(centre.dim() == cut.dim() && centre.dim() <= MAX_DIM);
+        Shape {
+            centre,
+            range: range.intersect(Interval::new(0.0, f64::INFINITY)),
+            bearing,
+            cut,
+        }
+    }
+
+    /// Number of axes.
+    pub fn dim(&self) -> usize {
+        self.centre.dim()
+    }
+
+    /// Whether the shape is proved empty (an empty centre, range or cut).
+    pub fn is_empty(&self) -> bool {
+        self.centre.is_empty() || self.range.is_empty() || self.cut.is_empty()
+    }
+
+    /// The branch "landmark in `b`": P and b ∩ C contracted by the
+    /// detection's constraints; `None` when proved empty (then the shape
+    /// does not meet `b`). Every (p, x) with p ∈ P, x ∈ b ∩ C satisfying the
+    /// detection lies in the returned piece. O(d).
+    pub fn contract_piece(&self, b: &[Interval]) -> Option<Piece> {
+        let dim = self.dim();
+        let mut piece = Piece {
+            p: [Interval::ZERO; MAX_DIM],
+            d: [Interval::ZERO; MAX_DIM],
+        };
+        for a in 0..dim {
+            piece.p[a] = self.centre[a];
+            piece.d[a] = b[a].intersect(self.cut[a]);
+            if piece.d[a].is_empty() || piece.p[a].is_empty() {
+                return None;
+            }
+        }
+        let mut r = self.range;
+        let (p, d) = (&mut piece.p[..dim], &mut piece.d[..dim]);
+        if !contract_distance(p, d, &mut r) {
+            return None;
+        }
+        if let Some((heading, bearing)) = self.bearing {
+            if !contract_bearing(p, d, heading, bearing, r) || !contract_distance(p, d, &mut r) {
+                return None;
+            }
+        }
+        if p.iter().chain(d.iter()).any(|x| x.is_empty()) {
+            return None;
+        }
+        Some(piece)
+    }
+
+    /// Whether the shape may meet `b` (`false` is a proof that it does not).
+    pub fn meets_box(&self, b: &[Interval]) -> bool {
+        self.contract_piece(b).is_some()
+    }
+
+    /// The hull of the shape as far as its contraction shows: C contracted
+    /// by the detection's constraints (empty when proved empty).
+    pub fn hull(&self) -> IntervalBox {
+        let dim = self.dim();
+        match self.contract_piece(self.cut.axes()) {
+            Some(piece) => IntervalBox::new(&piece.d[..dim]),
+            None => IntervalBox::empty(dim),
+        }
+    }
+
+    /// A proof that the two shapes share no point (`false`: not proved).
+    /// Hulls, then the annulus tests of the module doc. O(d).
+    pub fn disjoint(&self, other: &Shape) -> bool {
+        if self.is_empty() || other.is_empty() || !self.cut.meets(&other.cut) {
+            return true;
+        }
+        let dd = distance_between(self.centre.axes(), other.centre.axes());
+        let (r1, r2) = (self.range, other.range);
+        (r1 + r2).hi() < dd.lo() || (dd + r1).hi() < r2.lo() || (dd + r2).hi() < r1.lo()
+    }
+
+    /// A size to rank shapes by how much they say: the annulus thickness
+    /// (range width plus the centre's diameter), capped by the hull's
+    /// diameter; smaller is thinner.
+    pub fn thickness(&self) -> f64 {
+        let t = self.range.width() + self.centre.diameter();
+        t.min(self.cut.diameter())
+    }
+}
+
+/// A proof that shapes `a` and `b` are disjoint by bisection: the common
+/// hull is split (widest axis at its midpoint) and every piece must be
+/// excluded by `a` or `b`. Gives up (returns `false`) after `budget`
+/// pieces. Sound: a common point would lie in a piece neither shape
+/// excludes. O(budget · d).
+pub fn disjoint_paved(a: &Shape, b: &Shape, budget: usize) -> bool {
+    if a.disjoint(b) {
+        return true;
+    }
+    let start = a.cut.intersect(&b.cut);
+    if start.is_empty() {
+        return true;
+    }
+    let mut stack = vec![start];
+    let mut seen = 0usize;
+    while let Some(x) = stack.pop() {
+        let (pa, pb) = match (a.contract_piece(x.axes()), b.contract_piece(x.axes())) {
+            (Some(pa), Some(pb)) => (pa, pb),
+            _ => continue,
+        };
+        seen += 1;
+        if seen > budget {
+            return false;
+        }
+        // Both shapes meet x: continue on the part both contractions keep.
+        let dim = a.dim();
+        let mut axes = [Interval::ZERO; MAX_DIM];
+        for i in 0..dim {
+            axes[i] = pa.d[i].intersect(pb.d[i]);
+            if axes[i].is_empty() {
+                break;
+            }
+        }
+        let y = IntervalBox::new(&axes[..dim]);
+        if y.is_empty() {
+            continue;
+        }
+        let (l, r) = bisect(&y);
+        stack.push(r);
+        stack.push(l);
+    }
+    true
+}
+
+/// Splits a box at the midpoint of its widest axis (an unbounded axis is
+/// split at a finite point). The two halves cover the box.
+pub fn bisect(b: &IntervalBox) -> (IntervalBox, IntervalBox) {
+    let mut axis = 0;
+    let mut w = -1.0;
+    for (i, x) in b.axes().iter().enumerate() {
+        if x.width() > w {
+            w = x.width();
+            axis = i;
+        }
+    }
+    let m = b[axis].mid();
+    let (mut l, mut r) = (b.clone(), b.clone());
+    l[axis] = Interval::new(b[axis].lo(), m);
+    r[axis] = Interval::new(m, b[axis].hi());
+    (l, r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn b2(x0: f64, x1: f64, y0: f64, y1: f64) -> IntervalBox {
+        IntervalBox::new(&[Interval::new(x0, x1), Interval::new(y0, y1)])
+    }
+
+    fn annulus(cx: f64, cy: f64, e: f64, r0: f64, r1: f64) -> Shape {
+        Shape::new(
+            b2(cx - e, cx + e, cy - e, cy + e),
+            Interval::new(r0, r1),
+            None,
+            IntervalBox::entire(2),
+        )
+    }
+
+    #[test]
+    fn nested_annuli_are_disjoint_crossing_ones_are_not() {
+        // Same centre ±0.5, radii [5, 6] and [8, 9]: the hole of the second
+        // holds the first (6 + 1.42 < 8).
+        assert!(annulus(0.0, 0.0, 0.5, 5.0, 6.0).disjoint(&annulus(0.0, 0.0, 0.5, 8.0, 9.0)));
+        // Far apart.
+        assert!(annulus(0.0, 0.0, 0.5, 5.0, 6.0).disjoint(&annulus(20.0, 0.0, 0.5, 5.0, 6.0)));
+        // Crossing circles.
+        assert!(!annulus(0.0, 0.0, 0.5, 5.0, 6.0).disjoint(&annulus(8.0, 0.0, 0.5, 5.0, 6.0)));
+    }
+
+    #[test]
+    fn a_box_in_the_hole_is_excluded() {
+        let a = annulus(0.0, 0.0, 0.1, 5.0, 6.0);
+        assert!(!a.meets_box(b2(-1.0, 1.0, -1.0, 1.0).axes()));
+        assert!(a.meets_box(b2(4.0, 7.0, -1.0, 1.0).axes()));
+        assert!(!a.meets_box(b2(7.0, 8.0, 7.0, 8.0).axes()));
+    }
+
+    #[test]
+    fn sectors_on_opposite_sides_are_disjoint_by_bisection() {
+        // Robot at the origin heading east; one landmark to port (β ≈ pi/2),
+        // one to starboard, same range: the annuli coincide, the sectors
+        // do not.
+        let port = Shape::new(
+            b2(-0.1, 0.1, -0.1, 0.1),
+            Interval::new(4.9, 5.1),
+            Some((Interval::ZERO, Interval::new(1.4, 1.7))),
+            IntervalBox::entire(2),
+        );
+        let mut starboard = port.clone();
+        starboard.bearing = Some((Interval::ZERO, Interval::new(-1.7, -1.4)));
+        let (port, starboard) = (
+            Shape {
+                cut: port.hull(),
+                ..port
+            },
+            Shape {
+                cut: starboard.hull(),
+                ..starboard
+            },
+        );
+        assert!(!port.disjoint(&starboard) || !port.cut.meets(&starboard.cut));
+        assert!(disjoint_paved(&port, &starboard, 64));
+    }
+}

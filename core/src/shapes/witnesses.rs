@@ -1,0 +1,210 @@
+//! Shape witnesses: pairwise-disjoint detection shapes (or landmark
+//! regions) prove distinct landmarks (DESIGN.md, "Detection shapes").
+//!
+//! # Math
+//!
+//! Each item is a set known to hold one landmark: a detection's shape
+//! ([`Shape`]) or a proved group's region ([`Paving`]). If t items are
+//! pairwise disjoint, their landmarks are pairwise distinct, so the
+//! detections see at least t landmarks: t > n is infeasible (the items are
+//! named), and t = n means the landmarks are exactly those of the t items
+//! (branch contraction then applies, see [`super::branch`]).
+//!
+//! # Finding them
+//!
+//! A largest set of pairwise-disjoint items is a maximum clique of the
+//! disjointness graph (NP-hard). Exact search on a pool: the caller's seed
+//! (last round's witnesses) and the thinnest items, at most 64, whose
+//! disjointness graph (bit sets) is searched by branch and bound (bound:
+//! chosen + candidates left) with a node budget, stopping at the wanted
+//! size. Then a greedy pass over every other item, thinnest first, adds
+//! each item disjoint from all chosen. Any set found is sound: each pair is
+//! proved disjoint by a sound test.
+//!
+//! # Complexity
+//!
+//! O(k log k) to order, 64^2 pair tests for the pool, the node budget for
+//! the clique search, O(k · want) pair tests for the greedy pass. Pair
+//! tests: O(d) for two shapes, O(m d) for a shape and an m-box region,
+//! O(m m') for two regions.
+
+use super::region::Paving;
+use super::shape::{disjoint_paved, Shape};
+
+/// A set holding one landmark.
+#[derive(Debug, Clone, Copy)]
+pub enum Item<'a> {
+    /// A detection's shape.
+    Shape(&'a Shape),
+    /// A proved group's region.
+    Region(&'a Paving),
+}
+
+/// Most items in the exact search's pool (one u64 bit set per item).
+pub const POOL: usize = 64;
+
+/// Pieces allowed to [`disjoint_paved`] when a shape has a bearing.
+const PAVED_BUDGET: usize = 32;
+
+impl Item<'_> {
+    /// Smaller is more telling: a shape's thickness, a region's hull
+    /// diameter.
+    pub fn size(&self) -> f64 {
+        match self {
+            Item::Shape(s) => s.thickness(),
+            Item::Region(r) => r.hull().diameter(),
+        }
+    }
+
+    /// A proof that the two items share no point (`false`: not proved).
+    pub fn disjoint(&self, other: &Item) -> bool {
+        match (self, other) {
+            (Item::Shape(a), Item::Shape(b)) => {
+                a.disjoint(b)
+                    || ((a.bearing.is_some() || b.bearing.is_some())
+                        && disjoint_paved(a, b, PAVED_BUDGET))
+            }
+            (Item::Shape(s), Item::Region(r)) | (Item::Region(r), Item::Shape(s)) => {
+                !r.meets_shape(s)
+            }
+            (Item::Region(a), Item::Region(b)) => !a.meets(b),
+        }
+    }
+}
+
+/// Finds up to `want` pairwise-disjoint items (module doc); `seed` lists
+/// items to try first. Returns their indices, in the order found.
+pub fn find_witnesses(
+    items: &[Item],
+    want: usize,
+    seed: &[usize],
+    node_budget: usize,
+) -> Vec<usize> {
+    let k = items.len();
+    if k == 0 || want == 0 {
+        return Vec::new();
+    }
+    let sizes: Vec<f64> = items.iter().map(|i| i.size()).collect();
+    let mut order: Vec<usize> = (0..k).collect();
+    order.sort_by(|&a, &b| sizes[a].total_cmp(&sizes[b]).then(a.cmp(&b)));
+    let mut pool: Vec<usize> = Vec::with_capacity(POOL);
+    let mut in_pool = vec![false; k];
+    for &i in seed.iter().chain(order.iter()) {
+        if pool.len() == POOL {
+            break;
+        }
+        if i < k && !in_pool[i] {
+            in_pool[i] = true;
+            pool.push(i);
+        }
+    }
+    let m = pool.len();
+    let mut adj = vec![0u64; m];
+    for a in 0..m {
+        for b in a + 1..m {
+            if items[pool[a]].disjoint(&items[pool[b]]) {
+                adj[a] |= 1 << b;
+                adj[b] |= 1 << a;
+            }
+        }
+    }
+    let all = if m == 64 { u64::MAX } else { (1u64 << m) - 1 };
+    let mut search = Clique {
+        adj: &adj,
+        want,
+        best: 0,
+        best_len: 0,
+        nodes: 0,
+        budget: node_budget,
+    };
+    search.expand(0, 0, all);
+    let mut chosen: Vec<usize> = (0..m)
+        .filter(|&b| search.best >> b & 1 == 1)
+        .map(|b| pool[b])
+        .collect();
+    if chosen.len() < want {
+        let mut taken = vec![false; k];
+        for &c in &chosen {
+            taken[c] = true;
+        }
+        for &i in &order {
+            if taken[i] {
+                continue;
+            }
+            if chosen.iter().all(|&c| items[c].disjoint(&items[i])) {
+                chosen.push(i);
+                if chosen.len() >= want {
+                    break;
+                }
+            }
+        }
+    }
+    chosen
+}
+
+/// Branch and bound for a clique of the disjointness graph.
+struct Clique<'a> {
+    adj: &'a [u64],
+    want: usize,
+    best: u64,
+    best_len: usize,
+    nodes: usize,
+    budget: usize,
+}
+
+impl Clique<'_> {
+    /// Extends the clique `r` (size `len`) by candidates `p` (each adjacent
+    /// to all of r).
+    fn expand(&mut self, r: u64, len: usize, mut p: u64) {
+        self.nodes += 1;
+        if len > self.best_len {
+            self.best = r;
+            self.best_len = len;
+        }
+        while p != 0 {
+            if self.best_len >= self.want
+                || self.nodes >= self.budget
+                || len + p.count_ones() as usize <= self.best_len
+            {
+                return;
+            }
+            let v = p.trailing_zeros() as usize;
+            p &= !(1u64 << v);
+            self.expand(r | 1 << v, len + 1, p & self.adj[v]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ibox::IntervalBox;
+    use crate::interval::Interval;
+
+    fn ring(r0: f64, r1: f64) -> Shape {
+        Shape::new(
+            IntervalBox::new(&[Interval::new(-0.1, 0.1), Interval::new(-0.1, 0.1)]),
+            Interval::new(r0, r1),
+            None,
+            IntervalBox::entire(2),
+        )
+    }
+
+    #[test]
+    fn nested_rings_are_found_and_pairwise_disjoint() {
+        // Rings [5k, 5k+2] around one point are pairwise disjoint; crossing
+        // wide rings [0, 30] are not.
+        let mut shapes: Vec<Shape> = (0..4)
+            .map(|i| ring(5.0 * i as f64, 5.0 * i as f64 + 2.0))
+            .collect();
+        shapes.extend((0..10).map(|_| ring(0.0, 30.0)));
+        let items: Vec<Item> = shapes.iter().map(Item::Shape).collect();
+        let w = find_witnesses(&items, 5, &[], 10_000);
+        assert_eq!(w.len(), 4);
+        for (a, &i) in w.iter().enumerate() {
+            for &j in &w[a + 1..] {
+                assert!(items[i].disjoint(&items[j]));
+            }
+        }
+    }
+}
