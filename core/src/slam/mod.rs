@@ -2,6 +2,7 @@
 //! simulation and scoring.
 
 pub mod bearing;
+pub mod diagnose;
 pub mod distance;
 pub mod mission;
 pub mod model;
