@@ -1,0 +1,261 @@
+"""nvector: guaranteed (interval) SLAM with the nvector global constraint.
+
+The compiled nvector core (the same Rust code as the ``nvector`` command and
+the service, so the same bits), a client of an nvector service, and figures:
+
+- :func:`contract`: one atmost_nvector contraction of boxes (numpy arrays);
+- :func:`simulate`: a simulated mission with ground truth (a dict);
+- :func:`run`: one SLAM job on a mission (dict or file) -> the result (a dict);
+- :class:`Client`: missions and jobs on a running ``nvector serve``;
+- :func:`plot`: a result drawn with matplotlib, like the CLI's figures.
+
+Missions and results are the JSON documents of the nvector formats
+(``nvector-mission/1``, ``nvector-result/1``) as plain Python objects: a
+bound is a number or the string ``"inf"`` / ``"-inf"``, an empty box the
+string ``"empty"``. In input, ``float("inf")`` and numpy arrays are accepted
+too. Bad input raises :class:`InputError` naming the JSON path of the bad
+value.
+
+Example::
+
+    import nvector
+    mission = nvector.simulate("paper", seed=3, steps=2000)
+    result = nvector.run(mission)
+    print(result["status"], result["matching"], result["score"])
+    nvector.plot(result, mission)
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Any, Callable, NamedTuple, Sequence, Union
+
+import numpy as np
+
+from . import _nvector
+from ._errors import InputError, JobError, ServiceError
+from ._progress import ProgressBar
+from ._client import Client
+from ._plot import plot
+
+__all__ = [
+    "contract",
+    "simulate",
+    "run",
+    "load",
+    "dumps",
+    "boxes",
+    "Client",
+    "plot",
+    "ContractResult",
+    "MinDistinct",
+    "InputError",
+    "ServiceError",
+    "JobError",
+    "CONTRACTORS",
+    "SLAM_CONTRACTORS",
+    "MAX_STEPS",
+]
+
+try:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        __version__ = version("nvector-slam")
+    except PackageNotFoundError:
+        __version__ = "0+unknown"
+except ImportError:  # pragma: no cover
+    __version__ = "0+unknown"
+
+#: Contractors of :func:`contract` (``"shapes"`` acts as ``"best"`` there).
+CONTRACTORS = ("nvalue", "projection", "independent", "exact", "shapes", "best")
+#: Contractors of :func:`run` and :meth:`Client.submit` (``"none"``: the
+#: basic model, no nvector).
+SLAM_CONTRACTORS = ("none", "nvalue", "projection", "independent", "shapes", "best")
+#: Most steps of a mission.
+MAX_STEPS: int = _nvector.MAX_STEPS
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class MinDistinct(NamedTuple):
+    """Bounds on the minimum number of distinct vectors (hitting set size)."""
+
+    lower: int
+    """A proved lower bound."""
+    upper: int
+    """The size of a hitting set that was found."""
+
+
+@dataclass(frozen=True)
+class ContractResult:
+    """The outcome of :func:`contract` (``nvector-contract-result/1``)."""
+
+    status: str
+    """``"contracted"``, ``"unchanged"`` or ``"infeasible"``."""
+    boxes: np.ndarray
+    """The contracted boxes, float64 of shape (k, d, 2): ``boxes[i, axis] =
+    [lo, hi]``; every bound NaN for an empty box (status infeasible)."""
+    groups: list[list[int]]
+    """A partition of the box indices into groups proved to take one vector."""
+    min_distinct: MinDistinct
+    """Bounds on the minimum number of distinct vectors."""
+    reason: str | None
+    """Why the constraint is infeasible (status infeasible only)."""
+    rounds: int
+    """Rounds of the contractor's fixpoint."""
+    json: dict[str, Any] = field(repr=False)
+    """The response as ``nvector contract`` prints it (``stats.elapsed_us``
+    measured here)."""
+
+    @property
+    def feasible(self) -> bool:
+        """False when the constraint was proved infeasible."""
+        return self.status != "infeasible"
+
+
+def contract(boxes: Any, n: int, contractor: str = "best") -> ContractResult:
+    """One atmost_nvector contraction: "the boxes hold at most n distinct vectors".
+
+    ``boxes`` is k boxes of one dimension d: a float array of shape (k, d, 2)
+    (numpy or nested lists; a bound may also be ``"inf"``/``"-inf"``, and a
+    bare number x the interval [x, x]). ``contractor`` is one of
+    :data:`CONTRACTORS`. Every vector tuple that satisfies the constraint
+    stays inside the returned boxes (soundness); the answer is the one of
+    ``nvector contract`` bit for bit.
+
+    Raises :class:`InputError` (naming the JSON path, e.g. ``boxes[3][1]``)
+    for invalid input, such as a lower bound above an upper bound, NaN or
+    boxes of different dimensions.
+    """
+    request = {
+        "format": "nvector-contract/1",
+        "n": n,
+        "boxes": boxes,
+        "contractor": contractor,
+    }
+    response, raw, dim = _nvector.contract(request)
+    k = len(response["boxes"])
+    array = np.frombuffer(raw, dtype="<f8").reshape(k, dim, 2).astype(np.float64)
+    return ContractResult(
+        status=response["status"],
+        boxes=array,
+        groups=response["groups"],
+        min_distinct=MinDistinct(
+            response["min_distinct"]["lower"], response["min_distinct"]["upper"]
+        ),
+        reason=response.get("reason"),
+        rounds=response["stats"]["rounds"],
+        json=response,
+    )
+
+
+def simulate(
+    scenario: str,
+    seed: int = 1,
+    steps: int | None = None,
+    landmarks: int | None = None,
+    operator: bool = False,
+    noise: float = 1.0,
+) -> dict[str, Any]:
+    """A simulated mission with ground truth (``nvector-mission/1``), as a dict.
+
+    ``scenario``: ``"paper"`` (the paper's section 6 experiment: a robot
+    looping around its start, side-scan sonar detections of ``landmarks``
+    landmarks, default 4) or ``"auv"`` (a Redermor-scale 3-D survey).
+    ``steps`` defaults to 10,000 (paper) or 60,000 (auv); ``noise`` scales
+    the sensor error bounds; ``operator`` writes the true matching as
+    operator ``landmark`` fields. Deterministic for a seed: equal to
+    ``nvector simulate --scenario S --seed N ...``.
+    """
+    return _nvector.simulate(scenario, seed, steps, landmarks, operator, noise)
+
+
+def dumps(obj: Any) -> str:
+    """Python objects as compact JSON text, written as the ``nvector`` binary
+    writes JSON (shortest round-trip floats; ``float("inf")`` as ``"inf"``).
+    NaN raises :class:`InputError` naming its path."""
+    return _nvector.dumps(obj)
+
+
+def load(path: PathLike) -> Any:
+    """Reads a JSON file (a mission or a result) into Python objects."""
+    import json
+
+    with open(os.fspath(path), encoding="utf-8") as f:
+        return json.load(f)
+
+
+def run(
+    mission: dict[str, Any] | PathLike,
+    contractor: str | None = None,
+    max_rounds: int = 10_000,
+    tolerance: float = 1e-9,
+    progress: bool | Callable[[int, float, float], Any] = False,
+) -> dict[str, Any]:
+    """One SLAM job: the guaranteed boxes of a mission (``nvector-result/1``).
+
+    ``mission`` is a mission dict or the path of a mission file.
+    ``contractor`` is one of :data:`SLAM_CONTRACTORS`; None (the default)
+    does what ``nvector run`` does: ``"best"`` when the mission has a
+    ``landmark_count``, ``"none"`` otherwise. ``max_rounds`` and
+    ``tolerance`` are the CLI's ``--max-rounds`` and ``--tolerance``.
+    ``progress``: True draws a progress bar on stderr (tqdm when installed);
+    a callable is called as ``progress(round, max_trajectory_diameter,
+    fraction)``.
+
+    The result equals ``nvector run``'s, ``metrics.elapsed_ms`` aside.
+    The computation runs without the GIL; Ctrl-C stops it (KeyboardInterrupt).
+    Raises :class:`InputError` naming the JSON path of a bad value (and the
+    file, for a path).
+    """
+    bar: ProgressBar | None = None
+    callback: Callable[[int, float, float], Any] | None
+    if progress is True:
+        bar = ProgressBar("nvector run")
+
+        def callback(round_: int, diameter: float, fraction: float) -> None:
+            assert bar is not None
+            bar.update(fraction, f"round {round_}, max trajectory diameter {diameter:.4g}")
+
+    elif callable(progress):
+        callback = progress
+    else:
+        callback = None
+    file = None
+    source: Any = mission
+    if isinstance(mission, (str, os.PathLike)):
+        file = os.fspath(mission)
+        with open(file, encoding="utf-8") as f:
+            source = f.read()
+    try:
+        return _nvector.run(source, contractor, max_rounds, tolerance, callback)
+    except InputError as e:
+        if file is None:
+            raise
+        raise InputError(e.path, e.message, file=file) from None
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def boxes(result_boxes: Sequence[Any]) -> np.ndarray:
+    """Boxes of a result (``result["trajectory"]``, ``result["detections"]``,
+    ``result["landmarks"]``) as a float array of shape (k, d, 2):
+    ``"inf"``/``"-inf"`` bounds become infinities and an ``"empty"`` box NaN."""
+    rows: list[list[list[float]] | None] = []
+    dim = 0
+    for b in result_boxes:
+        if isinstance(b, str):
+            rows.append(None)
+            continue
+        # float() reads the bounds "inf" and "-inf" too.
+        row = [[float(x[0]), float(x[1])] for x in b]
+        dim = max(dim, len(row))
+        rows.append(row)
+    out = np.full((len(rows), dim, 2), np.nan)
+    for i, row in enumerate(rows):
+        if row is not None and len(row) == dim:
+            out[i] = row
+    return out

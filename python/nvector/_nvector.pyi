@@ -1,0 +1,31 @@
+"""Type stubs of the compiled part of the nvector package (nvector._nvector)."""
+
+from typing import Any, Callable
+
+MAX_STEPS: int
+
+def contract(request: dict[str, Any]) -> tuple[dict[str, Any], bytes, int]:
+    """One nvector-contract/1 request -> (response, boxes as little-endian
+    f64 bytes k x dim x 2 with NaN for empty boxes, dim)."""
+
+def simulate(
+    scenario: str,
+    seed: int,
+    steps: int | None,
+    landmarks: int | None,
+    operator: bool,
+    noise: float,
+) -> dict[str, Any]:
+    """A simulated nvector-mission/1 mission with truth."""
+
+def run(
+    mission: str | dict[str, Any],
+    contractor: str | None,
+    max_rounds: int,
+    tolerance: float,
+    progress: Callable[[int, float, float], Any] | None,
+) -> dict[str, Any]:
+    """One SLAM job: mission JSON text or objects -> nvector-result/1."""
+
+def dumps(obj: Any) -> str:
+    """Python objects as compact JSON text, as the nvector binary writes it."""

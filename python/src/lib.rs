@@ -1,0 +1,384 @@
+//! `nvector._nvector`: the compiled part of the `nvector` Python package.
+//!
+//! A thin layer over nvector-core's public functions, the same ones the
+//! `nvector` binary calls, so that the answers agree bit for bit:
+//! - `contract` -> `nvector::contract::contract_json` (as `nvector contract`);
+//! - `simulate` -> `slam::simulate::simulate` (as `nvector simulate`);
+//! - `run` -> `slam::mission::Mission` + `slam::propagator::solve` (as
+//!   `nvector run`).
+//!
+//! Python values cross as JSON values (`serde_json::Value`), converted here
+//! with the JSON path of every value that has no JSON form (NaN, a non-string
+//! key, an object of an unknown type), so a bad input raises
+//! `nvector.InputError` naming the path and never reaches core. The friendly
+//! API (numpy arrays, files, progress bars, the HTTP client, figures) is the
+//! pure-Python code beside this crate, in `nvector/`.
+
+use nvector_core::json::{bound, field_path, index_path};
+use nvector_core::nvector::contract::contract_json;
+use nvector_core::slam::mission::{Mission, MAX_STEPS};
+use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
+use nvector_core::slam::simulate::{simulate as simulate_mission, Scenario, SimulateOptions};
+use nvector_core::InputError;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use serde_json::{Map, Number, Value};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Deepest nesting accepted from Python (serde_json's own limit): deeper
+/// input is refused with an error instead of overflowing the stack.
+const MAX_DEPTH: usize = 128;
+
+/// Most landmarks `simulate` accepts: bounds the memory of a simulation so a
+/// typo cannot abort the interpreter on a failed allocation.
+const MAX_LANDMARKS: usize = 10_000;
+
+/// `nvector.InputError(path, message)` (defined in Python, `nvector/_errors.py`,
+/// so that it carries `.path` and `.message`); a plain `ValueError` if that
+/// module cannot be imported.
+fn input_error(py: Python<'_>, e: &InputError) -> PyErr {
+    let made = py
+        .import("nvector._errors")
+        .and_then(|m| m.getattr("InputError"))
+        .and_then(|cls| cls.call1((e.path.as_str(), e.message.as_str())));
+    match made {
+        Ok(instance) => PyErr::from_value(instance),
+        Err(_) => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// A Python object as a JSON value. `float('inf')` / `-inf` become the
+/// spec's `"inf"` / `"-inf"` bounds; NaN, non-string keys and objects with
+/// no JSON form are errors naming `path`. Anything with a `tolist()` method
+/// (numpy arrays and scalars) is converted through it.
+fn to_value(obj: &Bound<'_, PyAny>, path: &str, depth: usize) -> Result<Value, InputError> {
+    if depth > MAX_DEPTH {
+        return Err(InputError::new(
+            path,
+            format!("nested more than {MAX_DEPTH} levels deep"),
+        ));
+    }
+    if obj.is_none() {
+        return Ok(Value::Null);
+    }
+    if let Ok(b) = obj.cast::<PyBool>() {
+        return Ok(Value::Bool(b.is_true()));
+    }
+    if obj.is_instance_of::<PyInt>() {
+        if let Ok(i) = obj.extract::<i64>() {
+            return Ok(Value::from(i));
+        }
+        if let Ok(u) = obj.extract::<u64>() {
+            return Ok(Value::from(u));
+        }
+        return Err(InputError::new(
+            path,
+            "integer out of range (a JSON integer fits in 64 bits)",
+        ));
+    }
+    if obj.is_instance_of::<PyFloat>() {
+        let x: f64 = obj
+            .extract()
+            .map_err(|_| InputError::new(path, "expected a float"))?;
+        return match Number::from_f64(x) {
+            Some(n) => Ok(Value::Number(n)),
+            None if x == f64::INFINITY => Ok(Value::from("inf")),
+            None if x == f64::NEG_INFINITY => Ok(Value::from("-inf")),
+            None => Err(InputError::new(path, "NaN is not a valid number")),
+        };
+    }
+    if let Ok(s) = obj.cast::<PyString>() {
+        return s
+            .to_str()
+            .map(|s| Value::from(s.to_owned()))
+            .map_err(|_| InputError::new(path, "string is not valid UTF-8"));
+    }
+    if let Ok(d) = obj.cast::<PyDict>() {
+        let mut map = Map::new();
+        for (k, v) in d.iter() {
+            let key = match k.cast::<PyString>() {
+                Ok(s) => s
+                    .to_str()
+                    .map_err(|_| InputError::new(path, "key is not valid UTF-8"))?
+                    .to_owned(),
+                Err(_) => {
+                    return Err(InputError::new(
+                        path,
+                        format!("keys must be strings, found {}", type_name(&k)),
+                    ))
+                }
+            };
+            let value = to_value(&v, &field_path(path, &key), depth + 1)?;
+            map.insert(key, value);
+        }
+        return Ok(Value::Object(map));
+    }
+    if let Ok(l) = obj.cast::<PyList>() {
+        let mut out = Vec::with_capacity(l.len());
+        for (i, item) in l.iter().enumerate() {
+            out.push(to_value(&item, &index_path(path, i), depth + 1)?);
+        }
+        return Ok(Value::Array(out));
+    }
+    if let Ok(t) = obj.cast::<PyTuple>() {
+        let mut out = Vec::with_capacity(t.len());
+        for (i, item) in t.iter().enumerate() {
+            out.push(to_value(&item, &index_path(path, i), depth + 1)?);
+        }
+        return Ok(Value::Array(out));
+    }
+    if obj.hasattr("tolist").unwrap_or(false) {
+        if let Ok(plain) = obj.call_method0("tolist") {
+            // A tolist() that returns an object of its own type would loop.
+            if !plain.get_type().is(obj.get_type()) {
+                return to_value(&plain, path, depth + 1);
+            }
+        }
+    }
+    Err(InputError::new(
+        path,
+        format!("{} has no JSON form", type_name(obj)),
+    ))
+}
+
+fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type()
+        .name()
+        .map(|n| format!("an object of type {n}"))
+        .unwrap_or_else(|_| "an object".into())
+}
+
+/// A JSON value as plain Python objects (dict, list, str, int, float, bool,
+/// None): what `json.loads` gives for the same text.
+fn to_py<'py>(py: Python<'py>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) => {
+            if let Some(i) = n.as_i64() {
+                i.into_pyobject(py)?.into_any()
+            } else if let Some(u) = n.as_u64() {
+                u.into_pyobject(py)?.into_any()
+            } else {
+                PyFloat::new(py, n.as_f64().unwrap_or(f64::NAN)).into_any()
+            }
+        }
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Array(a) => {
+            let list = PyList::empty(py);
+            for item in a {
+                list.append(to_py(py, item)?)?;
+            }
+            list.into_any()
+        }
+        Value::Object(m) => {
+            let dict = PyDict::new(py);
+            for (k, item) in m {
+                dict.set_item(k, to_py(py, item)?)?;
+            }
+            dict.into_any()
+        }
+    })
+}
+
+/// The boxes of a contraction response as little-endian f64 bytes, k x d x 2
+/// (an `"empty"` box as NaN on every bound).
+fn boxes_bytes(response: &Value, dim: usize) -> Result<Vec<u8>, InputError> {
+    let boxes = response["boxes"]
+        .as_array()
+        .map(Vec::as_slice)
+        .unwrap_or(&[]);
+    let mut out = Vec::with_capacity(boxes.len() * dim * 16);
+    for (i, b) in boxes.iter().enumerate() {
+        let path = index_path("boxes", i);
+        match b {
+            Value::Array(axes) if axes.len() == dim => {
+                for (a, x) in axes.iter().enumerate() {
+                    let p = index_path(&path, a);
+                    for (e, end) in [0, 1].into_iter().zip(["lo", "hi"]) {
+                        let v = bound(&x[e], &format!("{p}.{end}"))?;
+                        out.extend_from_slice(&v.to_le_bytes());
+                    }
+                }
+            }
+            _ => {
+                for _ in 0..2 * dim {
+                    out.extend_from_slice(&f64::NAN.to_le_bytes());
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One atmost_nvector contraction.
+///
+/// `request` is an `nvector-contract/1` request as Python objects. Returns
+/// `(response, boxes, dim)`: the `nvector-contract-result/1` response (as
+/// `nvector contract` prints it, `stats.elapsed_us` measured here), the
+/// contracted boxes as little-endian f64 bytes (k x dim x 2, NaN for an
+/// empty box) and the dimension.
+#[pyfunction]
+fn contract<'py>(
+    py: Python<'py>,
+    request: &Bound<'py, PyAny>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyBytes>, usize)> {
+    let request = to_value(request, "", 0).map_err(|e| input_error(py, &e))?;
+    let start = Instant::now();
+    let mut response = py
+        .detach(|| contract_json(&request, None))
+        .map_err(|e| input_error(py, &e))?;
+    response["stats"]["elapsed_us"] = Value::from(start.elapsed().as_micros() as u64);
+    // A valid request has at least one box, each of one dimension.
+    let dim = request["boxes"][0].as_array().map_or(0, Vec::len);
+    let bytes = boxes_bytes(&response, dim).map_err(|e| input_error(py, &e))?;
+    Ok((to_py(py, &response)?, PyBytes::new(py, &bytes), dim))
+}
+
+/// A simulated mission with truth, as `nvector simulate` writes it.
+#[pyfunction]
+#[pyo3(signature = (scenario, seed, steps, landmarks, operator, noise))]
+fn simulate<'py>(
+    py: Python<'py>,
+    scenario: &str,
+    seed: u64,
+    steps: Option<usize>,
+    landmarks: Option<usize>,
+    operator: bool,
+    noise: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let bad = |path: &str, message: String| input_error(py, &InputError::new(path, message));
+    let scenario = Scenario::parse(scenario).ok_or_else(|| {
+        bad(
+            "scenario",
+            format!("unknown scenario '{scenario}' (expected paper or auv)"),
+        )
+    })?;
+    if !(noise.is_finite() && noise >= 0.0) {
+        return Err(bad(
+            "noise",
+            format!("must be a finite number >= 0, found {noise}"),
+        ));
+    }
+    if steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
+        return Err(bad("steps", format!("must be between 1 and {MAX_STEPS}")));
+    }
+    if landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
+        return Err(bad(
+            "landmarks",
+            format!("at most {MAX_LANDMARKS} landmarks"),
+        ));
+    }
+    let mut options = SimulateOptions::new(scenario, seed);
+    options.steps = steps;
+    options.landmarks = landmarks;
+    options.operator = operator;
+    options.noise = noise;
+    let mission = py.detach(|| simulate_mission(&options));
+    to_py(py, &mission)
+}
+
+/// One SLAM job, as `nvector run` runs it.
+///
+/// `mission` is the mission's JSON text (a file's content) or Python
+/// objects; `contractor` None means the CLI's default (best when the
+/// mission has `landmark_count`, none otherwise). `progress`, when given, is
+/// called with `(round, max_trajectory_diameter, fraction)` at each report
+/// of the propagator; an exception raised by it, or a KeyboardInterrupt,
+/// stops the propagation and is raised here.
+#[pyfunction]
+#[pyo3(signature = (mission, contractor, max_rounds, tolerance, progress))]
+fn run<'py>(
+    py: Python<'py>,
+    mission: &Bound<'py, PyAny>,
+    contractor: Option<&str>,
+    max_rounds: u32,
+    tolerance: f64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let parsed = if let Ok(text) = mission.cast::<PyString>() {
+        let text = text.to_str()?.to_owned();
+        py.detach(|| Mission::from_json(&text))
+    } else {
+        let value = to_value(mission, "", 0).map_err(|e| input_error(py, &e))?;
+        py.detach(|| Mission::from_value(&value))
+    };
+    let mission = parsed.map_err(|e| input_error(py, &e))?;
+    if !(tolerance.is_finite() && tolerance >= 0.0) {
+        return Err(input_error(
+            py,
+            &InputError::new(
+                "tolerance",
+                format!("must be a finite number >= 0, found {tolerance}"),
+            ),
+        ));
+    }
+    let association = match contractor {
+        Some(name) => Association::parse(name).ok_or_else(|| {
+            input_error(
+                py,
+                &InputError::new(
+                    "contractor",
+                    format!("unknown contractor '{name}' (expected none, nvalue, projection, independent or best)"),
+                ),
+            )
+        })?,
+        None if mission.landmark_count.is_some() => {
+            Association::NVector(nvector_core::nvector::Mode::Best)
+        }
+        None => Association::None,
+    };
+    let options = SolveOptions {
+        association,
+        max_rounds,
+        tolerance,
+    };
+    let cancel = AtomicBool::new(false);
+    let mut failure: Option<PyErr> = None;
+    let start = Instant::now();
+    let mut result = py.detach(|| {
+        let mut report = |p: &Progress| {
+            if failure.is_some() {
+                return;
+            }
+            let outcome = Python::attach(|py| -> PyResult<()> {
+                py.check_signals()?;
+                if let Some(f) = &progress {
+                    f.call1(py, (p.round, p.max_trajectory_diameter, p.fraction))?;
+                }
+                Ok(())
+            });
+            if let Err(e) = outcome {
+                failure = Some(e);
+                cancel.store(true, Ordering::Relaxed);
+            }
+        };
+        solve(&mission, &options, &mut report, &cancel)
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    result["metrics"]["elapsed_ms"] = Value::from(start.elapsed().as_secs_f64() * 1e3);
+    to_py(py, &result)
+}
+
+/// Python objects as compact JSON text, the way the `nvector` binary writes
+/// JSON (serde_json: shortest round-trip floats); `float('inf')` as `"inf"`.
+#[pyfunction]
+fn dumps(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<String> {
+    let value = to_value(obj, "", 0).map_err(|e| input_error(py, &e))?;
+    Ok(value.to_string())
+}
+
+/// The compiled part of the `nvector` package (use `import nvector`).
+#[pymodule]
+fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(contract, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(dumps, m)?)?;
+    m.add("MAX_STEPS", MAX_STEPS)?;
+    Ok(())
+}
