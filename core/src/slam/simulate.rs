@@ -179,8 +179,129 @@ fn closest_approaches(dist: &[f64], threshold: f64) -> Vec<usize> {
         .collect()
 }
 
+/// Seed salt of the second random stream: the options beyond today's
+/// default (`ring` / `random` layouts, range-only regions, false detections)
+/// draw only from it, so the main stream, and with it the default mission,
+/// is bit for bit what it was before they existed.
+const EXTRA_STREAM: u64 = 0x5049_4E47_5245_4749;
+
+/// Closest approaches below the threshold that make a landmark "detected
+/// several times": the `random` layout keeps only landmarks the path passes
+/// by at least this often.
+const MIN_VISITS: usize = 3;
+
+/// Distance of every position to a point.
+fn distances(positions: &[[f64; 2]], l: [f64; 2]) -> Vec<f64> {
+    positions
+        .iter()
+        .map(|p| libm::hypot(p[0] - l[0], p[1] - l[1]))
+        .collect()
+}
+
+/// `ring`: n landmarks evenly on a circle of radius 11 m around the start
+/// (the middle of the band the robot sweeps, so the path passes near each
+/// once per turn), at the angles pi (2j + 1) / n with a small jitter (±0.05
+/// rad, ±0.5 m). That rotation is symmetric about both axes for even n: the
+/// landmarks pair up on x and on y, so no axis projection separates them and
+/// the per-axis contractors group nothing (odd n: all but one pair up).
+fn ring_layout(rng: &mut Rng, n: usize) -> Vec<[f64; 2]> {
+    (0..n)
+        .map(|j| {
+            let a = std::f64::consts::PI * (2 * j + 1) as f64 / n as f64 + rng.sym(0.05);
+            let r = 11.0 + rng.sym(0.5);
+            [r * libm::cos(a), r * libm::sin(a)]
+        })
+        .collect()
+}
+
+/// `random`: n landmarks uniform in the square [-13, 13]^2 around the start
+/// (the band the robot sweeps reaches about 21 m from the start), at least
+/// `sep` apart (8 m, a little more than the detection threshold, so that a
+/// detection is not within reach of two landmarks at once), and passed by
+/// the path at least `MIN_VISITS` times. A candidate failing either test is
+/// drawn again; after 200 failures the separation shrinks by 10 % (many
+/// landmarks) and the best-visited separated candidate is taken (short
+/// paths), so the loop always ends.
+fn random_layout(rng: &mut Rng, n: usize, positions: &[[f64; 2]], threshold: f64) -> Vec<[f64; 2]> {
+    let half = 13.0;
+    let mut sep: f64 = 8.0;
+    let mut out: Vec<[f64; 2]> = Vec::with_capacity(n);
+    while out.len() < n {
+        let mut best: Option<([f64; 2], usize)> = None;
+        let mut chosen = None;
+        for _ in 0..200 {
+            let c = [rng.sym(half), rng.sym(half)];
+            if out
+                .iter()
+                .any(|l| libm::hypot(l[0] - c[0], l[1] - c[1]) < sep)
+            {
+                continue;
+            }
+            let visits = closest_approaches(&distances(positions, c), threshold).len();
+            if visits >= MIN_VISITS {
+                chosen = Some(c);
+                break;
+            }
+            if best.is_none_or(|(_, v)| visits > v) {
+                best = Some((c, visits));
+            }
+        }
+        match chosen.or(best.map(|(c, _)| c)) {
+            Some(c) => out.push(c),
+            None => sep *= 0.9,
+        }
+    }
+    out
+}
+
+/// The declared bearing of a point seen at angle `beta` (radians, relative
+/// to the heading): the side (±pi/2), widened to hold `beta`.
+fn bearing_interval(beta: f64, bearing_err: f64) -> Value {
+    // Side-scan sonar: only the side is known, as an angle near ±pi/2.
+    let side = if beta >= 0.0 {
+        std::f64::consts::FRAC_PI_2
+    } else {
+        -std::f64::consts::FRAC_PI_2
+    };
+    // The true bearing: near the side at a closest approach; declared
+    // with a bound that holds it (checked: widen when the approach is
+    // not exactly abeam, e.g. at the start of the run).
+    let off = wrap(beta - side).abs();
+    let half = bearing_err.max(off + 0.02);
+    interval_json(side - half, side + half)
+}
+
+/// Half-width of a range-only detection's `region` (m).
+const REGION_HALF: f64 = 15.0;
+/// Largest offset of a `region`'s centre from the landmark, per axis (m).
+const REGION_OFFSET: f64 = 5.0;
+
+/// The rough region of a range-only detection (the paper's P''): a box of
+/// half-width 15 m whose centre is the landmark moved by up to 5 m on each
+/// axis, so the landmark is inside by at least 10 m but not at the centre
+/// (the box does not give the position away), and boxes of landmarks up to
+/// 20 m apart overlap (it does not give the matching away either).
+fn region(rng: &mut Rng, l: [f64; 2]) -> Value {
+    let c = [l[0] + rng.sym(REGION_OFFSET), l[1] + rng.sym(REGION_OFFSET)];
+    box_to_json(&IntervalBox::new(&[
+        Interval::new(c[0] - REGION_HALF, c[0] + REGION_HALF),
+        Interval::new(c[1] - REGION_HALF, c[1] + REGION_HALF),
+    ]))
+}
+
+/// A detection of the paper scenario before it becomes JSON: the step, the
+/// landmark (None: a false detection) and the point seen (the landmark, or
+/// the phantom a false detection reports).
+struct Seen {
+    step: usize,
+    landmark: Option<usize>,
+    point: [f64; 2],
+}
+
 fn paper(o: &SimulateOptions) -> Value {
     let mut rng = Rng::new(o.seed);
+    // Only the options beyond the default draw from this one.
+    let mut extra = Rng::new(o.seed ^ EXTRA_STREAM);
     let steps = o.steps.unwrap_or(10_000).max(2);
     let n_landmarks = o.landmarks.unwrap_or(4).max(1);
     let dt = 0.1;
@@ -190,10 +311,12 @@ fn paper(o: &SimulateOptions) -> Value {
     let range_err = 0.1 * noise;
     let bearing_err: f64 = 0.1;
     let threshold = 6.0;
-    // Landmarks spread around the start, 10 m apart along x and alternating
-    // north and south (as in the paper's Figure 9, their projections on the
-    // first axis are apart, so that the per-axis contractors can work too).
-    let landmarks: Vec<[f64; 2]> = (0..n_landmarks)
+    // `line`: landmarks spread around the start, 10 m apart along x and
+    // alternating north and south (as in the paper's Figure 9, their
+    // projections on the first axis are apart, so that the per-axis
+    // contractors can work too). Drawn in every layout, so the main stream
+    // (path and sensor noise) is the same for a seed whatever the layout.
+    let line: Vec<[f64; 2]> = (0..n_landmarks)
         .map(|j| {
             let x = 10.0 * (j as f64 - (n_landmarks as f64 - 1.0) / 2.0) + rng.sym(1.0);
             let y = if j % 2 == 0 { 10.0 } else { -10.0 } + rng.sym(2.0);
@@ -242,52 +365,81 @@ fn paper(o: &SimulateOptions) -> Value {
         y += dt * v * libm::sin(h);
         positions.push([x, y]);
     }
-    let mut detections: Vec<(usize, usize)> = Vec::new();
-    for (j, l) in landmarks.iter().enumerate() {
-        let dist: Vec<f64> = positions
-            .iter()
-            .map(|p| libm::hypot(p[0] - l[0], p[1] - l[1]))
-            .collect();
-        for s in closest_approaches(&dist, threshold) {
-            detections.push((s, j));
+    let landmarks = match o.layout {
+        Layout::Line => line,
+        Layout::Ring => ring_layout(&mut extra, n_landmarks),
+        Layout::Random => random_layout(&mut extra, n_landmarks, &positions, threshold),
+    };
+    let mut seen: Vec<Seen> = Vec::new();
+    for (j, &l) in landmarks.iter().enumerate() {
+        for s in closest_approaches(&distances(&positions, l), threshold) {
+            seen.push(Seen {
+                step: s,
+                landmark: Some(j),
+                point: l,
+            });
         }
     }
-    detections.sort_unstable();
+    seen.extend(false_detections(
+        &mut extra,
+        o.false_detections,
+        &positions,
+        &landmarks,
+        threshold,
+        range_err,
+    ));
+    // By step, true detections by landmark, false ones after them (in the
+    // order drawn): a stable sort keeps the true ones as they were.
+    seen.sort_by_key(|d| (d.step, d.landmark.unwrap_or(usize::MAX)));
     let mut det_json = Vec::new();
     let mut matching = Vec::new();
-    for &(s, j) in &detections {
+    for d in &seen {
+        let (s, l) = (d.step, d.point);
         let p = positions[s];
-        let l = landmarks[j];
         let r = libm::hypot(l[0] - p[0], l[1] - p[1]);
-        let r_meas = r + rng.sym(range_err);
-        let hd = headings[s.min(steps - 1)];
-        let beta = wrap(libm::atan2(l[1] - p[1], l[0] - p[0]) - hd);
-        // Side-scan sonar: only the side is known, as an angle near ±pi/2.
-        let side = if beta >= 0.0 {
-            std::f64::consts::FRAC_PI_2
+        // The main stream draws the noise of true detections only.
+        let r_meas = r + if d.landmark.is_some() {
+            rng.sym(range_err)
         } else {
-            -std::f64::consts::FRAC_PI_2
+            extra.sym(range_err)
         };
-        let mut d = json!({
+        let mut dj = json!({
             "step": s,
             "range": interval_json((r_meas - range_err - MARGIN).max(0.0), r_meas + range_err + MARGIN),
         });
-        // The true bearing: near the side at a closest approach; declared
-        // with a bound that holds it (checked: widen when the approach is
-        // not exactly abeam, e.g. at the start of the run).
-        let off = wrap(beta - side).abs();
-        let half = bearing_err.max(off + 0.02);
-        d["bearing"] = interval_json(side - half, side + half);
-        if o.operator {
-            d["landmark"] = json!(j);
+        if o.range_only {
+            dj["region"] = region(&mut extra, l);
+        } else {
+            let hd = headings[s.min(steps - 1)];
+            let beta = wrap(libm::atan2(l[1] - p[1], l[0] - p[0]) - hd);
+            dj["bearing"] = bearing_interval(beta, bearing_err);
         }
-        det_json.push(d);
-        matching.push(j);
+        if o.operator {
+            if let Some(j) = d.landmark {
+                dj["landmark"] = json!(j);
+            }
+        }
+        det_json.push(dj);
+        matching.push(d.landmark.map_or(Value::Null, |j| json!(j)));
     }
     let e0 = 0.01;
-    json!({
+    let mut name = String::from("paper");
+    let mut meta = json!({"scenario": "paper", "seed": o.seed, "generator": "nvector simulate"});
+    if o.layout != Layout::Line {
+        name += &format!("-{}", o.layout.name());
+        meta["layout"] = json!(o.layout.name());
+    }
+    if o.range_only {
+        name += "-range-only";
+        meta["range_only"] = json!(true);
+    }
+    if o.false_detections > 0 {
+        name += &format!("-false-{}", o.false_detections);
+        meta["false_detections"] = json!(o.false_detections);
+    }
+    let mut mission = json!({
         "format": "nvector-mission/1",
-        "name": format!("paper-seed-{}", o.seed),
+        "name": format!("{name}-seed-{}", o.seed),
         "model": "unicycle2d",
         "dt": dt,
         "steps": steps,
@@ -300,13 +452,57 @@ fn paper(o: &SimulateOptions) -> Value {
         "motion_error": MARGIN,
         "detections": det_json,
         "landmark_count": n_landmarks,
-        "meta": {"scenario": "paper", "seed": o.seed, "generator": "nvector simulate"},
+        "meta": meta,
         "truth": {
             "positions": positions,
             "landmarks": landmarks,
             "matching": matching,
         }
-    })
+    });
+    if o.false_detections > 0 {
+        mission["max_outliers"] = json!(o.false_detections);
+    }
+    mission
+}
+
+/// `k` false detections: each at a step drawn uniformly in 1..steps, of a
+/// phantom point at a distance uniform in [1, threshold] (the span of the
+/// true ranges) in a uniform direction, kept only when no landmark's true
+/// distance from the robot comes within 1 m of that range (more than the
+/// range bound): a range to no landmark. Up to 1000 draws per detection; a
+/// detection that finds no such step is dropped (only possible on very
+/// short paths where the robot never leaves a landmark's reach).
+fn false_detections(
+    rng: &mut Rng,
+    k: usize,
+    positions: &[[f64; 2]],
+    landmarks: &[[f64; 2]],
+    threshold: f64,
+    range_err: f64,
+) -> Vec<Seen> {
+    let steps = positions.len() - 1;
+    let mut out = Vec::with_capacity(k);
+    for _ in 0..k {
+        for _ in 0..1000 {
+            let s = 1 + (rng.next_u64() % (steps as u64 - 1).max(1)) as usize;
+            let r = 1.0 + rng.unit() * (threshold - 1.0);
+            let a = rng.sym(std::f64::consts::PI);
+            let p = positions[s];
+            let q = [p[0] + r * libm::cos(a), p[1] + r * libm::sin(a)];
+            let far = landmarks
+                .iter()
+                .all(|l| (libm::hypot(l[0] - p[0], l[1] - p[1]) - r).abs() > range_err + 1.0);
+            if far {
+                out.push(Seen {
+                    step: s,
+                    landmark: None,
+                    point: q,
+                });
+                break;
+            }
+        }
+    }
+    out
 }
 
 /// The six Redermor seamarks (x, y, depth), from ../shared/data/README.md.
@@ -444,6 +640,7 @@ fn auv(o: &SimulateOptions) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::slam::mission::Mission;
 
     #[test]
     fn deterministic_for_a_seed() {
@@ -453,5 +650,324 @@ mod tests {
         assert_eq!(a.to_string(), b.to_string());
         assert_ne!(a.to_string(), c.to_string());
         assert!(!a["detections"].as_array().unwrap().is_empty());
+    }
+
+    /// FNV-1a over the JSON text: a fingerprint of a whole mission.
+    fn fnv(s: &str) -> u64 {
+        s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+            (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+        })
+    }
+
+    /// The default output must stay what it was before the layouts,
+    /// range-only and false detections existed (figures, benchmarks and
+    /// other tests are built on it). The fingerprints below were taken from
+    /// main at commit 9f1a2d8 (the options added to the struct, the
+    /// generator not yet changed), i.e. from the generator as it was; the
+    /// same missions came out of `nvector simulate` there. Lengths are kept
+    /// too so a mismatch says whether the text grew.
+    #[test]
+    fn default_output_is_unchanged() {
+        let mut cases = vec![(
+            SimulateOptions::new(Scenario::Paper, 1),
+            784_990,
+            0xafb6_afe8_ac62_5665u64,
+        )];
+        let mut o = SimulateOptions::new(Scenario::Paper, 7);
+        o.operator = true;
+        cases.push((o, 786_133, 0xdd4e_07a2_56c8_6a06));
+        let mut o = SimulateOptions::new(Scenario::Paper, 3);
+        o.landmarks = Some(6);
+        o.steps = Some(4000);
+        o.noise = 2.0;
+        cases.push((o, 314_237, 0xa864_dbca_2f14_f097));
+        let mut o = SimulateOptions::new(Scenario::Auv, 2);
+        o.steps = Some(3000);
+        cases.push((o, 542_623, 0x52fb_5d63_24a8_c929));
+        for (o, len, hash) in cases {
+            let s = simulate(&o).to_string();
+            assert_eq!((s.len(), fnv(&s)), (len, hash), "{o:?}");
+        }
+    }
+
+    fn options(
+        seed: u64,
+        layout: Layout,
+        range_only: bool,
+        false_detections: usize,
+    ) -> SimulateOptions {
+        let mut o = SimulateOptions::new(Scenario::Paper, seed);
+        o.layout = layout;
+        o.range_only = range_only;
+        o.false_detections = false_detections;
+        o
+    }
+
+    /// Every combination of the new options.
+    fn variants() -> Vec<(Layout, bool, usize)> {
+        let mut v = Vec::new();
+        for layout in [Layout::Line, Layout::Ring, Layout::Random] {
+            for range_only in [false, true] {
+                for k in [0, 5] {
+                    v.push((layout, range_only, k));
+                }
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn layout_names_round_trip() {
+        for l in [Layout::Line, Layout::Ring, Layout::Random] {
+            assert_eq!(Layout::parse(l.name()), Some(l));
+        }
+        assert_eq!(Layout::parse("circle"), None);
+    }
+
+    #[test]
+    fn every_option_is_deterministic_for_a_seed() {
+        for (layout, range_only, k) in variants() {
+            let mut o = options(21, layout, range_only, k);
+            o.steps = Some(4000);
+            let a = simulate(&o).to_string();
+            assert_eq!(a, simulate(&o).to_string(), "{o:?}");
+            o.seed = 22;
+            assert_ne!(a, simulate(&o).to_string(), "{o:?}");
+        }
+    }
+
+    fn point(v: &Value) -> [f64; 2] {
+        [v[0].as_f64().unwrap(), v[1].as_f64().unwrap()]
+    }
+
+    fn interval(v: &Value) -> (f64, f64) {
+        (v[0].as_f64().unwrap(), v[1].as_f64().unwrap())
+    }
+
+    /// Checks, on the JSON, that the truth satisfies every detection
+    /// constraint: a true detection's range holds the true distance, its
+    /// bearing the true angle (relative to the true heading, the direction
+    /// of the next step), its region the landmark; a false detection
+    /// (`matching` null) has a range no landmark's true distance meets.
+    /// Returns (true detections, false detections).
+    fn check_truth(v: &Value) -> (usize, usize) {
+        let t = &v["truth"];
+        let positions: Vec<[f64; 2]> = t["positions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(point)
+            .collect();
+        let landmarks: Vec<[f64; 2]> = t["landmarks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(point)
+            .collect();
+        let dets = v["detections"].as_array().unwrap();
+        let matching = t["matching"].as_array().unwrap();
+        assert_eq!(dets.len(), matching.len());
+        let (mut n_true, mut n_false) = (0, 0);
+        let mut last = 0;
+        for (d, m) in dets.iter().zip(matching) {
+            let s = d["step"].as_u64().unwrap() as usize;
+            assert!(s >= last, "detections sorted by step");
+            last = s;
+            let p = positions[s];
+            let (lo, hi) = interval(&d["range"]);
+            assert!(lo >= 0.0 && lo <= hi);
+            match m.as_u64() {
+                Some(j) => {
+                    n_true += 1;
+                    let l = landmarks[j as usize];
+                    let r = libm::hypot(l[0] - p[0], l[1] - p[1]);
+                    assert!(lo <= r && r <= hi, "range {lo}..{hi} misses {r}");
+                    if let Some(b) = d.get("bearing") {
+                        let (blo, bhi) = interval(b);
+                        let q = positions[s + 1];
+                        let heading = libm::atan2(q[1] - p[1], q[0] - p[0]);
+                        let beta = libm::atan2(l[1] - p[1], l[0] - p[0]) - heading;
+                        // The angle, moved by a multiple of 2 pi into the
+                        // bearing's range.
+                        let mid = 0.5 * (blo + bhi);
+                        let beta = mid + wrap(beta - mid);
+                        assert!(
+                            blo < beta && beta < bhi,
+                            "bearing {blo}..{bhi} misses {beta}"
+                        );
+                    }
+                    if let Some(reg) = d.get("region") {
+                        for a in 0..2 {
+                            let (rlo, rhi) = interval(&reg[a]);
+                            assert!(rlo < l[a] && l[a] < rhi, "region misses the landmark");
+                        }
+                    }
+                }
+                None => {
+                    assert!(m.is_null());
+                    n_false += 1;
+                    for l in &landmarks {
+                        let r = libm::hypot(l[0] - p[0], l[1] - p[1]);
+                        assert!(r < lo || r > hi, "false detection meets a landmark");
+                    }
+                    assert!(d.get("landmark").is_none());
+                }
+            }
+            assert_eq!(d.get("region").is_some(), d.get("bearing").is_none());
+        }
+        (n_true, n_false)
+    }
+
+    #[test]
+    fn the_truth_satisfies_every_constraint() {
+        for seed in 1..=4 {
+            for (layout, range_only, k) in variants() {
+                let mut o = options(seed, layout, range_only, k);
+                o.operator = seed % 2 == 0;
+                let v = simulate(&o);
+                let (n_true, n_false) = check_truth(&v);
+                assert!(n_true > 0);
+                assert_eq!(n_false, k, "{o:?}");
+                assert_eq!(v["max_outliers"].as_u64(), (k > 0).then_some(k as u64));
+                for d in v["detections"].as_array().unwrap() {
+                    assert_eq!(d.get("region").is_some(), range_only);
+                }
+                if k == 0 {
+                    // A valid mission (missions with false detections need
+                    // the `max_outliers` field of the mission format).
+                    Mission::from_value(&v).expect("valid mission");
+                }
+            }
+        }
+    }
+
+    /// True detections per landmark.
+    fn visits(v: &Value) -> Vec<usize> {
+        let n = v["landmark_count"].as_u64().unwrap() as usize;
+        let mut c = vec![0; n];
+        for m in v["truth"]["matching"].as_array().unwrap() {
+            if let Some(j) = m.as_u64() {
+                c[j as usize] += 1;
+            }
+        }
+        c
+    }
+
+    #[test]
+    fn every_landmark_is_detected_several_times() {
+        for seed in 1..=10 {
+            for layout in [Layout::Line, Layout::Ring, Layout::Random] {
+                for n in [4, 6] {
+                    if layout == Layout::Line && n > 4 {
+                        continue; // the line outgrows the path beyond 4
+                    }
+                    let mut o = options(seed, layout, false, 0);
+                    o.landmarks = Some(n);
+                    let c = visits(&simulate(&o));
+                    assert!(
+                        c.iter().all(|&x| x >= MIN_VISITS),
+                        "seed {seed} {layout:?} n {n}: {c:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The smallest gap between two landmarks' projections on an axis.
+    fn min_gap(landmarks: &[[f64; 2]], axis: usize) -> f64 {
+        let mut x: Vec<f64> = landmarks.iter().map(|l| l[axis]).collect();
+        x.sort_by(f64::total_cmp);
+        x.windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn landmarks_of(o: &SimulateOptions) -> Vec<[f64; 2]> {
+        simulate(o)["truth"]["landmarks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(point)
+            .collect()
+    }
+
+    #[test]
+    fn ring_and_random_interleave_the_projections() {
+        let mut random_close = 0;
+        for seed in 1..=20 {
+            let line = landmarks_of(&options(seed, Layout::Line, false, 0));
+            // The line's landmarks are 10 m apart on x (±2 m of jitter).
+            assert!(min_gap(&line, 0) > 7.0);
+            // On the ring, landmarks pair up on both axes.
+            for n in [4, 6] {
+                let mut o = options(seed, Layout::Ring, false, 0);
+                o.landmarks = Some(n);
+                let ring = landmarks_of(&o);
+                assert!(
+                    min_gap(&ring, 0) < 2.0 && min_gap(&ring, 1) < 2.0,
+                    "seed {seed}: {ring:?}"
+                );
+            }
+            // Random: at least 8 m apart, yet usually close on both axes.
+            let random = landmarks_of(&options(seed, Layout::Random, false, 0));
+            for (i, a) in random.iter().enumerate() {
+                for b in &random[i + 1..] {
+                    assert!(libm::hypot(a[0] - b[0], a[1] - b[1]) >= 8.0);
+                }
+            }
+            if min_gap(&random, 0) < 4.0 && min_gap(&random, 1) < 4.0 {
+                random_close += 1;
+            }
+        }
+        assert!(
+            random_close >= 10,
+            "{random_close} of 20 random layouts interleave"
+        );
+    }
+
+    #[test]
+    fn new_options_leave_the_main_stream_alone() {
+        // False detections and regions draw from the second stream: the
+        // true detections of a mission are those of the same mission
+        // without false detections, and the inputs do not change at all.
+        for (layout, range_only) in [
+            (Layout::Line, false),
+            (Layout::Ring, true),
+            (Layout::Random, false),
+        ] {
+            let a = simulate(&options(5, layout, range_only, 0));
+            let b = simulate(&options(5, layout, range_only, 7));
+            assert_eq!(a["inputs"], b["inputs"]);
+            assert_eq!(a["truth"]["positions"], b["truth"]["positions"]);
+            let true_ones: Vec<&Value> = b["detections"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .zip(b["truth"]["matching"].as_array().unwrap())
+                .filter(|(_, m)| !m.is_null())
+                .map(|(d, _)| d)
+                .collect();
+            let ranges = |ds: Vec<&Value>| {
+                ds.iter()
+                    .map(|d| (d["step"].clone(), d["range"].clone()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(
+                ranges(a["detections"].as_array().unwrap().iter().collect()),
+                ranges(true_ones)
+            );
+        }
+        // Range-only changes neither the path nor the ranges.
+        let a = simulate(&options(6, Layout::Line, false, 0));
+        let b = simulate(&options(6, Layout::Line, true, 0));
+        assert_eq!(a["inputs"], b["inputs"]);
+        for (x, y) in a["detections"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .zip(b["detections"].as_array().unwrap())
+        {
+            assert_eq!(x["range"], y["range"]);
+        }
     }
 }

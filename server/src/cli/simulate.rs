@@ -1,7 +1,7 @@
 //! `nvector simulate`: a simulated mission with truth.
 
 use crate::CliError;
-use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
 use std::path::PathBuf;
 
 /// Arguments of `nvector simulate`.
@@ -25,13 +25,33 @@ pub struct Args {
     /// Also write the true matching as operator `landmark` fields.
     #[arg(long)]
     operator: bool,
+    /// Landmark layout (paper only): line (10 m apart along x, the default),
+    /// ring (evenly on a circle around the start: the axis projections
+    /// interleave) or random (uniform in a square, at least 8 m apart).
+    #[arg(long, value_parser = parse_layout, default_value = "line")]
+    layout: Layout,
+    /// Range-only detections (paper only; the paper's P''): no bearing, a
+    /// rough `region` per detection instead (a 30 m box holding the landmark).
+    #[arg(long)]
+    range_only: bool,
+    /// Add K false detections (paper only): ranges to no landmark, `null` in
+    /// truth.matching, and "max_outliers": K in the mission.
+    #[arg(long, default_value_t = 0)]
+    false_detections: usize,
     /// Output file (default: standard output).
     #[arg(long)]
     out: Option<PathBuf>,
 }
 
+/// A bound on `--false-detections` (each costs up to 1000 draws).
+const MAX_FALSE_DETECTIONS: usize = 100_000;
+
 fn parse_scenario(s: &str) -> Result<Scenario, String> {
     Scenario::parse(s).ok_or_else(|| format!("unknown scenario '{s}' (expected paper or auv)"))
+}
+
+fn parse_layout(s: &str) -> Result<Layout, String> {
+    Layout::parse(s).ok_or_else(|| format!("unknown layout '{s}' (expected line, ring or random)"))
 }
 
 /// Runs the subcommand.
@@ -48,6 +68,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
     {
         return Err(CliError("--steps must be between 1 and 2000000".into()));
     }
+    if a.scenario != Scenario::Paper
+        && (a.layout != Layout::Line || a.range_only || a.false_detections > 0)
+    {
+        return Err(CliError(
+            "--layout, --range-only and --false-detections apply to --scenario paper only".into(),
+        ));
+    }
+    if a.false_detections > MAX_FALSE_DETECTIONS {
+        return Err(CliError(format!(
+            "--false-detections must be at most {MAX_FALSE_DETECTIONS}"
+        )));
+    }
     let options = SimulateOptions {
         scenario: a.scenario,
         seed: a.seed,
@@ -55,7 +87,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         landmarks: a.landmarks,
         operator: a.operator,
         noise: a.noise,
-        ..SimulateOptions::new(a.scenario, a.seed)
+        layout: a.layout,
+        range_only: a.range_only,
+        false_detections: a.false_detections,
     };
     let mission = simulate(&options);
     let text = serde_json::to_string(&mission)?;
