@@ -32,7 +32,7 @@ case "${1:-}" in
     export CHROMEDRIVER="${CHROMEDRIVER:-$(command -v chromedriver)}"
     CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
       cargo test -p nvector-web --target wasm32-unknown-unknown --test wasm
-    # The page end to end (server/tests/browser.rs) runs with the other
+    # The page end to end (tests/browser.rs) runs with the other
     # Rust tests in `cargo test --workspace`, after this build.
     ;;
   *) echo "usage: scripts/web.sh build|test" >&2; exit 2 ;;

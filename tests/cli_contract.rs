@@ -2,10 +2,10 @@
 //! stderr naming the JSON path, exit codes 0 / 1 / 2.
 
 use std::io::Write;
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 fn contract(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_nvector"))
+    let mut child = nvector_tests::nvector()
         .arg("contract")
         .args(args)
         .stdin(Stdio::piped())

@@ -6,7 +6,7 @@
 //! target/screenshots/. Under CI (CI=true) a missing browser is a failure;
 //! elsewhere the test is skipped, saying so loudly.
 
-mod common;
+use nvector_tests as common;
 
 use common::{parse_response, Server};
 use serde_json::{json, Value};
@@ -299,7 +299,7 @@ fn the_page_in_headless_chromium() {
     // equals the native binary's output.
     let out_dir = s.dir.clone();
     let mission_path = out_dir.join("paper.json");
-    let st = Command::new(env!("CARGO_BIN_EXE_nvector"))
+    let st = common::nvector()
         .args([
             "simulate",
             "--scenario",
@@ -316,7 +316,7 @@ fn the_page_in_headless_chromium() {
     assert!(st.success());
     let native_result = out_dir.join("native.json");
     let t0 = Instant::now();
-    let st = Command::new(env!("CARGO_BIN_EXE_nvector"))
+    let st = common::nvector()
         .arg("run")
         .arg(&mission_path)
         .args(["--contractor", "projection", "--out"])
@@ -353,7 +353,7 @@ fn the_page_in_headless_chromium() {
     // Missions: upload a simulated mission through the page, follow the job,
     // and see the result drawn.
     let upload: PathBuf = out_dir.join("upload.json");
-    let st = Command::new(env!("CARGO_BIN_EXE_nvector"))
+    let st = common::nvector()
         .args([
             "simulate",
             "--scenario",

@@ -2,7 +2,7 @@
 //! documented operation is routed, and real responses (statuses and the
 //! required properties of their JSON bodies) match what it documents.
 
-mod common;
+use nvector_tests as common;
 
 use common::{small_mission, Server};
 use serde_json::{json, Value};

@@ -5,10 +5,10 @@ use nvector_core::slam::mission::Mission;
 use nvector_core::slam::motion_chain::unicycle_displacement;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn nvector(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nvector"))
+    nvector_tests::nvector()
         .args(args)
         .output()
         .expect("run nvector")

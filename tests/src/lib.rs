@@ -1,16 +1,80 @@
-//! Test harness: the real `nvector serve` binary on a free loopback port
-//! with a fresh SQLite file, and a minimal HTTP/1.1 client over a real
+//! The end-to-end harness: the real `nvector` binary (located, and built
+//! when missing or stale, by [`nvector_bin`]), `nvector serve` on a free
+//! loopback port with a fresh SQLite file or a database on a throw-away
+//! PostgreSQL cluster ([`pg`]), and a minimal HTTP/1.1 client over a real
 //! socket (raw, so that malformed requests can be sent too).
-#![allow(dead_code, unused_macros)]
 
 pub mod pg;
 
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
+
+/// The repository root (the workspace).
+pub fn repo_root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}
+
+/// The `nvector` binary under test.
+///
+/// `NVECTOR_BIN`, when set, names it. Otherwise it is `nvector` in the
+/// profile directory of this test executable (`target/debug/deps/x` ->
+/// `target/debug/nvector`), first brought up to date by `cargo build -p
+/// nvector-server --bin nvector` with that directory's profile (`test` for
+/// `target/debug`, as `cargo test` builds; `release` for `target/release`),
+/// once per test process. The binary belongs to another package, so
+/// `CARGO_BIN_EXE_nvector` does not exist here; building it from the test
+/// keeps `cargo test --workspace` working from a fresh clone, and costs one
+/// no-op cargo call when the Makefile built it first.
+pub fn nvector_bin() -> &'static Path {
+    static BIN: OnceLock<PathBuf> = OnceLock::new();
+    BIN.get_or_init(|| {
+        if let Some(p) = std::env::var_os("NVECTOR_BIN") {
+            return PathBuf::from(p);
+        }
+        let exe = std::env::current_exe().expect("the test executable's path");
+        let profile_dir = exe
+            .parent()
+            .and_then(Path::parent)
+            .expect("a test executable under target/<profile>/deps")
+            .to_path_buf();
+        let dir_name = profile_dir
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("debug");
+        let profile = match dir_name {
+            "debug" => "test",
+            other => other,
+        };
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let status = Command::new(cargo)
+            .current_dir(repo_root())
+            .args([
+                "build",
+                "--quiet",
+                "-p",
+                "nvector-server",
+                "--bin",
+                "nvector",
+            ])
+            .args(["--profile", profile])
+            .status()
+            .expect("run cargo to build the nvector binary");
+        assert!(status.success(), "cargo build of the nvector binary failed");
+        let bin = profile_dir.join(format!("nvector{}", std::env::consts::EXE_SUFFIX));
+        assert!(bin.exists(), "no nvector binary at {}", bin.display());
+        bin
+    })
+}
+
+/// `nvector ARGS...` as a command, ready to run.
+pub fn nvector() -> Command {
+    Command::new(nvector_bin())
+}
 
 /// A running service.
 pub struct Server {
@@ -30,13 +94,14 @@ pub enum Backend<'a> {
 
 /// Declares `sqlite::NAME` and `postgres::NAME` tests for each scenario
 /// `fn NAME(b: &Backend)`: the same test against both storages.
+#[macro_export]
 macro_rules! on_both_storages {
     ($($name:ident),* $(,)?) => {
         mod sqlite {
             $(
                 #[test]
                 fn $name() {
-                    super::$name(&super::common::Backend::Sqlite)
+                    super::$name(&$crate::Backend::Sqlite)
                 }
             )*
         }
@@ -44,8 +109,8 @@ macro_rules! on_both_storages {
             $(
                 #[test]
                 fn $name() {
-                    super::common::pg::with_cluster(|c| {
-                        super::$name(&super::common::Backend::Postgres(c))
+                    $crate::pg::with_cluster(|c| {
+                        super::$name(&$crate::Backend::Postgres(c))
                     });
                 }
             )*
@@ -88,7 +153,7 @@ impl Server {
 
     /// Starts on an existing directory and database (restart tests).
     pub fn start_with(dir: PathBuf, db: String, extra: &[&str]) -> Server {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_nvector"))
+        let mut child = nvector()
             .args([
                 "serve",
                 "--addr",

@@ -2,10 +2,8 @@
 //! on a real SQLite file and on a real PostgreSQL server (the same
 //! scenarios on both).
 
-#[macro_use]
-mod common;
-
-use common::{small_mission, Backend, Server};
+use nvector_tests as common;
+use nvector_tests::{on_both_storages, small_mission, Backend, Server};
 use serde_json::{json, Value};
 use std::time::Duration;
 
@@ -381,7 +379,7 @@ fn api_keys_separate_owners(b: &Backend) {
 /// `nvector bench --service`: clients at once against a real service; every
 /// client's job ends done, none fails.
 fn load_run_of_the_bench(b: &Backend) {
-    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_nvector"));
+    let mut cmd = common::nvector();
     cmd.args(["bench", "--service", "--clients", "24", "--steps", "300"]);
     if let Backend::Postgres(c) = b {
         cmd.args(["--database", &c.create_db()]);

@@ -5,10 +5,8 @@
 //! PostgreSQL, two processes share one queue: 50 jobs each run exactly once
 //! and all finish, and a job of a killed process is taken over by the other.
 
-#[macro_use]
-mod common;
-
-use common::{small_mission, Backend, Server};
+use nvector_tests as common;
+use nvector_tests::{on_both_storages, small_mission, Backend, Server};
 use serde_json::{json, Value};
 use std::time::{Duration, Instant};
 
