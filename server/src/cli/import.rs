@@ -48,6 +48,14 @@ pub struct Args {
     /// With --cmu-plaza: keep the beacon ids as the operator's matching.
     #[arg(long)]
     operator: bool,
+    /// With --cmu-plaza: plant this many false ranges (random steps, ranges
+    /// drawn over the measured span, `truth.matching` null) and set
+    /// `max_outliers` to it.
+    #[arg(long, default_value_t = 0)]
+    false_detections: usize,
+    /// With --false-detections: the seed of the planted ranges.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
     /// Output mission file (default: standard output).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -290,7 +298,18 @@ fn generic(a: &Args) -> Result<Value, CliError> {
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
     let mission = match &a.cmu_plaza {
-        Some(dir) => cmu_plaza(dir, a.operator)?,
+        Some(dir) => {
+            let mut m = cmu_plaza(dir, a.operator)?;
+            if a.false_detections > 0 {
+                plant_false_ranges(&mut m, a.false_detections, a.seed);
+            }
+            m
+        }
+        None if a.false_detections > 0 => {
+            return Err(CliError(
+                "--false-detections needs --cmu-plaza (plant false ranges in a real log)".into(),
+            ))
+        }
         None => generic(&a)?,
     };
     // Whatever was built must be a valid mission.
@@ -303,6 +322,52 @@ pub fn run(a: Args) -> Result<(), CliError> {
         None => println!("{text}"),
     }
     Ok(())
+}
+
+/// Plants `count` false ranges in an imported mission: each at a random
+/// step, with a range interval as wide as the real ones, drawn over the
+/// span of the real ranges, and no operator label; `truth.matching` is null
+/// for them, and `max_outliers` is set to `count`. Detections stay in step
+/// order. Deterministic for a seed.
+pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) {
+    let mut rng = nvector_core::slam::simulate::Rng::new(seed);
+    let steps = mission["steps"].as_u64().unwrap_or(0) as usize;
+    let empty = Vec::new();
+    let dets = mission["detections"].as_array().unwrap_or(&empty);
+    let truth = mission["truth"]["matching"].as_array().unwrap_or(&empty);
+    // (step, input index, detection, true landmark)
+    let mut all: Vec<(usize, usize, Value, Value)> = Vec::with_capacity(dets.len() + count);
+    let (mut lo_min, mut lo_max, mut width) = (f64::INFINITY, 0.0f64, 0.0f64);
+    for (i, d) in dets.iter().enumerate() {
+        let (lo, hi) = (
+            d["range"][0].as_f64().unwrap_or(0.0),
+            d["range"][1].as_f64().unwrap_or(0.0),
+        );
+        (lo_min, lo_max, width) = (lo_min.min(lo), lo_max.max(lo), width.max(hi - lo));
+        let step = d["step"].as_u64().unwrap_or(0) as usize;
+        all.push((
+            step,
+            i,
+            d.clone(),
+            truth.get(i).cloned().unwrap_or(Value::Null),
+        ));
+    }
+    if !lo_min.is_finite() {
+        (lo_min, lo_max, width) = (0.0, 10.0, 1.0);
+    }
+    for x in 0..count {
+        let step = ((rng.unit() * (steps + 1) as f64) as usize).min(steps);
+        let lo = lo_min + (lo_max - lo_min) * rng.unit();
+        let d = json!({"step": step, "range": [lo, lo + width]});
+        all.push((step, dets.len() + x, d, Value::Null));
+    }
+    all.sort_by_key(|d| (d.0, d.1));
+    mission["detections"] = Value::Array(all.iter().map(|d| d.2.clone()).collect());
+    mission["truth"]["matching"] = Value::Array(all.into_iter().map(|d| d.3).collect());
+    mission["max_outliers"] = json!(count);
+    if let Some(name) = mission["name"].as_str() {
+        mission["name"] = json!(format!("{name}-false-{count}"));
+    }
 }
 
 /// Bounds of the CMU import (docs/cmu-plaza1.md explains each).
