@@ -215,7 +215,7 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
     // Every range holds the true distance to the true beacon.
     for (j, d) in m.detections.iter().enumerate() {
         let p = &t.positions[d.step];
-        let l = &t.landmarks[t.matching[j]];
+        let l = &t.landmarks[t.matching[j].expect("Plaza 1 ranges all come from a beacon")];
         let dist = ((p[0] - l[0]).powi(2) + (p[1] - l[1]).powi(2)).sqrt();
         assert!(
             d.range.contains(dist),

@@ -73,8 +73,9 @@ pub struct Truth {
     pub positions: Vec<Vec<f64>>,
     /// True landmark positions.
     pub landmarks: Vec<Vec<f64>>,
-    /// For each detection, the true landmark index.
-    pub matching: Vec<usize>,
+    /// For each detection, the true landmark index; `None` (JSON `null`)
+    /// for a false detection (no landmark there).
+    pub matching: Vec<Option<usize>>,
 }
 
 /// A validated mission.
@@ -104,6 +105,9 @@ pub struct Mission {
     pub landmark_count: Option<usize>,
     /// A box holding every landmark.
     pub landmark_region: Option<IntervalBox>,
+    /// q: at most this many detections may be false (`max_outliers`,
+    /// default 0). Carried for the propagator; q = 0 changes nothing.
+    pub max_outliers: usize,
     /// Free-form metadata, carried through.
     pub meta: Value,
     /// Ground truth (scoring and drawing only).
@@ -252,6 +256,7 @@ impl Mission {
                 "detections",
                 "landmark_count",
                 "landmark_region",
+                "max_outliers",
                 "meta",
                 "truth",
             ],
@@ -326,6 +331,10 @@ impl Mission {
         let landmark_region = optional(obj, "landmark_region")
             .map(|v| json::ibox(v, "landmark_region", Some(dim)))
             .transpose()?;
+        let max_outliers = optional(obj, "max_outliers")
+            .map(|v| json::integer(v, "max_outliers", u32::MAX as u64))
+            .transpose()?
+            .map_or(0, |q| q as usize);
         let dets = json::array(json::required(obj, "detections", "")?, "detections")?;
         let mut detections = Vec::with_capacity(dets.len());
         for (i, d) in dets.iter().enumerate() {
@@ -418,6 +427,7 @@ impl Mission {
             detections,
             landmark_count,
             landmark_region,
+            max_outliers,
             meta,
             truth,
         })
@@ -478,6 +488,9 @@ impl Mission {
         if let Some(r) = &self.landmark_region {
             o.insert("landmark_region".into(), json::box_to_json(r));
         }
+        if self.max_outliers > 0 {
+            o.insert("max_outliers".into(), self.max_outliers.into());
+        }
         o.insert("meta".into(), self.meta.clone());
         if let Some(t) = &self.truth {
             o.insert(
@@ -531,6 +544,10 @@ fn parse_truth(
         .iter()
         .enumerate()
         .map(|(i, x)| {
+            if x.is_null() {
+                // A false detection: no landmark there.
+                return Ok(None);
+            }
             let p = index_path("truth.matching", i);
             let id = json::integer(x, &p, u32::MAX as u64)? as usize;
             if id >= landmarks.len() {
@@ -542,7 +559,7 @@ fn parse_truth(
                     ),
                 ));
             }
-            Ok(id)
+            Ok(Some(id))
         })
         .collect::<Result<_, _>>()?;
     Ok(Truth {
@@ -596,6 +613,28 @@ mod tests {
         let m = Mission::from_value(&small()).unwrap();
         let again = Mission::from_value(&m.to_value()).unwrap();
         assert_eq!(m, again);
+    }
+
+    #[test]
+    fn max_outliers_and_false_detections_round_trip() {
+        let m = Mission::from_value(&small()).unwrap();
+        assert_eq!(m.max_outliers, 0, "absent means 0");
+        let mut v = small();
+        v["max_outliers"] = json!(2);
+        v["detections"] = json!([{"step": 1, "range": [2, 3]}, {"step": 2, "range": [1, 2]}]);
+        v["truth"] = json!({
+            "positions": [[0, 0], [0.5, 0], [1.5, 0]],
+            "landmarks": [[2, 2]],
+            "matching": [0, null]
+        });
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.max_outliers, 2);
+        assert_eq!(m.truth.as_ref().unwrap().matching, vec![Some(0), None]);
+        let again = Mission::from_value(&m.to_value()).unwrap();
+        assert_eq!(m, again);
+        assert_eq!(m.to_value()["truth"]["matching"], json!([0, null]));
+        v["max_outliers"] = Value::Null;
+        assert_eq!(Mission::from_value(&v).unwrap().max_outliers, 0);
     }
 
     #[test]
@@ -656,6 +695,22 @@ mod tests {
                         json!({"positions": [[0, 0]], "landmarks": [[1, 1]], "matching": [0]})
                 },
                 "truth.positions: expected 3 positions",
+            ),
+            (
+                |v| v["max_outliers"] = json!(-1),
+                "max_outliers: expected a non-negative integer, found -1",
+            ),
+            (
+                |v| v["max_outliers"] = json!(1.5),
+                "max_outliers: expected a non-negative integer, found 1.5",
+            ),
+            (
+                |v| v["max_outliers"] = json!("2"),
+                "max_outliers: expected a non-negative integer, found a string",
+            ),
+            (
+                |v| v["truth"] = json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]], "matching": [-1]}),
+                "truth.matching[0]: expected a non-negative integer, found -1",
             ),
         ];
         for (edit, expected) in cases {

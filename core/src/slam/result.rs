@@ -52,7 +52,11 @@ impl Solution {
 }
 
 /// Score against the mission's truth: (truth_inside, matching_errors,
-/// matching_recall).
+/// matching_recall). A false detection (`None` in `truth.matching`) has no
+/// landmark: its box is not checked, it is never counted as matched, and
+/// every pair of a group that holds it is a matching error. The recall is
+/// the fraction of the true detections that ended in a group of size >= 2
+/// (1 when there is none).
 pub fn score(mission: &Mission, s: &Solution) -> Option<(bool, usize, f64)> {
     let truth = mission.truth.as_ref()?;
     let m = &s.model;
@@ -62,26 +66,37 @@ pub fn score(mission: &Mission, s: &Solution) -> Option<(bool, usize, f64)> {
         .enumerate()
         .all(|(i, p)| m.position(i).contains(p));
     for (j, b) in m.det.iter().enumerate() {
-        inside &= b.contains(&truth.landmarks[truth.matching[j]]);
+        if let Some(l) = truth.matching[j] {
+            inside &= b.contains(&truth.landmarks[l]);
+        }
     }
     for (g, b) in s.matching.iter().zip(s.landmarks()) {
-        inside &= b.contains(&truth.landmarks[truth.matching[g[0]]]);
+        if let Some(l) = g.iter().find_map(|&j| truth.matching[j]) {
+            inside &= b.contains(&truth.landmarks[l]);
+        }
     }
     let mut errors = 0;
     for g in &s.matching {
         for (x, &a) in g.iter().enumerate() {
             for &b in &g[x + 1..] {
-                if truth.matching[a] != truth.matching[b] {
-                    errors += 1;
+                match (truth.matching[a], truth.matching[b]) {
+                    (Some(la), Some(lb)) if la == lb => {}
+                    _ => errors += 1,
                 }
             }
         }
     }
-    let grouped: usize = s.matching.iter().map(|g| g.len()).sum();
-    let recall = if mission.detections.is_empty() {
+    let grouped = s
+        .matching
+        .iter()
+        .flatten()
+        .filter(|&&j| truth.matching[j].is_some())
+        .count();
+    let real = truth.matching.iter().filter(|l| l.is_some()).count();
+    let recall = if real == 0 {
         1.0
     } else {
-        grouped as f64 / mission.detections.len() as f64
+        grouped as f64 / real as f64
     };
     Some((inside, errors, recall))
 }
@@ -150,4 +165,72 @@ pub fn result_json(mission: &Mission, options: &SolveOptions, s: &Solution) -> V
         );
     }
     Value::Object(o)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::slam::mission::Mission;
+    use serde_json::json;
+
+    /// Three detections of one landmark at (2, 2) by truth, the third a
+    /// false detection (`null`), scored against hand-made solutions.
+    fn mission() -> Mission {
+        Mission::from_value(&json!({
+            "format": "nvector-mission/1",
+            "model": "unicycle2d",
+            "dt": 1.0,
+            "steps": 1,
+            "initial_position": [[0, 0], [0, 0]],
+            "inputs": {"speed": {"value": [0.0], "error": 0}, "heading": {"value": [0.0], "error": 0}},
+            "detections": [
+                {"step": 0, "range": [2.8, 2.9]},
+                {"step": 1, "range": [2.8, 2.9]},
+                {"step": 1, "range": [5, 6]}
+            ],
+            "landmark_count": 1,
+            "max_outliers": 1,
+            "truth": {"positions": [[0, 0], [0, 0]], "landmarks": [[2, 2]], "matching": [0, 0, null]}
+        }))
+        .unwrap()
+    }
+
+    fn solution(m: &Mission, matching: Vec<Vec<usize>>) -> Solution {
+        let mut model = Model::new(m);
+        model.pos.fill(crate::Interval::ZERO);
+        model.det = vec![
+            IntervalBox::new(&[crate::Interval::new(1.0, 3.0); 2]),
+            IntervalBox::new(&[crate::Interval::new(1.5, 2.5); 2]),
+            // Far from the landmark: not checked, the detection is false.
+            IntervalBox::new(&[crate::Interval::new(4.0, 5.0); 2]),
+        ];
+        Solution {
+            status: SolveStatus::Consistent,
+            matching,
+            rounds: 1,
+            contractions: 0,
+            model,
+        }
+    }
+
+    #[test]
+    fn a_false_detection_is_never_matched_and_its_group_is_an_error() {
+        let m = mission();
+        assert_eq!(
+            score(&m, &solution(&m, vec![vec![0, 1]])),
+            Some((true, 0, 1.0))
+        );
+        // Grouped with both true detections: two wrong pairs; the recall
+        // counts the true detections only.
+        assert_eq!(
+            score(&m, &solution(&m, vec![vec![0, 1, 2]])),
+            Some((false, 2, 1.0)),
+            "the group's box (empty intersection) cannot hold the landmark"
+        );
+        assert_eq!(
+            score(&m, &solution(&m, vec![vec![1, 2]])),
+            Some((false, 1, 0.5))
+        );
+        assert_eq!(score(&m, &solution(&m, vec![])), Some((true, 0, 0.0)));
+    }
 }
