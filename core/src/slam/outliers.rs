@@ -538,6 +538,7 @@ pub fn solve_robust(
             round,
             max_trajectory_diameter: max_d,
             fraction: if moved > tol { 0.5 } else { 1.0 },
+            ..Progress::default()
         });
         if moved <= tol {
             break;
