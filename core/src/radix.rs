@@ -5,10 +5,27 @@
 //! O(k) time when keys are spread out, O(k log k) at worst; O(k) extra space
 //! in reused buffers.
 
-/// The u64 whose unsigned order is the `total_cmp` order of `x`.
+/// The u64 whose unsigned order is the `total_cmp` order of `x`, except
+/// that -0 and +0 get one key (that of +0): for non-NaN `x` and `y`,
+/// `f64_key(x) < f64_key(y)` iff `x < y` as real numbers.
+///
+/// Signed zeros are one value in core, and this is where it is enforced.
+/// Everywhere else bounds are compared with IEEE operators, for which
+/// -0 = +0; the keys and the images built on them ([`KeyImage`]) are the
+/// one place where a bound's bit pattern decided an outcome: callers read
+/// `image(x) < image(y)` as `x < y`, and the total order's -0 < +0 made the
+/// nvalue greedies place a second point for [0, 0] after [-0, -0] and skip
+/// a kernel ending at -0 when looking up a lower bound +0 (issue 12).
+/// Canonicalizing here (one addition: `-0 + 0 = +0` and `x + 0 = x`
+/// otherwise) fixes every user of the keys at once and costs nothing in the
+/// interval arithmetic; canonicalizing at the boundary of `Interval` instead
+/// would put a test on every bound of every operation (negation alone turns
+/// [0, 1] into [-1, -0]) for the benefit of these few comparisons. Sorts by
+/// `total_cmp` elsewhere (ties among ±0 in either order) stay correct since
+/// what follows them compares real values.
 #[inline]
 pub fn f64_key(x: f64) -> u64 {
-    let b = x.to_bits();
+    let b = (x + 0.0).to_bits();
     if b >> 63 == 1 {
         !b
     } else {
@@ -26,11 +43,12 @@ pub struct RadixScratch {
 
 /// A monotone map of f64 keys to 32 bits: fixed point over the keys' finite
 /// range when that range is finite and not empty, else the high 32 bits of
-/// [`f64_key`]. Monotone (non-decreasing) because subtraction,
-/// multiplication by a positive constant (rounded to nearest) and the
-/// saturating conversion to an integer all are. Hence, for any keys `x`,
-/// `y` in its domain: `image(x) < image(y)` implies `x < y`; only equal
-/// images leave the order open.
+/// [`f64_key`]. Monotone (non-decreasing) in the real order because
+/// subtraction, multiplication by a positive constant (rounded to nearest)
+/// and the saturating conversion to an integer all are (and give -0 and +0
+/// one image: `-0 - lo = +0 - lo`), as is `f64_key`, which identifies the
+/// zeros. Hence, for any keys `x`, `y` in its domain: `image(x) < image(y)`
+/// implies `x < y` as real numbers; only equal images leave the order open.
 #[derive(Debug, Clone, Copy)]
 pub struct KeyImage {
     lo: f64,
@@ -211,13 +229,12 @@ mod tests {
     }
 
     #[test]
-    fn key_order_is_total_order() {
+    fn key_order_is_the_real_order() {
         let xs = [
             f64::NEG_INFINITY,
             -1e308,
             -1.0,
             -f64::MIN_POSITIVE,
-            -0.0,
             0.0,
             f64::MIN_POSITIVE,
             1.0,
@@ -226,6 +243,58 @@ mod tests {
         ];
         for w in xs.windows(2) {
             assert!(f64_key(w[0]) < f64_key(w[1]), "{} < {}", w[0], w[1]);
+        }
+    }
+
+    /// Regression (issue 12): -0 and +0 had different keys (the total
+    /// order), so an image could claim -0 < +0 (see `f64_key`).
+    #[test]
+    fn regression_signed_zeros_have_one_key_and_one_image() {
+        assert_eq!(f64_key(-0.0), f64_key(0.0));
+        assert!(f64_key(-f64::MIN_POSITIVE) < f64_key(-0.0));
+        assert!(f64_key(0.0) < f64_key(f64::MIN_POSITIVE));
+        for (lo, hi) in [
+            (0.0, 0.0),      // equal bounds: no fixed point
+            (-0.0, 0.0),     // equal up to the sign
+            (-1e308, 1e308), // overflowing range
+            (-1.0, 1.0),     // fixed point
+            (-0.0, 1e-300),
+            (f64::INFINITY, f64::NEG_INFINITY), // no finite key
+        ] {
+            let image = KeyImage::over(lo, hi);
+            assert_eq!(image.image(-0.0), image.image(0.0), "over [{lo}, {hi}]");
+        }
+    }
+
+    /// `image(x) < image(y)` implies `x < y` on keys with signed zeros,
+    /// at equal and overflowing ranges.
+    #[test]
+    fn images_are_monotone_with_signed_zeros() {
+        let keys = [
+            f64::NEG_INFINITY,
+            -1e308,
+            -1.0,
+            -0.0,
+            0.0,
+            1.0,
+            1e308,
+            f64::INFINITY,
+        ];
+        for (lo, hi) in [
+            (-0.0, 0.0),
+            (0.0, -0.0),
+            (-1e308, 1e308),
+            (-1.0, 1.0),
+            (-1e308, 0.0),
+        ] {
+            let image = KeyImage::over(lo, hi);
+            for &x in &keys {
+                for &y in &keys {
+                    if image.image(x) < image.image(y) {
+                        assert!(x < y, "image({x}) < image({y}) over [{lo}, {hi}]");
+                    }
+                }
+            }
         }
     }
 

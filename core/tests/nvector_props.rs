@@ -289,3 +289,134 @@ proptest! {
         }
     }
 }
+
+/// Regression (issue 12): signed zeros are one value. With every finite
+/// bound ±0 (a range of 0) or bounds spreading over more than f64::MAX, the
+/// nvalue greedies keyed -0 below +0: n = 1 over [-0, -0], [0, 0] answered
+/// infeasible, and n = 2 over [-1e308, -0], [0, 1e308], [1e308, 1e308]
+/// pruned the second box to [1e308, 1e308] and grouped it with the third.
+/// Every mode must keep the planted solutions (0, 0) and (0, 0, 1e308).
+#[test]
+fn regression_signed_zeros_are_one_value_in_every_mode() {
+    let b = |lo: f64, hi: f64| IntervalBox::new(&[Interval::new(lo, hi)]);
+    let cases: [(usize, Vec<IntervalBox>, Vec<f64>); 3] = [
+        (1, vec![b(-0.0, -0.0), b(0.0, 0.0)], vec![0.0, 0.0]),
+        (
+            2,
+            vec![b(-1e308, -0.0), b(0.0, 1e308), b(1e308, 1e308)],
+            vec![0.0, 0.0, 1e308],
+        ),
+        (
+            2,
+            vec![b(-1e308, -1e308), b(-1e308, 0.0), b(-0.0, 1e308)],
+            vec![-1e308, 0.0, 0.0],
+        ),
+    ];
+    for (n, boxes, planted) in cases {
+        for mode in MODES {
+            let mut out = boxes.clone();
+            let r = atmost_nvector(n, &mut out, mode).unwrap();
+            assert!(
+                !matches!(r.status, Status::Infeasible { .. }),
+                "{mode:?} on {boxes:?}: {:?}",
+                r.status
+            );
+            for (x, &v) in out.iter().zip(&planted) {
+                assert!(
+                    x.contains(&[v]),
+                    "{mode:?} lost {v} from {boxes:?}: {out:?}"
+                );
+            }
+            for g in &r.groups {
+                for &j in g {
+                    assert_eq!(planted[j], planted[g[0]], "{mode:?} grouped {g:?}");
+                }
+            }
+        }
+    }
+}
+
+/// A coordinate with signed zeros and huge magnitudes.
+fn extreme_coord() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        Just(0.0),
+        Just(-0.0),
+        Just(1e308),
+        Just(-1e308),
+        (-3i32..=3).prop_map(f64::from),
+    ]
+}
+
+/// A box side: 0 (degenerate), 1, 1e308 (the spread overflows) or +inf.
+fn extreme_side() -> impl Strategy<Value = f64> {
+    prop_oneof![Just(0.0), Just(1.0), Just(1e308), Just(f64::INFINITY)]
+}
+
+/// Flips the sign of a zero bound when `flip` says so.
+fn sign(x: f64, flip: bool) -> f64 {
+    if x == 0.0 && flip {
+        -x
+    } else {
+        x
+    }
+}
+
+fn planted_extreme(max_k: usize) -> impl Strategy<Value = Planted> {
+    (1usize..=2, 1usize..=3, 1usize..=max_k, 0usize..=1).prop_flat_map(
+        move |(d, npts, k, extra)| {
+            let points =
+                proptest::collection::vec(proptest::collection::vec(extreme_coord(), d), npts);
+            let sides = proptest::collection::vec(
+                proptest::collection::vec(
+                    (extreme_side(), extreme_side(), any::<bool>(), any::<bool>()),
+                    d,
+                ),
+                k,
+            );
+            let owners = proptest::collection::vec(0..npts, k);
+            (points, sides, owners, Just(extra)).prop_map(|(points, sides, owner, extra)| {
+                let boxes: Vec<IntervalBox> = owner
+                    .iter()
+                    .zip(&sides)
+                    .map(|(&o, s)| {
+                        let axes: Vec<Interval> = points[o]
+                            .iter()
+                            .zip(s)
+                            .map(|(&c, &(a, b, fa, fb))| {
+                                // c - a and c + b round to nearest: widen
+                                // to keep c inside (1e308 - 1 = 1e308).
+                                let lo = if a == 0.0 { c } else { (c - a).min(c) };
+                                let hi = if b == 0.0 { c } else { (c + b).max(c) };
+                                Interval::new(sign(lo, fa), sign(hi, fb))
+                            })
+                            .collect();
+                        IntervalBox::new(&axes)
+                    })
+                    .collect();
+                let mut used: Vec<&Vec<f64>> = owner.iter().map(|&o| &points[o]).collect();
+                used.sort_by(|a, b| a.partial_cmp(b).unwrap());
+                used.dedup();
+                let n = used.len() + extra;
+                Planted {
+                    boxes,
+                    owner,
+                    points,
+                    n,
+                }
+            })
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(config(3))]
+
+    /// Planted solutions survive with signed zeros at equal ranges (every
+    /// finite bound ±0) and with ranges over f64::MAX, in every mode.
+    #[test]
+    fn planted_solution_survives_signed_zeros_and_overflowing_ranges(p in planted_extreme(7)) {
+        for mode in MODES {
+            check_sound(&p, mode)?;
+        }
+    }
+}

@@ -293,24 +293,18 @@ impl<'a> HittingSet<'a> {
                 .unwrap_or(lo_pos);
             let mut lo = cands[lo_pos];
             let mut hi = cands[hi_pos];
-            // Unbounded sides: test a point beyond the outermost bound.
+            // Unbounded sides: test a point beyond the outermost bound (any
+            // point of the open piece beyond it: the next float, so that
+            // huge bounds work too; `c - 1` is `c` for c = 1e308).
             if b[a].lo() == f64::NEG_INFINITY && lo_pos == 0 {
-                let beyond = if cands[0].is_finite() {
-                    (cands[0] - 1.0).min(cands[0] * 2.0 - 1.0)
-                } else {
-                    cands[0]
-                };
+                let beyond = cands[0].next_down();
                 if beyond < cands[0] && self.feasible_at(n, i, a, beyond, &grid) {
                     lo = f64::NEG_INFINITY;
                 }
             }
             if b[a].hi() == f64::INFINITY && hi_pos == cands.len() - 1 {
                 let last = cands[cands.len() - 1];
-                let beyond = if last.is_finite() {
-                    (last + 1.0).max(last * 2.0 + 1.0)
-                } else {
-                    last
-                };
+                let beyond = last.next_up();
                 if beyond > last && self.feasible_at(n, i, a, beyond, &grid) {
                     hi = f64::INFINITY;
                 }
@@ -364,6 +358,26 @@ mod tests {
         let mut h = HittingSet::new(&boxes);
         for i in 0..3 {
             assert_eq!(h.consistent_box(1, i), b2(1.0, 2.0, 1.0, 2.0));
+        }
+    }
+
+    /// Regression (found by the signed-zero / overflowing-range property
+    /// test): the point tested beyond the outermost bound of an unbounded
+    /// side was `c - 1`, which is `c` for c = 1e308; the side was never
+    /// tested, and n = 1 over the one box [-inf, 1e308] became
+    /// [1e308, 1e308], losing every other value.
+    #[test]
+    fn regression_unbounded_side_beyond_a_huge_bound() {
+        let b1 = |lo: f64, hi: f64| IntervalBox::new(&[Interval::new(lo, hi)]);
+        for (lo, hi) in [
+            (f64::NEG_INFINITY, 1e308),
+            (-1e308, f64::INFINITY),
+            (f64::NEG_INFINITY, -f64::MAX),
+            (f64::MAX, f64::INFINITY),
+        ] {
+            let boxes = vec![b1(lo, hi)];
+            let mut h = HittingSet::new(&boxes);
+            assert_eq!(h.consistent_box(1, 0), boxes[0], "[{lo}, {hi}]");
         }
     }
 
