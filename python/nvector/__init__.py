@@ -53,8 +53,6 @@ __all__ = [
     "InputError",
     "ServiceError",
     "JobError",
-    "CONTRACTORS",
-    "SLAM_CONTRACTORS",
     "MAX_STEPS",
 ]
 
@@ -68,11 +66,6 @@ try:
 except ImportError:  # pragma: no cover
     __version__ = "0+unknown"
 
-#: Contractors of :func:`contract` (``"shapes"`` acts as ``"best"`` there).
-CONTRACTORS = ("nvalue", "projection", "independent", "exact", "shapes", "best")
-#: Contractors of :func:`run` and :meth:`Client.submit` (``"none"``: the
-#: basic model, no nvector).
-SLAM_CONTRACTORS = ("none", "nvalue", "projection", "independent", "shapes", "best")
 #: Most steps of a mission.
 MAX_STEPS: int = _nvector.MAX_STEPS
 
@@ -120,8 +113,10 @@ def contract(boxes: Any, n: int, contractor: str = "best") -> ContractResult:
 
     ``boxes`` is k boxes of one dimension d: a float array of shape (k, d, 2)
     (numpy or nested lists; a bound may also be ``"inf"``/``"-inf"``, and a
-    bare number x the interval [x, x]). ``contractor`` is one of
-    :data:`CONTRACTORS`. Every vector tuple that satisfies the constraint
+    bare number x the interval [x, x]). ``contractor``: ``"nvalue"`` (the
+    paper's naive contractor), ``"projection"`` (the paper's improved one),
+    ``"independent"`` (pairwise disjoint boxes as witnesses), ``"exact"``
+    (bound consistency, k <= 40) or ``"best"``, as in ``nvector contract``. Every vector tuple that satisfies the constraint
     stays inside the returned boxes (soundness); the answer is the one of
     ``nvector contract`` bit for bit.
 
@@ -158,6 +153,9 @@ def simulate(
     landmarks: int | None = None,
     operator: bool = False,
     noise: float = 1.0,
+    layout: str = "line",
+    range_only: bool = False,
+    false_detections: int = 0,
 ) -> dict[str, Any]:
     """A simulated mission with ground truth (``nvector-mission/1``), as a dict.
 
@@ -166,10 +164,20 @@ def simulate(
     landmarks, default 4) or ``"auv"`` (a Redermor-scale 3-D survey).
     ``steps`` defaults to 10,000 (paper) or 60,000 (auv); ``noise`` scales
     the sensor error bounds; ``operator`` writes the true matching as
-    operator ``landmark`` fields. Deterministic for a seed: equal to
-    ``nvector simulate --scenario S --seed N ...``.
+    operator ``landmark`` fields. Paper only: ``layout`` puts the landmarks
+    on a ``"line"`` (10 m apart along x, the paper's Figure 9), a ``"ring"``
+    around the start (the axis projections interleave) or at ``"random"``;
+    ``range_only`` drops the bearings for a rough region per detection (the
+    paper's P''); ``false_detections`` adds ranges to no landmark (``None``
+    in ``truth["matching"]``, ``max_outliers`` set).
+
+    Deterministic for a seed: equal to ``nvector simulate --scenario S
+    --seed N ...`` with the same options. Bad options raise
+    :class:`InputError` naming the option.
     """
-    return _nvector.simulate(scenario, seed, steps, landmarks, operator, noise)
+    return _nvector.simulate(
+        scenario, seed, steps, landmarks, operator, noise, layout, range_only, false_detections
+    )
 
 
 def dumps(obj: Any) -> str:
@@ -197,8 +205,9 @@ def run(
     """One SLAM job: the guaranteed boxes of a mission (``nvector-result/1``).
 
     ``mission`` is a mission dict or the path of a mission file.
-    ``contractor`` is one of :data:`SLAM_CONTRACTORS`; None (the default)
-    does what ``nvector run`` does: ``"best"`` when the mission has a
+    ``contractor``: ``"none"`` (the basic model: only operator matchings tie
+    detections), ``"nvalue"``, ``"projection"``, ``"independent"`` or
+    ``"best"``, as ``nvector run --contractor``; None (the default) does what ``nvector run`` does: ``"best"`` when the mission has a
     ``landmark_count``, ``"none"`` otherwise. ``max_rounds`` and
     ``tolerance`` are the CLI's ``--max-rounds`` and ``--tolerance``.
     ``progress``: True draws a progress bar on stderr (tqdm when installed);

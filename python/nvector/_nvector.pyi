@@ -15,6 +15,9 @@ def simulate(
     landmarks: int | None,
     operator: bool,
     noise: float,
+    layout: str,
+    range_only: bool,
+    false_detections: int,
 ) -> dict[str, Any]:
     """A simulated nvector-mission/1 mission with truth."""
 

@@ -18,7 +18,9 @@ use nvector_core::json::{bound, field_path, index_path};
 use nvector_core::nvector::contract::contract_json;
 use nvector_core::slam::mission::{Mission, MAX_STEPS};
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
-use nvector_core::slam::simulate::{simulate as simulate_mission, Scenario, SimulateOptions};
+use nvector_core::slam::simulate::{
+    simulate as simulate_mission, Layout, Scenario, SimulateOptions,
+};
 use nvector_core::InputError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -34,6 +36,9 @@ const MAX_DEPTH: usize = 128;
 /// Most landmarks `simulate` accepts: bounds the memory of a simulation so a
 /// typo cannot abort the interpreter on a failed allocation.
 const MAX_LANDMARKS: usize = 10_000;
+
+/// Most false detections `simulate` adds (the CLI's bound).
+const MAX_FALSE_DETECTIONS: usize = 100_000;
 
 /// `nvector.InputError(path, message)` (defined in Python, `nvector/_errors.py`,
 /// so that it carries `.path` and `.message`); a plain `ValueError` if that
@@ -237,9 +242,11 @@ fn contract<'py>(
     Ok((to_py(py, &response)?, PyBytes::new(py, &bytes), dim))
 }
 
-/// A simulated mission with truth, as `nvector simulate` writes it.
+/// A simulated mission with truth, as `nvector simulate` writes it (the
+/// same checks of the options as the CLI, errors named by option).
 #[pyfunction]
-#[pyo3(signature = (scenario, seed, steps, landmarks, operator, noise))]
+#[pyo3(signature = (scenario, seed, steps, landmarks, operator, noise, layout, range_only, false_detections))]
+#[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
     scenario: &str,
@@ -248,6 +255,9 @@ fn simulate<'py>(
     landmarks: Option<usize>,
     operator: bool,
     noise: f64,
+    layout: &str,
+    range_only: bool,
+    false_detections: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
     let bad = |path: &str, message: String| input_error(py, &InputError::new(path, message));
     let scenario = Scenario::parse(scenario).ok_or_else(|| {
@@ -271,11 +281,36 @@ fn simulate<'py>(
             format!("at most {MAX_LANDMARKS} landmarks"),
         ));
     }
-    let mut options = SimulateOptions::new(scenario, seed);
-    options.steps = steps;
-    options.landmarks = landmarks;
-    options.operator = operator;
-    options.noise = noise;
+    let layout = Layout::parse(layout).ok_or_else(|| {
+        bad(
+            "layout",
+            format!("unknown layout '{layout}' (expected line, ring or random)"),
+        )
+    })?;
+    if scenario != Scenario::Paper && (layout != Layout::Line || range_only || false_detections > 0)
+    {
+        return Err(bad(
+            "scenario",
+            "layout, range_only and false_detections apply to the paper scenario only".into(),
+        ));
+    }
+    if false_detections > MAX_FALSE_DETECTIONS {
+        return Err(bad(
+            "false_detections",
+            format!("at most {MAX_FALSE_DETECTIONS}"),
+        ));
+    }
+    let options = SimulateOptions {
+        scenario,
+        seed,
+        steps,
+        landmarks,
+        operator,
+        noise,
+        layout,
+        range_only,
+        false_detections,
+    };
     let mission = py.detach(|| simulate_mission(&options));
     to_py(py, &mission)
 }
