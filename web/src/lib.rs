@@ -8,7 +8,7 @@ use nvector_core::nvector::nvalue::{atmost_nvalue, NValue, NValueScratch};
 use nvector_core::nvector::{atmost_nvector, Mode};
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
-use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
 use nvector_core::InputError;
 use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;
@@ -70,7 +70,8 @@ pub fn run_mission(
 }
 
 /// Simulation options from JSON: `{"scenario", "seed", "steps",
-/// "landmarks", "noise", "operator"}`.
+/// "landmarks", "noise", "operator", "layout", "range_only",
+/// "false_detections"}` (the options of `nvector simulate`).
 pub fn simulate_json(options: &Value) -> Result<Value, InputError> {
     let scenario = options
         .get("scenario")
@@ -98,6 +99,19 @@ pub fn simulate_json(options: &Value) -> Result<Value, InputError> {
         .get("operator")
         .and_then(Value::as_bool)
         .unwrap_or(false);
+    if let Some(layout) = options.get("layout") {
+        o.layout = layout.as_str().and_then(Layout::parse).ok_or_else(|| {
+            InputError::new("layout", "expected \"line\", \"ring\" or \"random\"")
+        })?;
+    }
+    o.range_only = options
+        .get("range_only")
+        .and_then(Value::as_bool)
+        .unwrap_or(false);
+    o.false_detections = options
+        .get("false_detections")
+        .and_then(Value::as_u64)
+        .map_or(0, |k| (k as usize).min(100_000));
     Ok(simulate(&o))
 }
 

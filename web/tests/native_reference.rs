@@ -6,6 +6,15 @@
 use nvector_web::{contract_with_kernels, run_mission, simulate_json};
 use serde_json::{json, Value};
 
+/// The contractor of the page's range-only preset.
+const PRESET_CONTRACTOR: &str = "best";
+
+#[test]
+fn bad_simulation_options_name_the_field() {
+    let e = simulate_json(&json!({"layout": "spiral"})).unwrap_err();
+    assert!(e.to_string().contains("layout"), "{e}");
+}
+
 #[test]
 fn native_reference() {
     let contract_inputs = [
@@ -26,6 +35,32 @@ fn native_reference() {
         let out = run_mission(&mission, contractor, &mut |_| {}).unwrap();
         assert_eq!(out["score"]["truth_inside"], true);
         cases.push(json!({"kind": "run", "contractor": contractor, "input": mission.to_string(), "output": out.to_string()}));
+    }
+    // The options of `nvector simulate` passed through the facade: each
+    // changes the mission (a facade that dropped one would fail here), and
+    // the range-only mission is run as the page's preset runs it.
+    let base = simulate_json(&json!({"scenario": "paper", "seed": 4, "steps": 3000})).unwrap();
+    let variants = [
+        json!({"scenario": "paper", "seed": 4, "steps": 3000, "layout": "ring"}),
+        json!({"scenario": "paper", "seed": 4, "steps": 3000, "layout": "random", "false_detections": 3}),
+        json!({"scenario": "paper", "seed": 4, "steps": 3000, "range_only": true}),
+    ];
+    for v in &variants {
+        let m = simulate_json(v).unwrap();
+        assert_ne!(m, base, "{v} gave the default mission");
+        cases.push(json!({"kind": "simulate", "input": v.to_string(), "output": m.to_string()}));
+    }
+    let range_only = simulate_json(&variants[2]).unwrap();
+    let dets = range_only["detections"].as_array().unwrap();
+    assert!(dets
+        .iter()
+        .all(|d| d.get("region").is_some() && d.get("bearing").is_none()));
+    let with_false = simulate_json(&variants[1]).unwrap();
+    assert_eq!(with_false["max_outliers"], 3);
+    for contractor in ["none", PRESET_CONTRACTOR] {
+        let out = run_mission(&range_only, contractor, &mut |_| {}).unwrap();
+        assert_eq!(out["score"]["truth_inside"], true);
+        cases.push(json!({"kind": "run", "contractor": contractor, "input": range_only.to_string(), "output": out.to_string()}));
     }
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/web-reference.json");

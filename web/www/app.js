@@ -2,9 +2,10 @@
 // WASM, and the missions view that talks to the service.
 import init, { Nvector } from './pkg/nvector_web.js';
 import * as api from './api.js';
-import { PALETTE, View, drawRect, drawResult, hull, rect } from './draw.js';
+import { LAYERS, PALETTE, UNMATCHED, View, drawRect, drawResult, hull, rect } from './draw.js';
 
 const $ = (id) => document.getElementById(id);
+const el = (tag, text, cls) => { const e = document.createElement(tag); if (text !== undefined) e.textContent = text; if (cls) e.className = cls; return e; };
 let nv = null;
 
 // ---- tabs -------------------------------------------------------------
@@ -131,31 +132,85 @@ $('pg-clear').addEventListener('click', () => { pg.boxes = []; contractAndDraw()
 $('pg-n').addEventListener('input', contractAndDraw);
 $('pg-mode').addEventListener('change', contractAndDraw);
 
+// ---- legends ----------------------------------------------------------
+// A legend with the layers a user can hide and the colours' meanings; the
+// views it belongs to are redrawn when a box is (un)ticked.
+const LAYER_NAMES = { shapes: 'detection shapes (annuli, sectors)', boxes: 'detection and landmark boxes', regions: 'landmark regions' };
+function legend(id, redraw) {
+  const box = $(id);
+  for (const k of LAYERS) {
+    const input = el('input'); input.type = 'checkbox'; input.checked = true; input.dataset.layer = k;
+    input.addEventListener('change', redraw);
+    const label = el('label'); label.append(input, ` ${LAYER_NAMES[k]}`);
+    box.append(label);
+  }
+  const key = (colours, text) => {
+    const span = el('span', undefined, 'key');
+    colours.forEach((c) => { const i = el('i'); i.style.background = c; span.append(i); });
+    span.append(` ${text}`);
+    box.append(span);
+  };
+  key(['rgba(74,144,217,0.8)'], 'trajectory');
+  key(PALETTE.slice(0, 4), 'proved groups');
+  key([UNMATCHED], 'unmatched');
+  key(['#b00000'], 'landmarks');
+  key(['#000'], 'truth');
+  return () => Object.fromEntries([...box.querySelectorAll('input[data-layer]')].map((i) => [i.dataset.layer, i.checked]));
+}
+
 // ---- SLAM demo --------------------------------------------------------
 ['steps', 'noise', 'landmarks'].forEach((k) => $(`sl-${k}`).addEventListener('input', () => { $(`sl-${k}-v`).textContent = $(`sl-${k}`).value; }));
+const sl = { shown: [] }; // [{id, result, view}] of the last run, redrawn on legend changes
+function slamRedraw() {
+  const layers = slLayers();
+  sl.shown.forEach((s) => drawResult($(s.id), s.view, s.result, sl.mission, undefined, layers));
+}
+const slLayers = legend('sl-legend', slamRedraw);
 function slamDemo() {
   if (!nv) return;
-  const opts = { scenario: 'paper', seed: Number($('sl-seed').value) | 0, steps: Number($('sl-steps').value), noise: Number($('sl-noise').value), landmarks: Number($('sl-landmarks').value) };
-  const missionText = nv.simulate(JSON.stringify(opts));
-  const mission = JSON.parse(missionText);
-  const t0 = performance.now();
-  const basic = JSON.parse(nv.run(missionText, 'none', () => {}));
-  const t1 = performance.now();
-  const withNv = JSON.parse(nv.run(missionText, $('sl-mode').value, () => {}));
-  const t2 = performance.now();
-  const area = hull(basic.trajectory.map(rect));
-  for (const [id, res, cap] of [['sl-basic', basic, 'basic model'], ['sl-nv', withNv, `with atmost_nvector (${$('sl-mode').value})`]]) {
-    const view = new View($(id)); view.fit(area);
-    drawResult($(id), view, res, mission);
-    $(`${id}-cap`).textContent = `${cap}: max diameter ${Number(res.metrics.max_trajectory_diameter).toFixed(2)} m`;
+  const mode = $('sl-mode').value;
+  const opts = {
+    scenario: 'paper', seed: Number($('sl-seed').value) | 0, steps: Number($('sl-steps').value), noise: Number($('sl-noise').value),
+    landmarks: Number($('sl-landmarks').value), layout: $('sl-layout').value, range_only: $('sl-range-only').checked,
+  };
+  let mission, basic, withNv, t0, t1, t2;
+  try {
+    const missionText = nv.simulate(JSON.stringify(opts));
+    mission = JSON.parse(missionText);
+    t0 = performance.now();
+    basic = JSON.parse(nv.run(missionText, 'none', () => {}));
+    t1 = performance.now();
+    withNv = JSON.parse(nv.run(missionText, mode, () => {}));
+    t2 = performance.now();
+  } catch (e) {
+    $('sl-summary').textContent = `error: ${e.message || e}`;
+    $('sl-summary').dataset.error = String(e.message || e);
+    return;
   }
+  const area = hull(basic.trajectory.map(rect));
+  sl.mission = mission;
+  sl.shown = [['sl-basic', basic], ['sl-nv', withNv]].map(([id, result]) => { const view = new View($(id)); view.fit(area); return { id, result, view }; });
+  slamRedraw();
+  $('sl-basic-cap').textContent = `basic model: max diameter ${Number(basic.metrics.max_trajectory_diameter).toFixed(2)} m`;
+  $('sl-nv-cap').textContent = `with atmost_nvector (${mode}): max diameter ${Number(withNv.metrics.max_trajectory_diameter).toFixed(2)} m`;
+  const kind = `${opts.layout}${opts.range_only ? ', range only' : ', range + bearing'}`;
   Object.assign($('sl-summary').dataset, {
     basicDiameter: basic.metrics.max_trajectory_diameter, nvectorDiameter: withNv.metrics.max_trajectory_diameter,
-    recall: withNv.score.matching_recall, ms: (t2 - t1).toFixed(1), truthInside: String(basic.score.truth_inside && withNv.score.truth_inside),
+    recall: withNv.score.matching_recall, errors: withNv.score.matching_errors, ms: (t2 - t1).toFixed(1),
+    truthInside: String(basic.score.truth_inside && withNv.score.truth_inside), contractor: withNv.options.contractor,
+    rangeOnly: String(opts.range_only), layout: opts.layout, detections: mission.detections.length, error: '',
   });
-  $('sl-summary').textContent = `detections ${mission.detections.length}; basic ${(t1 - t0).toFixed(1)} ms, nvector ${(t2 - t1).toFixed(1)} ms; ratio ${(basic.metrics.max_trajectory_diameter / withNv.metrics.max_trajectory_diameter).toFixed(1)}x; recall ${withNv.score.matching_recall.toFixed(2)}; truth inside ${basic.score.truth_inside && withNv.score.truth_inside}; errors ${withNv.score.matching_errors}`;
+  $('sl-summary').textContent = `${kind}: detections ${mission.detections.length}; basic ${(t1 - t0).toFixed(1)} ms, ${mode} ${(t2 - t1).toFixed(1)} ms; ratio ${(basic.metrics.max_trajectory_diameter / withNv.metrics.max_trajectory_diameter).toFixed(1)}x; recall ${withNv.score.matching_recall.toFixed(2)}; truth inside ${basic.score.truth_inside && withNv.score.truth_inside}; errors ${withNv.score.matching_errors}`;
+}
+/** The demo's presets: range + bearing against `best`, range only (P'') against `shapes`. */
+function slamPreset(rangeOnly) {
+  $('sl-range-only').checked = rangeOnly;
+  $('sl-mode').value = rangeOnly ? 'shapes' : 'best';
+  slamDemo();
 }
 $('sl-run').addEventListener('click', slamDemo);
+$('sl-preset-bearing').addEventListener('click', () => slamPreset(false));
+$('sl-preset-range').addEventListener('click', () => slamPreset(true));
 
 // ---- missions (service) -----------------------------------------------
 // Jobs submitted from this browser are remembered in localStorage (the API
@@ -165,7 +220,6 @@ let currentJob = null; // the job the cancel button stops
 const shown = []; // up to two {result, mission, jobId, view, drawn}
 const JOBS_KEY = 'nvector.jobs';
 const fail = (e) => { $('ms-state').textContent = `error: ${e.message}`; };
-const el = (tag, text, cls) => { const e = document.createElement(tag); if (text !== undefined) e.textContent = text; if (cls) e.className = cls; return e; };
 function savedJobs() { try { return JSON.parse(localStorage.getItem(JOBS_KEY) || '[]'); } catch (_) { return []; } }
 function saveJobs(jobs) { try { localStorage.setItem(JOBS_KEY, JSON.stringify(jobs.slice(0, 50))); } catch (_) { /* private mode */ } }
 function rememberJob(job) { saveJobs([job, ...savedJobs().filter((j) => j.id !== job.id)]); }
@@ -306,10 +360,12 @@ async function showResult(jobId, missionId) {
   $('rv-summary').textContent = `${result.mission}: ${result.status}, ${result.trajectory.length} positions, ${result.detections.length} detections, ${result.landmarks.length} landmarks, max diameter ${result.metrics.max_trajectory_diameter}`;
   return result;
 }
-function redrawResults() {
+/** Draws the shown results; `moving` (pan, zoom) lets the shapes of the previous view be moved instead of redrawn. */
+function redrawResults(moving = false) {
   const t = Number($('rv-time').value);
+  const layers = rvLayers();
   shown.forEach((s, k) => {
-    s.drawn = drawResult($(`rv-${k}`), s.view, s.result, s.mission, t);
+    s.drawn = drawResult($(`rv-${k}`), s.view, s.result, s.mission, t, layers, moving === true);
     $(`rv-cap-${k}`).textContent = `${s.result.mission} — ${s.result.options.contractor} — max diameter ${Number(s.result.metrics.max_trajectory_diameter).toFixed(2)}`;
   });
   if (shown.length === 1) {
@@ -322,7 +378,16 @@ function redrawResults() {
     $('rv-cap-1').textContent = '';
   }
 }
-$('rv-time').addEventListener('input', redrawResults);
+// Pan, zoom and the time slider redraw at most once a frame; after a pan or
+// zoom, the shapes are redrawn for the new view once the movement stops.
+let rvFrame = 0, rvFull = false, rvSettle = 0;
+function requestResults(moving) {
+  if (!moving) rvFull = true;
+  if (!rvFrame) rvFrame = requestAnimationFrame(() => { rvFrame = 0; const full = rvFull; rvFull = false; redrawResults(!full); });
+  if (moving) { clearTimeout(rvSettle); rvSettle = setTimeout(() => requestResults(false), 150); }
+}
+$('rv-time').addEventListener('input', () => requestResults(false));
+const rvLayers = legend('rv-legend', () => redrawResults());
 [0, 1].forEach((k) => {
   const c = $(`rv-${k}`);
   let drag = null;
@@ -331,7 +396,7 @@ $('rv-time').addEventListener('input', redrawResults);
   c.addEventListener('pointermove', (ev) => {
     const s = shown[k];
     if (!s) return;
-    if (drag) { s.view.pan(ev.clientX - drag[0], ev.clientY - drag[1]); drag = [ev.clientX, ev.clientY]; redrawResults(); return; }
+    if (drag) { s.view.pan(ev.clientX - drag[0], ev.clientY - drag[1]); drag = [ev.clientX, ev.clientY]; requestResults(true); return; }
     const r = c.getBoundingClientRect();
     const x = s.view.wx((ev.clientX - r.left) * c.width / r.width), y = s.view.wy((ev.clientY - r.top) * c.height / r.height);
     const found = (s.drawn || []).find(([, b]) => x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1);
@@ -342,7 +407,7 @@ $('rv-time').addEventListener('input', redrawResults);
       tip.textContent = `step ${i}: x [${b.x0.toFixed(3)}, ${b.x1.toFixed(3)}] y [${b.y0.toFixed(3)}, ${b.y1.toFixed(3)}]`;
     } else tip.hidden = true;
   });
-  c.addEventListener('wheel', (ev) => { ev.preventDefault(); const s = shown[k]; if (!s) return; const r = c.getBoundingClientRect(); s.view.zoom(ev.deltaY < 0 ? 1.1 : 1 / 1.1, (ev.clientX - r.left) * c.width / r.width, (ev.clientY - r.top) * c.height / r.height); redrawResults(); });
+  c.addEventListener('wheel', (ev) => { ev.preventDefault(); const s = shown[k]; if (!s) return; const r = c.getBoundingClientRect(); s.view.zoom(ev.deltaY < 0 ? 1.1 : 1 / 1.1, (ev.clientX - r.left) * c.width / r.width, (ev.clientY - r.top) * c.height / r.height); requestResults(true); });
 });
 
 // ---- start ------------------------------------------------------------
@@ -352,5 +417,7 @@ init().then(() => {
   $('wasm-status').textContent = 'WASM ready';
   $('wasm-status').dataset.ready = 'true';
   loadPreset(new URLSearchParams(location.search).get('preset') || 'fig8');
-  if (new URLSearchParams(location.search).get('demo') === '1') slamDemo();
+  const demo = new URLSearchParams(location.search).get('demo');
+  if (demo === '1') slamDemo();
+  else if (demo === 'range-only') slamPreset(true);
 }).catch((e) => { $('wasm-status').textContent = `WASM failed: ${e}`; });
