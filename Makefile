@@ -2,7 +2,7 @@
 SHELL := /bin/bash
 .SHELLFLAGS := -euo pipefail -c
 
-.PHONY: run test setup lint web test-rust test-web test-inari
+.PHONY: run test setup lint web test-rust test-web test-inari test-python
 
 setup:
 	@scripts/setup.sh
@@ -28,4 +28,8 @@ test-web: web
 test-inari: setup
 	scripts/inari.sh
 
-test: setup lint test-rust test-web test-inari
+# The Python package (python/) in the project's venv: pip install, pytest.
+test-python: setup
+	scripts/python.sh
+
+test: setup lint test-rust test-web test-inari test-python
