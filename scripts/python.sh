@@ -3,13 +3,18 @@
 # scripts/venv.sh), build and install python/ with pip (maturin, release
 # profile, as a user's `pip install ./python` builds it), then run its pytest
 # suite against the `nvector` binary of the same tree (built here if `cargo
-# test` did not; the test profile, as the Rust end-to-end tests use it).
+# test` did not; the test profile, as the Rust end-to-end tests use it), or
+# the one $NVECTOR_BIN names. Arguments go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 scripts/venv.sh
 export PATH="$PWD/.venv/bin:$PATH"
-cargo build --quiet -p nvector-server --bin nvector --profile test
+if [ -z "${NVECTOR_BIN:-}" ]; then
+  cargo build --quiet -p nvector-server --bin nvector --profile test
+  NVECTOR_BIN="$PWD/target/debug/nvector"
+fi
+export NVECTOR_BIN
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
   --no-build-isolation --no-deps --force-reinstall ./python
-NVECTOR_BIN="$PWD/target/debug/nvector" .venv/bin/python -m pytest -q -p no:cacheprovider python/tests "$@"
+.venv/bin/python -m pytest -q -p no:cacheprovider python/tests "$@"
