@@ -414,6 +414,7 @@ const rvLayers = legend('rv-legend', () => redrawResults());
 init().then(() => {
   nv = new Nvector();
   window.nvectorHandle = nv; // for the browser tests and the console
+  window.nvectorPage = { shown, redrawResults, sl }; // the views, for the browser tests' timings
   $('wasm-status').textContent = 'WASM ready';
   $('wasm-status').dataset.ready = 'true';
   loadPreset(new URLSearchParams(location.search).get('preset') || 'fig8');
