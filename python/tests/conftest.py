@@ -88,7 +88,7 @@ class Service:
         self.directory = directory
 
 
-def start_service(binary: Path, directory: Path, *extra: str) -> Service:
+def start_service(binary: Path, directory: Path, *extra: str, workers: int = 2) -> Service:
     directory.mkdir(parents=True, exist_ok=True)
     (directory / "www").mkdir(exist_ok=True)
     process = subprocess.Popen(
@@ -102,7 +102,7 @@ def start_service(binary: Path, directory: Path, *extra: str) -> Service:
             "--static-dir",
             str(directory / "www"),
             "--workers",
-            "2",
+            str(workers),
             *extra,
         ],
         stdout=subprocess.PIPE,

@@ -79,18 +79,41 @@ def test_plain_text_bar() -> None:
     assert "#" * 15 + "-" * 15 in text
 
 
-def test_cancel_and_errors(service: Service, mission: dict) -> None:
-    client = nvector.Client(service.url)
-    big = nvector.simulate("paper", seed=5, steps=200_000)
-    stored = client.upload(big)
-    job = client.create_job(stored["id"], contractor="best", max_rounds=10_000)
+@pytest.fixture(scope="module")
+def one_worker(nvector_bin: Path, tmp_path_factory: pytest.TempPathFactory):
+    """A service with one job worker."""
+    s = start_service(nvector_bin, tmp_path_factory.mktemp("one"), workers=1)
+    yield s
+    stop_service(s)
+
+
+def test_timeout_and_cancel(one_worker: Service) -> None:
+    client = nvector.Client(one_worker.url)
+    # A long job (about a second here) holds the only worker, so the next
+    # one waits in the queue while the test looks at it.
+    big = client.upload(nvector.simulate("paper", seed=5, steps=150_000))
+    blocker = client.create_job(big["id"], contractor="best")
+    job = client.create_job(big["id"], contractor="best")
+    assert client.job(job)["state"] == "queued"
+    with pytest.raises(TimeoutError):
+        client.wait(job, progress=False, timeout=0.0)
+    with pytest.raises(nvector.ServiceError) as err:
+        client.result(job)
+    assert err.value.status == 409 and err.value.code == "not_done"
     client.cancel(job)
     with pytest.raises(nvector.JobError) as info:
-        client.wait(job, progress=False, timeout=120)
-    assert info.value.state == "cancelled"
+        client.wait(job, progress=False, timeout=60)
+    assert info.value.state == "cancelled" and info.value.job["id"] == job
     with pytest.raises(nvector.ServiceError) as err:
         client.cancel(job)
     assert err.value.status == 409 and err.value.code == "job_ended"
+    assert client.wait(blocker, progress=False, timeout=120)["status"] == "consistent"
+
+
+def test_service_errors(service: Service, mission: dict) -> None:
+    client = nvector.Client(service.url)
+    stored = client.upload(mission)
+    assert stored["steps"] == mission["steps"] and stored["detections"] == len(mission["detections"])
     with pytest.raises(nvector.ServiceError) as err:
         client.job("j-nothing")
     assert err.value.status == 404
@@ -109,6 +132,7 @@ def test_cancel_and_errors(service: Service, mission: dict) -> None:
     with pytest.raises(nvector.ServiceError) as err:
         client.mission(stored["id"])
     assert err.value.status == 404
+    assert stored["id"] not in [m["id"] for m in client.missions()]
 
 
 def test_unreachable_service() -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 import pytest
@@ -106,3 +107,49 @@ def test_progress_bar_on_stderr(paper: dict, capsys: pytest.CaptureFixture[str])
     nvector.run(paper, progress=True)
     err = capsys.readouterr().err
     assert "round" in err and "max trajectory diameter" in err
+
+
+def test_a_signal_stops_the_run_and_raises() -> None:
+    """Ctrl-C in a notebook: SIGINT arriving while the core runs (without the
+    GIL) stops the propagation at its next report and raises there."""
+    import signal
+    import threading
+
+    mission = nvector.simulate("paper", seed=5, steps=100_000)
+
+    class Interrupted(Exception):
+        pass
+
+    stop = threading.Event()
+
+    def handler(signum: int, frame: object) -> None:
+        if not stop.is_set():  # the first signal only: later ones are dropped
+            stop.set()
+            raise Interrupted()
+
+    main = threading.main_thread().ident
+    assert main is not None
+
+    def sender() -> None:
+        while not stop.wait(0.005):
+            signal.pthread_kill(main, signal.SIGINT)
+
+    thread = threading.Thread(target=sender, daemon=True)
+    reports = []
+
+    def progress(r: int, d: float, f: float) -> None:
+        reports.append(f)
+        if not thread.is_alive() and not stop.is_set() and thread.ident is None:
+            thread.start()
+
+    old = signal.signal(signal.SIGINT, handler)
+    try:
+        with pytest.raises(Interrupted):
+            nvector.run(mission, progress=progress)
+    finally:
+        stop.set()
+        if thread.ident is not None:
+            thread.join()
+        time.sleep(0.05)  # a last signal in flight lands on the handler, which drops it
+        signal.signal(signal.SIGINT, old)
+    assert reports
