@@ -38,11 +38,26 @@ fn same_bits_as_native() {
     }
 }
 
+/// The message of a facade error, as the page shows it.
+fn message(e: wasm_bindgen::JsError) -> String {
+    js_sys::Error::from(wasm_bindgen::JsValue::from(e))
+        .message()
+        .into()
+}
+
 #[wasm_bindgen_test]
 fn errors_name_the_path() {
     let nv = Nvector::new();
     let err = nv
         .contract(r#"{"format": "nvector-contract/1", "n": 1, "boxes": [[[2, 1]]]}"#)
-        .err();
-    assert!(err.is_some());
+        .err()
+        .map(message)
+        .unwrap();
+    assert!(err.contains("boxes[0]"), "{err}");
+    let err = nv
+        .simulate(r#"{"scenario": "paper", "layout": "spiral"}"#)
+        .err()
+        .map(message)
+        .unwrap();
+    assert!(err.contains("layout"), "{err}");
 }
