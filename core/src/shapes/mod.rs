@@ -14,7 +14,11 @@
 //! - [`round`]: the three together, one SLAM round.
 
 pub mod branch;
+pub mod chain_sums;
+pub mod distinct;
+pub mod frames;
 pub mod region;
+pub mod relative;
 pub mod round;
 pub mod shape;
 pub mod witnesses;

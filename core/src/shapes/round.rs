@@ -17,17 +17,25 @@
 //!    count (halves cut by the thinnest members). Each member is then
 //!    contracted by [`branch`] against its group's region alone: d(j) and
 //!    p(step) shrink to the hulls of the pieces.
-//! 2. **Witnesses.** Items are the groups' regions and the shapes of the
+//! 2. **Distinct pairs.** Detections at nearby steps whose shapes are
+//!    disjoint in the frame of the earlier step ([`relative_pairs`]) see
+//!    distinct landmarks; so do a detection and a region its branch
+//!    excluded (step 4). With n known, [`Distinct::infer`] merges the
+//!    common neighbours of every n-1 pairwise-distinct groups and proves
+//!    infeasibility from n+1 of them.
+//! 3. **Witnesses.** Items are the groups' regions and the shapes of the
 //!    detections in no group. [`find_witnesses`] looks for n + 1 pairwise
-//!    disjoint items: n + 1 is infeasible (the items' detections are
-//!    named); n gives n regions R(1..n) (a singleton's region is its shape,
-//!    paved) holding the n distinct landmarks, one each.
-//! 3. **Branch contraction.** With n witnesses, every other detection j
+//!    disjoint (or proved distinct) items: n + 1 is infeasible (the items'
+//!    detections are named); n gives n regions R(1..n) (a singleton's
+//!    region is its shape, paved) holding the n distinct landmarks, one
+//!    each.
+//! 4. **Branch contraction.** With n witnesses, every other detection j
 //!    (in step order) is contracted by [`branch`] against R(1..n): its
 //!    landmark is one of the n. A single surviving region proves the
 //!    matching: j (with its group) joins that witness's group, whose region
 //!    is cut by j's shape at once, so later detections meet a smaller
-//!    region (a sequential filter).
+//!    region (a sequential filter). A region that does not survive is a
+//!    distinct pair.
 //!
 //! Whenever p(step) shrinks by more than the tolerance the caller's
 //! `settle` callback propagates it along the motion chain before the next
@@ -54,7 +62,11 @@
 //! for the witness search. Memory O(k + g · m) for g groups.
 
 use super::branch::{branch, Branches};
+use super::chain_sums::ChainSums;
+use super::distinct::{Distinct, Uf};
+use super::frames::{FrameOptions, Frames};
 use super::region::Paving;
+use super::relative::relative_pairs;
 use super::shape::Shape;
 use super::witnesses::{find_witnesses, Item};
 use crate::ibox::IntervalBox;
@@ -73,6 +85,15 @@ pub struct ShapesOptions {
     pub refine_shapes: usize,
     /// Node budget of the exact witness search.
     pub node_budget: usize,
+    /// Detections after each one (in step order) tried for a relative
+    /// distinct pair.
+    pub max_ahead: usize,
+    /// Node budget of each pass of the clique rule.
+    pub clique_budget: usize,
+    /// Local frames ([`super::frames`]).
+    pub frames: FrameOptions,
+    /// Most frame/inference passes in one round.
+    pub frame_passes: usize,
 }
 
 impl Default for ShapesOptions {
@@ -82,6 +103,10 @@ impl Default for ShapesOptions {
             resolution: 0.0,
             refine_shapes: 16,
             node_budget: 20_000,
+            max_ahead: 64,
+            clique_budget: 2_000_000,
+            frames: FrameOptions::default(),
+            frame_passes: 3,
         }
     }
 }
@@ -97,6 +122,8 @@ pub struct Domains<'a> {
     pub det: &'a mut [IntervalBox],
     /// Heading (or yaw) at each detection's step.
     pub heading_at: &'a [Interval],
+    /// Displacement boxes D(i), N·dim, step-major.
+    pub disp: &'a [Interval],
 }
 
 /// What a round did.
@@ -125,43 +152,10 @@ pub struct ShapesState {
     cut_with: Vec<Option<IntervalBox>>,
     /// One detection of each of the last witnesses.
     witnesses: Vec<usize>,
-}
-
-/// Union-find with the smallest index as root.
-struct Uf(Vec<usize>);
-
-impl Uf {
-    fn find(&mut self, i: usize) -> usize {
-        let mut r = i;
-        while self.0[r] != r {
-            r = self.0[r];
-        }
-        let mut j = i;
-        while self.0[j] != r {
-            let n = self.0[j];
-            self.0[j] = r;
-            j = n;
-        }
-        r
-    }
-
-    fn union(&mut self, a: usize, b: usize) -> usize {
-        let (ra, rb) = (self.find(a), self.find(b));
-        let (lo, hi) = (ra.min(rb), ra.max(rb));
-        self.0[hi] = lo;
-        lo
-    }
-
-    /// Groups of size >= 2, members sorted, by smallest member.
-    fn groups(&mut self) -> Vec<Vec<usize>> {
-        let k = self.0.len();
-        let mut by: Vec<Vec<usize>> = vec![Vec::new(); k];
-        for i in 0..k {
-            let r = self.find(i);
-            by[r].push(i);
-        }
-        by.into_iter().filter(|g| g.len() >= 2).collect()
-    }
+    /// Detection pairs proved distinct.
+    distinct: Distinct,
+    /// Group regions in local frames.
+    frames: Frames,
 }
 
 fn shape_of(mission: &Mission, dom: &Domains, j: usize) -> Shape {
@@ -197,6 +191,8 @@ impl ShapesState {
             regions: vec![None; k],
             cut_with: vec![None; k],
             witnesses: Vec::new(),
+            distinct: Distinct::default(),
+            frames: Frames::default(),
         }
     }
 
@@ -233,7 +229,7 @@ impl ShapesState {
             };
         }
         let mut dom = dom;
-        let mut uf = Uf((0..k).collect());
+        let mut uf = Uf::new(k);
         for g in groups {
             for &j in &g[1..] {
                 uf.union(g[0], j);
@@ -245,12 +241,74 @@ impl ShapesState {
             out.infeasible = Some(reason);
             return out;
         }
-        if let Some(n) = n {
-            if let Err(reason) =
-                self.witness_branches(mission, &mut dom, &mut uf, n, tolerance, settle, &mut out)
-            {
-                out.infeasible = Some(reason);
+        let Some(n) = n else {
+            return out;
+        };
+        let mut order: Vec<usize> = (0..k).collect();
+        order.sort_by_key(|&j| (mission.detections[j].step, j));
+        let sums = ChainSums::new(dom.disp, dom.dim);
+        let mut pairs = Vec::new();
+        relative_pairs(
+            mission,
+            &order,
+            dom.dim,
+            &sums,
+            dom.pos,
+            dom.det,
+            dom.heading_at,
+            self.options.max_ahead,
+            &mut pairs,
+        );
+        out.contractions += pairs.len() as u64;
+        self.distinct.add(pairs);
+        for pass in 0..self.options.frame_passes.max(1) {
+            if pass > 0 {
+                let mut pairs = Vec::new();
+                match self.frames.pairs(
+                    mission,
+                    &order,
+                    dom.dim,
+                    &sums,
+                    dom.heading_at,
+                    &mut uf,
+                    &self.options.frames,
+                    &mut pairs,
+                ) {
+                    Ok(work) => out.contractions += work,
+                    Err(reason) => {
+                        out.infeasible = Some(reason);
+                        return out;
+                    }
+                }
+                self.distinct.add(pairs);
             }
+            match self.distinct.infer(&mut uf, n, self.options.clique_budget) {
+                Ok(u) => {
+                    let done = u.is_empty() && pass > 0;
+                    out.moved |= !u.is_empty();
+                    out.unions.extend(u);
+                    if done {
+                        break;
+                    }
+                }
+                Err(reason) => {
+                    out.infeasible = Some(reason);
+                    return out;
+                }
+            }
+        }
+        if let Err(reason) = self.witness_branches(
+            mission, &mut dom, &mut uf, n, &order, tolerance, settle, &mut out,
+        ) {
+            out.infeasible = Some(reason);
+            return out;
+        }
+        match self.distinct.infer(&mut uf, n, self.options.clique_budget) {
+            Ok(u) => {
+                out.moved |= !u.is_empty();
+                out.unions.extend(u);
+            }
+            Err(reason) => out.infeasible = Some(reason),
         }
         out
     }
@@ -282,6 +340,20 @@ impl ShapesState {
                     Paving::from_box(&common)
                 }
             };
+            // L ∈ P(s) + (L - p(s)) for each local-frame piece of the group.
+            for (step, rel) in self.frames.pieces(&g) {
+                let origin = &dom.pos[step * dom.dim..(step + 1) * dom.dim];
+                let shifted: Vec<IntervalBox> = rel
+                    .boxes()
+                    .iter()
+                    .map(|b| {
+                        let axes: Vec<Interval> = (0..dom.dim).map(|a| b[a] + origin[a]).collect();
+                        IntervalBox::new(&axes)
+                    })
+                    .collect();
+                region.intersect(&Paving::from_boxes(dom.dim, shifted), opts.max_boxes);
+                out.contractions += region.boxes().len() as u64;
+            }
             let shapes: Vec<Shape> = g.iter().map(|&j| shape_of(mission, dom, j)).collect();
             for (s, &j) in shapes.iter().zip(&g) {
                 if self.cut_with[j].as_ref() != Some(&s.centre) {
@@ -334,11 +406,13 @@ impl ShapesState {
         dom: &mut Domains,
         uf: &mut Uf,
         n: usize,
+        order: &[usize],
         tol: f64,
         settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
         out: &mut ShapesOutcome,
     ) -> Result<(), String> {
         let k = mission.detections.len();
+        let graph = self.distinct.graph(uf)?;
         let opts = self.options.clone();
         // Items: one per group (its region) and per ungrouped detection.
         let mut roots: Vec<usize> = Vec::new();
@@ -379,7 +453,14 @@ impl ShapesState {
                     seed.push(i);
                 }
             }
-            let w = find_witnesses(&items, n + 1, &seed, opts.node_budget);
+            let sizes: Vec<(u8, f64)> = items.iter().map(|i| i.size()).collect();
+            let mut apart = |a: usize, b: usize| {
+                graph[item_root[a]]
+                    .binary_search(&(item_root[b] as u32))
+                    .is_ok()
+                    || items[a].disjoint(&items[b])
+            };
+            let w = find_witnesses(&sizes, &mut apart, n + 1, &seed, opts.node_budget);
             w.into_iter().map(|i| item_root[i]).collect()
         };
         out.contractions += 1;
@@ -387,7 +468,7 @@ impl ShapesState {
             let mut named: Vec<usize> = chosen.clone();
             named.sort_unstable();
             return Err(format!(
-                "detections {named:?} (with their groups): {} pairwise-disjoint shapes, so at least {} distinct landmarks, more than landmark_count {n}",
+                "detections {named:?} (with their groups): {} pairwise-disjoint shapes or proved-distinct groups, so at least {} distinct landmarks, more than landmark_count {n}",
                 chosen.len(),
                 chosen.len()
             ));
@@ -412,10 +493,48 @@ impl ShapesState {
             wregions.push(p);
         }
         let mut slot_root: Vec<usize> = chosen.clone();
-        let mut order: Vec<usize> = (0..k).collect();
-        order.sort_by_key(|&j| (mission.detections[j].step, j));
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        // Groups first: a group's region is at most the region of each
+        // member's shape, so it meets fewer witnesses.
+        for r in 0..k {
+            if uf.find(r) != r || slot_root.contains(&r) {
+                continue;
+            }
+            let Some(region) = self.regions[r].as_ref() else {
+                continue;
+            };
+            let meets: Vec<usize> = (0..n).filter(|&i| wregions[i].meets(region)).collect();
+            out.contractions += n as u64;
+            for (i, &w) in slot_root.iter().enumerate() {
+                if !meets.contains(&i) {
+                    pairs.push((r as u32, w as u32));
+                }
+            }
+            match meets[..] {
+                [] => {
+                    let g: Vec<usize> = (0..k).filter(|&j| uf.find(j) == r).collect();
+                    return Err(format!(
+                        "landmark of detections {g:?}: its region meets none of the {n} landmark regions of the pairwise-distinct groups {slot_root:?}"
+                    ));
+                }
+                [i] => {
+                    let region = self.regions[r].take().expect("checked");
+                    wregions[i].intersect(&region, opts.max_boxes);
+                    out.unions.push((slot_root[i], r));
+                    out.moved = true;
+                    slot_root[i] = uf.union(slot_root[i], r);
+                    if wregions[i].is_empty() {
+                        return Err(format!(
+                            "landmark of groups {} and {r}: their regions have no common point",
+                            slot_root[i]
+                        ));
+                    }
+                }
+                _ => {}
+            }
+        }
         let mut result = Ok(());
-        for &j in &order {
+        for &j in order {
             let rj = uf.find(j);
             if slot_root.contains(&rj) {
                 continue;
@@ -432,6 +551,11 @@ impl ShapesState {
                     mission.detections[j].step, slot_root
                 ));
                 break;
+            }
+            for (i, &r) in slot_root.iter().enumerate() {
+                if !br.surviving.contains(&i) {
+                    pairs.push((j as u32, r as u32));
+                }
             }
             if let [i] = br.surviving[..] {
                 // j (and its group) sees the landmark of witness i.
@@ -461,6 +585,7 @@ impl ShapesState {
         for (p, r) in wregions.into_iter().zip(slot_root) {
             self.regions[r] = Some(p);
         }
+        self.distinct.add(pairs);
         result
     }
 }

@@ -14,7 +14,8 @@
 //!
 //! A largest set of pairwise-disjoint items is a maximum clique of the
 //! disjointness graph (NP-hard). Exact search on a pool: the caller's seed
-//! (last round's witnesses) and the thinnest items, at most 64, whose
+//! (last round's witnesses) and the best-ranked items (proved groups'
+//! regions by area, then the thinnest shapes), at most 64, whose
 //! disjointness graph (bit sets) is searched by branch and bound (bound:
 //! chosen + candidates left) with a node budget, stopping at the wanted
 //! size. Then a greedy pass over every other item, thinnest first, adds
@@ -47,12 +48,13 @@ pub const POOL: usize = 64;
 const PAVED_BUDGET: usize = 32;
 
 impl Item<'_> {
-    /// Smaller is more telling: a shape's thickness, a region's hull
-    /// diameter.
-    pub fn size(&self) -> f64 {
+    /// A rank key, smaller is more telling: regions of proved groups
+    /// first (by the total area, or volume, of their boxes), then shapes
+    /// (by their thickness).
+    pub fn size(&self) -> (u8, f64) {
         match self {
-            Item::Shape(s) => s.thickness(),
-            Item::Region(r) => r.hull().diameter(),
+            Item::Region(r) => (0, r.boxes().iter().map(|b| b.volume()).sum()),
+            Item::Shape(s) => (1, s.thickness()),
         }
     }
 
@@ -72,21 +74,28 @@ impl Item<'_> {
     }
 }
 
-/// Finds up to `want` pairwise-disjoint items (module doc); `seed` lists
-/// items to try first. Returns their indices, in the order found.
+/// Finds up to `want` pairwise-disjoint items (module doc) among `sizes.len()`
+/// (ranked by `sizes`, smallest first)
+/// items, `disjoint(a, b)` proving two of them disjoint (or distinct);
+/// `seed` lists items to try first. Returns their indices, in the order
+/// found.
 pub fn find_witnesses(
-    items: &[Item],
+    sizes: &[(u8, f64)],
+    disjoint: &mut dyn FnMut(usize, usize) -> bool,
     want: usize,
     seed: &[usize],
     node_budget: usize,
 ) -> Vec<usize> {
-    let k = items.len();
+    let k = sizes.len();
     if k == 0 || want == 0 {
         return Vec::new();
     }
-    let sizes: Vec<f64> = items.iter().map(|i| i.size()).collect();
     let mut order: Vec<usize> = (0..k).collect();
-    order.sort_by(|&a, &b| sizes[a].total_cmp(&sizes[b]).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| {
+        (sizes[a].0.cmp(&sizes[b].0))
+            .then(sizes[a].1.total_cmp(&sizes[b].1))
+            .then(a.cmp(&b))
+    });
     let mut pool: Vec<usize> = Vec::with_capacity(POOL);
     let mut in_pool = vec![false; k];
     for &i in seed.iter().chain(order.iter()) {
@@ -102,7 +111,7 @@ pub fn find_witnesses(
     let mut adj = vec![0u64; m];
     for a in 0..m {
         for b in a + 1..m {
-            if items[pool[a]].disjoint(&items[pool[b]]) {
+            if disjoint(pool[a], pool[b]) {
                 adj[a] |= 1 << b;
                 adj[b] |= 1 << a;
             }
@@ -131,7 +140,7 @@ pub fn find_witnesses(
             if taken[i] {
                 continue;
             }
-            if chosen.iter().all(|&c| items[c].disjoint(&items[i])) {
+            if chosen.iter().all(|&c| disjoint(c, i)) {
                 chosen.push(i);
                 if chosen.len() >= want {
                     break;
@@ -199,7 +208,14 @@ mod tests {
             .collect();
         shapes.extend((0..10).map(|_| ring(0.0, 30.0)));
         let items: Vec<Item> = shapes.iter().map(Item::Shape).collect();
-        let w = find_witnesses(&items, 5, &[], 10_000);
+        let sizes: Vec<(u8, f64)> = items.iter().map(|i| i.size()).collect();
+        let w = find_witnesses(
+            &sizes,
+            &mut |a, b| items[a].disjoint(&items[b]),
+            5,
+            &[],
+            10_000,
+        );
         assert_eq!(w.len(), 4);
         for (a, &i) in w.iter().enumerate() {
             for &j in &w[a + 1..] {

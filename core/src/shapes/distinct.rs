@@ -1,0 +1,338 @@
+//! The distinctness graph: detections proved to see distinct landmarks, and
+//! what at most n landmarks then force (DESIGN.md, "Detection shapes").
+//!
+//! # Constraint
+//!
+//! atmost_nvector(n, {d(1)..d(k)}) with proved facts of two kinds: groups
+//! (detections seeing one landmark, a union-find) and distinct pairs
+//! (detections whose shapes are disjoint, see [`super::relative`] and
+//! [`super::witnesses`]).
+//!
+//! # Math
+//!
+//! On the graph whose vertices are the groups and whose edges join groups
+//! holding a distinct pair:
+//! - an (n+1)-clique is n+1 pairwise-distinct landmarks: infeasible;
+//! - an edge inside a group is a contradiction: infeasible;
+//! - if C is an (n-1)-clique (n-1 pairwise-distinct landmarks), every
+//!   common neighbour of C sees a landmark outside those n-1, and only one
+//!   landmark is left: all common neighbours of C form one group. (This is
+//!   "meets exactly one of n witnesses" with the witnesses' n-th landmark
+//!   left implicit, so it needs n-1 distinct groups, not n.)
+//!
+//! The rule is applied to every (n-1)-clique found within a node budget,
+//! the unions are applied, the graph is rebuilt, until nothing changes.
+//!
+//! # Soundness
+//!
+//! Only the three facts above, each a consequence of at most n landmarks
+//! and of the proved facts; a union-find of proved equalities stays proved.
+//!
+//! # Complexity
+//!
+//! O(e log e) to build the group graph from e distinct pairs; the clique
+//! enumeration is bounded by the node budget (for n = 4 it lists the
+//! triangles, O(Σ deg^2) with sorted-list intersections); a few passes.
+
+/// Union-find over detections with the smallest index as root.
+#[derive(Debug, Clone)]
+pub struct Uf(Vec<usize>);
+
+impl Uf {
+    /// k singletons.
+    pub fn new(k: usize) -> Uf {
+        Uf((0..k).collect())
+    }
+
+    /// The root (smallest member) of `i`'s group.
+    pub fn find(&mut self, i: usize) -> usize {
+        let mut r = i;
+        while self.0[r] != r {
+            r = self.0[r];
+        }
+        let mut j = i;
+        while self.0[j] != r {
+            let n = self.0[j];
+            self.0[j] = r;
+            j = n;
+        }
+        r
+    }
+
+    /// Merges; returns the new root.
+    pub fn union(&mut self, a: usize, b: usize) -> usize {
+        let (ra, rb) = (self.find(a), self.find(b));
+        let (lo, hi) = (ra.min(rb), ra.max(rb));
+        self.0[hi] = lo;
+        lo
+    }
+
+    /// Number of detections.
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Whether there are no detections.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Groups of size >= 2, members sorted, by smallest member.
+    pub fn groups(&mut self) -> Vec<Vec<usize>> {
+        let k = self.0.len();
+        let mut by: Vec<Vec<usize>> = vec![Vec::new(); k];
+        for i in 0..k {
+            let r = self.find(i);
+            by[r].push(i);
+        }
+        by.into_iter().filter(|g| g.len() >= 2).collect()
+    }
+}
+
+/// Detection pairs proved distinct, accumulated over rounds.
+#[derive(Debug, Clone, Default)]
+pub struct Distinct {
+    pairs: Vec<(u32, u32)>,
+    sorted: usize,
+}
+
+/// Most passes of [`Distinct::infer`].
+const MAX_PASSES: usize = 32;
+
+fn intersect_sorted(a: &[u32], b: &[u32], out: &mut Vec<u32>) {
+    out.clear();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => {
+                out.push(a[i]);
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+}
+
+impl Distinct {
+    /// Records pairs (i, j) proved to see distinct landmarks.
+    pub fn add(&mut self, pairs: impl IntoIterator<Item = (u32, u32)>) {
+        self.pairs
+            .extend(pairs.into_iter().map(|(a, b)| (a.min(b), a.max(b))));
+    }
+
+    /// Number of distinct pairs known (after deduplication).
+    pub fn len(&mut self) -> usize {
+        self.normalize();
+        self.pairs.len()
+    }
+
+    /// Whether no pair is known.
+    pub fn is_empty(&mut self) -> bool {
+        self.len() == 0
+    }
+
+    fn normalize(&mut self) {
+        if self.sorted != self.pairs.len() {
+            self.pairs.sort_unstable();
+            self.pairs.dedup();
+            self.sorted = self.pairs.len();
+        }
+    }
+
+    /// The group graph: sorted neighbour roots per root (empty for
+    /// non-roots). Err: a pair inside one group.
+    pub fn graph(&mut self, uf: &mut Uf) -> Result<Vec<Vec<u32>>, String> {
+        self.normalize();
+        let mut adj: Vec<Vec<u32>> = vec![Vec::new(); uf.len()];
+        for &(a, b) in &self.pairs {
+            let (ra, rb) = (uf.find(a as usize), uf.find(b as usize));
+            if ra == rb {
+                return Err(format!(
+                    "detections {a} and {b} are proved to see distinct landmarks (their shapes are disjoint) but also the same one"
+                ));
+            }
+            adj[ra].push(rb as u32);
+            adj[rb].push(ra as u32);
+        }
+        for l in adj.iter_mut() {
+            l.sort_unstable();
+            l.dedup();
+        }
+        Ok(adj)
+    }
+
+    /// Applies the rules of the module doc to a fixpoint; merges groups in
+    /// `uf` and returns the unions made (pairs of detections). Err: an
+    /// infeasibility, naming detections. `node_budget` bounds the clique
+    /// enumeration of each pass.
+    pub fn infer(
+        &mut self,
+        uf: &mut Uf,
+        n: usize,
+        node_budget: usize,
+    ) -> Result<Vec<(usize, usize)>, String> {
+        let mut unions = Vec::new();
+        let k = uf.len();
+        if k == 0 || n == 0 {
+            return Ok(unions);
+        }
+        if n == 1 {
+            for j in 1..k {
+                if uf.find(j) != uf.find(0) {
+                    uf.union(0, j);
+                    unions.push((0, j));
+                }
+            }
+            self.graph(uf)?;
+            return Ok(unions);
+        }
+        for _ in 0..MAX_PASSES {
+            let adj = self.graph(uf)?;
+            let mut e = Enum {
+                adj: &adj,
+                depth: n - 1,
+                nodes: 0,
+                budget: node_budget,
+                merges: Vec::new(),
+                infeasible: None,
+                scratch: Vec::new(),
+            };
+            let roots: Vec<u32> = (0..k as u32)
+                .filter(|&r| !adj[r as usize].is_empty())
+                .collect();
+            let mut clique = Vec::with_capacity(n);
+            e.extend(&mut clique, &roots);
+            if let Some(reason) = e.infeasible {
+                return Err(reason);
+            }
+            let mut changed = false;
+            for group in e.merges {
+                for &x in &group[1..] {
+                    if uf.find(x as usize) != uf.find(group[0] as usize) {
+                        uf.union(group[0] as usize, x as usize);
+                        unions.push((group[0] as usize, x as usize));
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        self.graph(uf)?;
+        Ok(unions)
+    }
+}
+
+/// Enumeration of the (n-1)-cliques of the group graph.
+struct Enum<'a> {
+    adj: &'a [Vec<u32>],
+    depth: usize,
+    nodes: usize,
+    budget: usize,
+    merges: Vec<Vec<u32>>,
+    infeasible: Option<String>,
+    scratch: Vec<u32>,
+}
+
+impl Enum<'_> {
+    /// `clique`: pairwise adjacent roots, increasing; `cands`: roots
+    /// greater than its last, adjacent to all of it.
+    fn extend(&mut self, clique: &mut Vec<u32>, cands: &[u32]) {
+        if self.infeasible.is_some() || self.nodes >= self.budget {
+            return;
+        }
+        self.nodes += 1;
+        if clique.len() == self.depth {
+            self.close(clique);
+            return;
+        }
+        for (i, &v) in cands.iter().enumerate() {
+            if self.nodes >= self.budget || self.infeasible.is_some() {
+                return;
+            }
+            let mut next = Vec::new();
+            intersect_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
+            if clique.len() + 1 + next.len() < self.depth {
+                continue;
+            }
+            clique.push(v);
+            self.extend(clique, &next);
+            clique.pop();
+        }
+    }
+
+    /// Common neighbours of a full (n-1)-clique: one landmark.
+    fn close(&mut self, clique: &[u32]) {
+        let mut common = self.adj[clique[0] as usize].clone();
+        for &c in &clique[1..] {
+            let mut out = std::mem::take(&mut self.scratch);
+            intersect_sorted(&common, &self.adj[c as usize], &mut out);
+            self.scratch = std::mem::replace(&mut common, out);
+        }
+        if common.len() < 2 {
+            return;
+        }
+        for (i, &a) in common.iter().enumerate() {
+            let na = &self.adj[a as usize];
+            if let Some(&b) = common[i + 1..].iter().find(|b| na.binary_search(b).is_ok()) {
+                let mut named: Vec<u32> = clique.to_vec();
+                named.extend([a, b]);
+                named.sort_unstable();
+                self.infeasible = Some(format!(
+                    "detections {named:?} (with their groups): {} pairwise-distinct landmarks, more than landmark_count {}",
+                    named.len(),
+                    self.depth + 1
+                ));
+                return;
+            }
+        }
+        self.merges.push(common);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn common_neighbours_of_a_triangle_merge_with_n_4() {
+        // 0, 1, 2 pairwise distinct; 3 and 4 distinct from all three: with
+        // n = 4 they see the fourth landmark.
+        let mut d = Distinct::default();
+        d.add([
+            (0, 1),
+            (0, 2),
+            (1, 2),
+            (0, 3),
+            (1, 3),
+            (2, 3),
+            (0, 4),
+            (1, 4),
+            (2, 4),
+        ]);
+        let mut uf = Uf::new(6);
+        let u = d.infer(&mut uf, 4, 1000).unwrap();
+        assert_eq!(uf.find(4), 3);
+        assert_eq!(u, vec![(3, 4)]);
+        assert_eq!(uf.find(5), 5);
+        // With n = 5 nothing follows.
+        let mut uf = Uf::new(6);
+        assert!(d.infer(&mut uf, 5, 1000).unwrap().is_empty());
+    }
+
+    #[test]
+    fn five_pairwise_distinct_with_n_4_is_infeasible() {
+        let mut d = Distinct::default();
+        for a in 0..5u32 {
+            for b in a + 1..5 {
+                d.add([(a, b)]);
+            }
+        }
+        let mut uf = Uf::new(5);
+        let e = d.infer(&mut uf, 4, 1000).unwrap_err();
+        assert!(e.contains("[0, 1, 2, 3, 4]"), "{e}");
+    }
+}

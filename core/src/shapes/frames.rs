@@ -1,0 +1,277 @@
+//! Local frames: the landmark region of a proved group in the frame of one
+//! of its steps, where dead-reckoning drift cancels, and the distinct pairs
+//! it proves (DESIGN.md, "Detection shapes").
+//!
+//! # Constraint
+//!
+//! A group H (detections proved to see one landmark L) and a detection x
+//! (or another group): if no possible position of L is in x's shape (the
+//! other group's region), x does not see L.
+//!
+//! # Math
+//!
+//! Frame of step s: x ↦ x - p(s). `p(t) - p(s)` lies in `Δ(s, t)`, the sum
+//! of the displacement boxes between the two steps ([`ChainSums`]); it
+//! does not carry the drift of the absolute boxes P(s), P(t). A group's
+//! members are split, in step order, into pieces spanning at most
+//! `piece_steps` steps; each piece takes the frame of its middle member's
+//! step s and the region `L - p(s) ∈ ∩_j A_s(j)`, with A_s(j) the shape of
+//! member j around Δ(s, t_j), kept as a [`Paving`] (from the hull of the
+//! thinnest member's shape, cut by every member of the piece, bisected to
+//! `max_boxes`). Where the absolute region is a ring, this one is often one
+//! or two small blobs. Then, within `max_gap` steps of a piece:
+//! - a detection x whose shape around Δ(s, t_x) misses the piece's paving
+//!   is distinct from the group;
+//! - two pieces of different groups, at steps s and s', are distinct when
+//!   the first paving misses the second translated by Δ(s, s') (boxes plus
+//!   an interval box).
+//!
+//! # Soundness
+//!
+//! The true p(t) - p(s) is in Δ(s, t) (see [`ChainSums`]), the true landmark
+//! minus the true p(s) is in every member's relative shape, and a paving
+//! keeps every point of the intersection ([`super::region`]); translating
+//! by the true p(s) maps everything back, keeping disjointness.
+//!
+//! # Complexity
+//!
+//! Pieces are cached by group and rebuilt when the group changes:
+//! O(m · members · d) each (m <= `max_boxes`). Tests: O(m d) per detection
+//! and nearby piece, O(m^2 d) per pair of nearby pieces.
+
+use super::chain_sums::ChainSums;
+use super::distinct::Uf;
+use super::region::Paving;
+use super::shape::{Shape, MAX_DIM};
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use crate::slam::mission::Mission;
+
+/// Tuning of the local frames.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameOptions {
+    /// Most steps spanned by the members of one piece.
+    pub piece_steps: usize,
+    /// Most steps between a piece and what it is tested against.
+    pub max_gap: usize,
+    /// Most boxes of a piece's paving.
+    pub max_boxes: usize,
+    /// Members whose shapes cut the halves of a bisection (the thinnest).
+    pub refine_shapes: usize,
+}
+
+impl Default for FrameOptions {
+    fn default() -> Self {
+        FrameOptions {
+            piece_steps: 600,
+            max_gap: 600,
+            max_boxes: 48,
+            refine_shapes: 12,
+        }
+    }
+}
+
+/// One piece of a group: its frame's step, a member, its paving.
+#[derive(Debug, Clone)]
+struct Piece {
+    step: usize,
+    member: usize,
+    region: Paving,
+}
+
+/// Pieces of the groups, cached across rounds.
+#[derive(Debug, Clone, Default)]
+pub struct Frames {
+    /// By group root: (member count when built, pieces).
+    cache: Vec<Option<(usize, Vec<Piece>)>>,
+}
+
+/// The shape of detection j in the frame of step s (cut by nothing: the
+/// piece regions are cached, so they depend on the group alone).
+fn relative_shape(
+    mission: &Mission,
+    sums: &ChainSums,
+    heading_at: &[Interval],
+    dim: usize,
+    s: usize,
+    j: usize,
+) -> Shape {
+    let d = &mission.detections[j];
+    let centre = sums.delta(s, d.step);
+    Shape::new(
+        IntervalBox::new(&centre[..dim]),
+        d.range,
+        d.bearing.map(|b| (heading_at[j], b)),
+        IntervalBox::entire(dim),
+    )
+}
+
+impl Frames {
+    /// The cached pieces of a group (found at any member): each a step s
+    /// and a paving of `L - p(s)`.
+    pub fn pieces(&self, group: &[usize]) -> Vec<(usize, &Paving)> {
+        group
+            .iter()
+            .filter_map(|&j| self.cache.get(j)?.as_ref())
+            .flat_map(|(_, pieces)| pieces.iter().map(|p| (p.step, &p.region)))
+            .collect()
+    }
+
+    /// Appends to `out` the distinct pairs the frames prove (module doc).
+    /// `order`: detections by step. Returns the work done (pieces
+    /// contracted); Err: a piece whose region is empty (infeasible).
+    #[allow(clippy::too_many_arguments)]
+    pub fn pairs(
+        &mut self,
+        mission: &Mission,
+        order: &[usize],
+        dim: usize,
+        sums: &ChainSums,
+        heading_at: &[Interval],
+        uf: &mut Uf,
+        opts: &FrameOptions,
+        out: &mut Vec<(u32, u32)>,
+    ) -> Result<u64, String> {
+        let k = mission.detections.len();
+        if self.cache.len() != k {
+            self.cache = vec![None; k];
+        }
+        let dets = &mission.detections;
+        let mut work = 0u64;
+        // Pieces of every group, (re)built when the group changed.
+        let groups = uf.groups();
+        let mut fresh: Vec<Option<(usize, Vec<Piece>)>> = vec![None; k];
+        for g in &groups {
+            let root = g[0];
+            let cached = g
+                .iter()
+                .find_map(|&j| self.cache[j].take().filter(|(len, _)| *len == g.len()));
+            let pieces = match cached {
+                Some((_, p)) => p,
+                None => {
+                    let mut members = g.clone();
+                    members.sort_by_key(|&j| (dets[j].step, j));
+                    let mut pieces = Vec::new();
+                    for chunk in
+                        members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
+                    {
+                        pieces.extend(build_pieces(
+                            mission, sums, heading_at, dim, chunk, opts, &mut work,
+                        )?);
+                    }
+                    pieces
+                }
+            };
+            fresh[root] = Some((g.len(), pieces));
+        }
+        self.cache = fresh;
+        // Every piece, by step.
+        let mut all: Vec<(usize, usize, usize)> = Vec::new(); // (step, root, index)
+        for (root, c) in self.cache.iter().enumerate() {
+            if let Some((_, pieces)) = c {
+                for (i, p) in pieces.iter().enumerate() {
+                    all.push((p.step, root, i));
+                }
+            }
+        }
+        all.sort_unstable();
+        // Detections against nearby pieces.
+        let mut lo = 0;
+        for &x in order {
+            let t = dets[x].step;
+            while lo < all.len() && all[lo].0 + opts.max_gap < t {
+                lo += 1;
+            }
+            let rx = uf.find(x);
+            for &(s, root, i) in all[lo..].iter().take_while(|e| e.0 <= t + opts.max_gap) {
+                if root == rx {
+                    continue;
+                }
+                let p = &self.cache[root].as_ref().expect("cached").1[i];
+                let shape = relative_shape(mission, sums, heading_at, dim, s, x);
+                work += p.region.boxes().len() as u64;
+                if !p.region.meets_shape(&shape) {
+                    out.push((x as u32, p.member as u32));
+                }
+            }
+        }
+        // Pieces against nearby pieces of other groups.
+        for (a, &(s, ra, ia)) in all.iter().enumerate() {
+            for &(s2, rb, ib) in all[a + 1..].iter().take_while(|e| e.0 <= s + opts.max_gap) {
+                if ra == rb {
+                    continue;
+                }
+                let pa = &self.cache[ra].as_ref().expect("cached").1[ia];
+                let pb = &self.cache[rb].as_ref().expect("cached").1[ib];
+                let delta = sums.delta(s, s2);
+                work += (pa.region.boxes().len() * pb.region.boxes().len()) as u64;
+                if !meets_translated(&pa.region, &pb.region, &delta[..dim]) {
+                    out.push((pa.member as u32, pb.member as u32));
+                }
+            }
+        }
+        Ok(work)
+    }
+}
+
+/// The pieces of one chunk of a group's members (sorted by step).
+#[allow(clippy::too_many_arguments)]
+fn build_pieces(
+    mission: &Mission,
+    sums: &ChainSums,
+    heading_at: &[Interval],
+    dim: usize,
+    chunk: &[usize],
+    opts: &FrameOptions,
+    work: &mut u64,
+) -> Result<Vec<Piece>, String> {
+    if chunk.len() < 2 {
+        return Ok(Vec::new());
+    }
+    let mid = chunk[chunk.len() / 2];
+    let s = mission.detections[mid].step;
+    let shapes: Vec<Shape> = chunk
+        .iter()
+        .map(|&j| relative_shape(mission, sums, heading_at, dim, s, j))
+        .collect();
+    let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
+    by_thickness.sort_by(|a, b| a.thickness().total_cmp(&b.thickness()));
+    let mut region = Paving::from_box(&by_thickness[0].hull());
+    for sh in &by_thickness[1..] {
+        region.cut(sh);
+    }
+    by_thickness.truncate(opts.refine_shapes);
+    region.refine(&by_thickness, 0.0, opts.max_boxes);
+    for sh in &shapes {
+        region.cut(sh);
+    }
+    *work += (region.boxes().len() * shapes.len()) as u64;
+    if region.is_empty() {
+        return Err(format!(
+                "landmark of detections {chunk:?}: their shapes, taken relative to the position of step {s}, have no common point"
+            ));
+    }
+    Ok(vec![Piece {
+        step: s,
+        member: mid,
+        region,
+    }])
+}
+
+/// Whether `a` may meet `b` translated by `delta` (`false` is a proof).
+fn meets_translated(a: &Paving, b: &Paving, delta: &[Interval]) -> bool {
+    let dim = delta.len();
+    let shifted: Vec<IntervalBox> = b
+        .boxes()
+        .iter()
+        .map(|x| {
+            let mut axes = [Interval::ZERO; MAX_DIM];
+            for i in 0..dim {
+                axes[i] = x[i] + delta[i];
+            }
+            IntervalBox::new(&axes[..dim])
+        })
+        .collect();
+    let shifted = Paving::from_boxes(dim, shifted);
+    a.meets(&shifted)
+}
