@@ -260,9 +260,9 @@ def boxes(result_boxes: Sequence[Any]) -> np.ndarray:
             rows.append(None)
             continue
         # float() reads the bounds "inf" and "-inf" too.
-        row = [[float(x[0]), float(x[1])] for x in b]
-        dim = max(dim, len(row))
-        rows.append(row)
+        axes = [[float(x[0]), float(x[1])] for x in b]
+        dim = max(dim, len(axes))
+        rows.append(axes)
     out = np.full((len(rows), dim, 2), np.nan)
     for i, row in enumerate(rows):
         if row is not None and len(row) == dim:

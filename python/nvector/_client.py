@@ -13,7 +13,7 @@ import time
 import urllib.error
 import urllib.parse
 import urllib.request
-from typing import Any, Iterator, Union
+from typing import Any, Iterator, Union, cast
 
 from . import _nvector
 from ._errors import JobError, ServiceError
@@ -87,7 +87,7 @@ class Client:
         else:
             body = _nvector.dumps(mission).encode("utf-8")
         with self._open("POST", "/api/v1/missions", body) as response:
-            return json.loads(response.read())
+            return cast("dict[str, Any]", json.loads(response.read()))
 
     def missions(self, limit: int = 100) -> list[dict[str, Any]]:
         """Every stored mission's summary (``id``, ``name``, ``steps``,
@@ -106,7 +106,7 @@ class Client:
 
     def mission(self, mission_id: str) -> dict[str, Any]:
         """A stored mission, as uploaded."""
-        return self._call("GET", f"/api/v1/missions/{_quote(mission_id)}")
+        return cast("dict[str, Any]", self._call("GET", f"/api/v1/missions/{_quote(mission_id)}"))
 
     def delete_mission(self, mission_id: str) -> None:
         """Deletes a mission and its jobs."""
@@ -131,7 +131,7 @@ class Client:
             body["max_rounds"] = max_rounds
         if time_limit_s is not None:
             body["time_limit_s"] = time_limit_s
-        return self._call("POST", "/api/v1/jobs", body)["id"]
+        return str(self._call("POST", "/api/v1/jobs", body)["id"])
 
     def submit(
         self,
@@ -150,7 +150,7 @@ class Client:
         """The job: ``id``, ``mission``, ``state`` (queued, running, done,
         failed, cancelled), ``progress`` (round, max_trajectory_diameter,
         fraction), ``error`` when it failed."""
-        return self._call("GET", f"/api/v1/jobs/{_quote(job_id)}")
+        return cast("dict[str, Any]", self._call("GET", f"/api/v1/jobs/{_quote(job_id)}"))
 
     def cancel(self, job_id: str) -> None:
         """Cancels a queued or running job (a job that has ended raises
@@ -163,13 +163,13 @@ class Client:
         :meth:`job` gives it. Ends when the service closes the stream."""
         response = self._open("GET", f"/api/v1/jobs/{_quote(job_id)}/events", accept="text/event-stream")
         with response:
-            event, data = "message", []
+            event, data = "message", cast("list[str]", [])
             for raw in response:
                 line = raw.decode("utf-8").rstrip("\r\n")
                 if not line:
                     if data:
                         yield event, json.loads("\n".join(data))
-                    event, data = "message", []
+                    event, data = "message", cast("list[str]", [])
                 elif line.startswith(":"):
                     continue  # keep-alive comment
                 else:
@@ -195,7 +195,7 @@ class Client:
                 bar.close()
         if job.get("state") != "done":
             raise JobError(job)
-        return self.result(job_id)
+        return cast("dict[str, Any]", self.result(job_id))
 
     def _follow(self, job_id: str, bar: ProgressBar | None, deadline: float | None) -> dict[str, Any]:
         def check_deadline(job: dict[str, Any]) -> None:
@@ -238,7 +238,7 @@ class Client:
         """True when the service answers ``/healthz``."""
         try:
             with self._open("GET", "/healthz", accept="*/*") as response:
-                return response.status == 200
+                return bool(response.status == 200)
         except ServiceError:
             return False
 

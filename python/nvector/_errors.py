@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 
 class InputError(ValueError):
     """Invalid input, with the JSON path of the bad value.
@@ -50,7 +52,7 @@ class JobError(RuntimeError):
     ``job`` is the job as the service last reported it.
     """
 
-    def __init__(self, job: dict) -> None:
+    def __init__(self, job: dict[str, Any]) -> None:
         self.job = job
         self.state = str(job.get("state"))
         detail = job.get("error")

@@ -64,8 +64,8 @@ def plot(
     except ImportError as e:  # pragma: no cover - depends on the machine
         raise ImportError("nvector.plot needs matplotlib: pip install matplotlib") from e
 
-    result = _read(result)
-    mission = _read(mission) if mission is not None else None
+    res: dict[str, Any] = _read(result)
+    mis: dict[str, Any] = _read(mission) if mission is not None else {}
     if ax is None:
         _, ax = plt.subplots(figsize=(9, 6))
 
@@ -74,14 +74,14 @@ def plot(
             shapes = [Rectangle((x0, y0), x1 - x0, y1 - y0) for x0, y0, x1, y1 in rects]
             ax.add_collection(PatchCollection(shapes, **style))
 
-    trajectory = list(result.get("trajectory") or [])
+    trajectory = list(res.get("trajectory") or [])
     stride = max(1, -(-len(trajectory) // max(1, max_boxes)))
     drawn = trajectory[::stride] + trajectory[-1:]
     patches([r for r in map(_rect, drawn) if r], facecolor="none", edgecolor=TRAJECTORY, linewidth=0.6, label="trajectory")
 
-    detections = list(result.get("detections") or [])
+    detections = list(res.get("detections") or [])
     group_of = [-1] * len(detections)
-    for g, members in enumerate(result.get("matching") or []):
+    for g, members in enumerate(res.get("matching") or []):
         for m in members:
             if isinstance(m, int) and 0 <= m < len(group_of):
                 group_of[m] = g
@@ -93,10 +93,10 @@ def plot(
     for colour, rects in by_colour.items():
         patches(rects, facecolor="none", edgecolor=colour, linewidth=0.8)
 
-    landmarks = [r for r in map(_rect, result.get("landmarks") or []) if r]
+    landmarks = [r for r in map(_rect, res.get("landmarks") or []) if r]
     patches(landmarks, facecolor=LANDMARK_FILL, edgecolor=LANDMARK_EDGE, linewidth=0.8)
 
-    truth = (mission or {}).get("truth") or {}
+    truth = mis.get("truth") or {}
     path = [p for p in truth.get("positions") or [] if len(p) >= 2]
     if path:
         step = max(1, len(path) // 5000)
@@ -109,8 +109,8 @@ def plot(
 
     ax.autoscale_view()
     ax.set_aspect("equal", adjustable="datalim")
-    diameter = (result.get("metrics") or {}).get("max_trajectory_diameter")
-    ax.set_title(f"{result.get('mission', '')} — {(result.get('options') or {}).get('contractor', '')} — max trajectory diameter {diameter}")
+    diameter = (res.get("metrics") or {}).get("max_trajectory_diameter")
+    ax.set_title(f"{res.get('mission', '')} — {(res.get('options') or {}).get('contractor', '')} — max trajectory diameter {diameter}")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     return ax

@@ -23,7 +23,7 @@ class ProgressBar:
         self._message = ""
         if not plain:
             try:
-                from tqdm.auto import tqdm
+                from tqdm.auto import tqdm  # type: ignore[import-untyped, unused-ignore]
             except ImportError:
                 tqdm = None
             if tqdm is not None:
