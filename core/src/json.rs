@@ -85,11 +85,25 @@ pub fn number(v: &Value, path: &str) -> Result<f64, InputError> {
     }
 }
 
-/// A non-negative integer no larger than `max`.
+/// A non-negative integer no larger than `max`. A JSON number whose value
+/// is a whole number counts however it is written (`3`, `3.0`, `3e0`), as
+/// JSON Schema's `integer` counts it (the OpenAPI document says
+/// `integer`; a client that writes 3.0 has written the integer 3).
 pub fn integer(v: &Value, path: &str, max: u64) -> Result<u64, InputError> {
-    match v.as_u64() {
-        Some(x) if x <= max => Ok(x),
-        Some(x) => Err(InputError::new(
+    /// 2^64: whole floats below it convert to u64 exactly.
+    const TWO_TO_64: f64 = 18_446_744_073_709_551_616.0;
+    let whole = v.as_u64().map(Ok).or_else(|| {
+        v.as_f64()
+            .filter(|x| v.is_f64() && x.fract() == 0.0 && *x >= 0.0)
+            .map(|x| if x < TWO_TO_64 { Ok(x as u64) } else { Err(x) })
+    });
+    match whole {
+        Some(Ok(x)) if x <= max => Ok(x),
+        Some(Ok(x)) => Err(InputError::new(
+            path,
+            format!("{x} is above the limit {max}"),
+        )),
+        Some(Err(x)) => Err(InputError::new(
             path,
             format!("{x} is above the limit {max}"),
         )),
@@ -262,6 +276,33 @@ mod tests {
         let x = interval(&json!(["-inf", 3]), "").unwrap();
         assert_eq!(interval_to_json(x), json!(["-inf", 3.0]));
         assert!(interval(&json!(["inf", "inf"]), "").is_err());
+    }
+
+    /// Regression (issue 13, the schema-driven fuzzer): `3.0` is the
+    /// integer 3 for JSON Schema, and the OpenAPI document says `integer`;
+    /// it was refused.
+    #[test]
+    fn issue_13_whole_floats_are_integers() {
+        assert_eq!(integer(&json!(3.0), "n", 10).unwrap(), 3);
+        assert_eq!(integer(&json!(-0.0), "n", 10).unwrap(), 0);
+        assert_eq!(integer(&json!(7), "n", 10).unwrap(), 7);
+        assert!(integer(&json!(2.5), "n", 10)
+            .unwrap_err()
+            .message
+            .contains("non-negative integer"));
+        assert!(integer(&json!(-3.0), "n", 10).is_err());
+        assert!(integer(&json!(12.0), "n", 10)
+            .unwrap_err()
+            .message
+            .contains("above the limit"));
+        assert!(integer(&json!(1e300), "n", u64::MAX)
+            .unwrap_err()
+            .message
+            .contains("above the limit"));
+        assert_eq!(
+            integer(&json!(9007199254740992.0), "n", u64::MAX).unwrap(),
+            1 << 53
+        );
     }
 
     #[test]
