@@ -239,7 +239,10 @@ def run(
         with open(file, encoding="utf-8") as f:
             source = f.read()
     try:
-        return _nvector.run(source, contractor, max_rounds, tolerance, callback)
+        result: dict[str, Any] = _nvector.run(source, contractor, max_rounds, tolerance, callback)
+        if bar is not None:
+            bar.finish()
+        return result
     except InputError as e:
         if file is None:
             raise

@@ -110,7 +110,9 @@ def plot(
     ax.autoscale_view()
     ax.set_aspect("equal", adjustable="datalim")
     diameter = (res.get("metrics") or {}).get("max_trajectory_diameter")
-    ax.set_title(f"{res.get('mission', '')} — {(res.get('options') or {}).get('contractor', '')} — max trajectory diameter {diameter}")
+    shown = f"{diameter:.4g}" if isinstance(diameter, (int, float)) else str(diameter)
+    contractor = (res.get("options") or {}).get("contractor", "")
+    ax.set_title(f"{res.get('mission', '')} — {contractor} — max trajectory diameter {shown}")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     return ax

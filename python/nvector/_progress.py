@@ -31,7 +31,7 @@ class ProgressBar:
                     total=1000,
                     desc=description or None,
                     file=self._stream,
-                    bar_format="{l_bar}{bar:30}| [{elapsed}] {postfix}",
+                    bar_format="{l_bar}{bar:30}| [{elapsed}]{postfix}",
                 )
 
     def update(self, fraction: float, message: str = "") -> None:
@@ -54,6 +54,10 @@ class ProgressBar:
         head = f"{self._description}: " if self._description else ""
         self._stream.write(f"\r{head}[{bar}] {self._fraction * 100:5.1f}% {self._message}{end}")
         self._stream.flush()
+
+    def finish(self) -> None:
+        """Moves the bar to the end (the work is done), keeping the message."""
+        self.update(1.0, self._message)
 
     def close(self) -> None:
         """Draws the final state and ends the line."""
