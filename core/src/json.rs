@@ -4,7 +4,11 @@
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
+use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
+use std::fmt;
+use std::marker::PhantomData;
 
 /// `path` + `.field` (or `field` at the root).
 pub fn field_path(path: &str, field: &str) -> String {
@@ -50,7 +54,17 @@ pub fn check_fields(
     allowed: &[&str],
     path: &str,
 ) -> Result<(), InputError> {
-    for key in obj.keys() {
+    check_keys(obj.keys(), allowed, path)
+}
+
+/// Rejects keys not in `allowed`, naming the first of `keys` (in the order
+/// given: sorted, for an object's keys) that is not.
+pub fn check_keys<'a>(
+    keys: impl IntoIterator<Item = &'a String>,
+    allowed: &[&str],
+    path: &str,
+) -> Result<(), InputError> {
+    for key in keys {
         if !allowed.contains(&key.as_str()) {
             return Err(InputError::new(
                 field_path(path, key),
@@ -252,6 +266,214 @@ pub fn box_to_json(b: &IntervalBox) -> Value {
         Value::from("empty")
     } else {
         Value::Array(b.axes().iter().map(|&x| interval_to_json(x)).collect())
+    }
+}
+
+/// A value as the streaming mission parser keeps it before validation:
+/// parsed into the shape `T` it should have, or, when it has another, kept
+/// as a [`Value`], so that validation reports it exactly as it would from a
+/// parsed document (same checks, same order, same messages).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Lean<T> {
+    /// The expected shape, parsed straight into typed data.
+    Parsed(T),
+    /// Anything else, as JSON.
+    Other(Value),
+}
+
+/// A shape a [`Lean`] value parses into: from a JSON array (`from_seq`)
+/// or object (`from_map`); by default either is kept as a [`Value`].
+pub trait Shape: Sized {
+    /// From a JSON array.
+    fn from_seq<'de, A: SeqAccess<'de>>(seq: A) -> Result<Lean<Self>, A::Error> {
+        Ok(Lean::Other(Value::deserialize(
+            SeqAccessDeserializer::new(seq),
+        )?))
+    }
+
+    /// From a JSON object.
+    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
+        Ok(Lean::Other(Value::deserialize(
+            MapAccessDeserializer::new(map),
+        )?))
+    }
+}
+
+struct LeanVisitor<T>(PhantomData<T>);
+
+impl<'de, T: Shape> Visitor<'de> for LeanVisitor<T> {
+    type Value = Lean<T>;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("any JSON value")
+    }
+
+    fn visit_bool<E: de::Error>(self, v: bool) -> Result<Lean<T>, E> {
+        Ok(Lean::Other(Value::Bool(v)))
+    }
+
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Lean<T>, E> {
+        Ok(Lean::Other(Value::from(v)))
+    }
+
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Lean<T>, E> {
+        Ok(Lean::Other(Value::from(v)))
+    }
+
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Lean<T>, E> {
+        // As serde_json's own Value: a non-finite float is null (JSON text
+        // never gives one).
+        Ok(Lean::Other(Value::from(v)))
+    }
+
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Lean<T>, E> {
+        Ok(Lean::Other(Value::String(v.to_owned())))
+    }
+
+    fn visit_string<E: de::Error>(self, v: String) -> Result<Lean<T>, E> {
+        Ok(Lean::Other(Value::String(v)))
+    }
+
+    fn visit_unit<E: de::Error>(self) -> Result<Lean<T>, E> {
+        Ok(Lean::Other(Value::Null))
+    }
+
+    fn visit_none<E: de::Error>(self) -> Result<Lean<T>, E> {
+        Ok(Lean::Other(Value::Null))
+    }
+
+    fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Lean<T>, D::Error> {
+        Lean::deserialize(d)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Lean<T>, A::Error> {
+        T::from_seq(seq)
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Lean<T>, A::Error> {
+        T::from_map(map)
+    }
+}
+
+impl<'de, T: Shape> Deserialize<'de> for Lean<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Lean<T>, D::Error> {
+        d.deserialize_any(LeanVisitor(PhantomData))
+    }
+}
+
+/// The rest of an array as JSON, after `prefix` (already read).
+fn rest_of<'de, A: SeqAccess<'de>>(mut prefix: Vec<Value>, mut seq: A) -> Result<Value, A::Error> {
+    while let Some(v) = seq.next_element::<Value>()? {
+        prefix.push(v);
+    }
+    Ok(Value::Array(prefix))
+}
+
+/// An array of JSON numbers, packed as floats (the values `as_f64` gives,
+/// all finite: JSON text has no other).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Numbers(pub Vec<f64>);
+
+impl Shape for Numbers {
+    fn from_seq<'de, A: SeqAccess<'de>>(mut seq: A) -> Result<Lean<Self>, A::Error> {
+        let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 20));
+        while let Some(v) = seq.next_element::<Value>()? {
+            match v.as_f64() {
+                Some(x) if v.is_number() => out.push(x),
+                _ => {
+                    // Not all numbers: the whole array as JSON (validation
+                    // reads its elements as numbers, so rewriting the
+                    // numbers read so far as floats changes no message).
+                    let mut prefix: Vec<Value> = out.into_iter().map(Value::from).collect();
+                    prefix.push(v);
+                    return Ok(Lean::Other(rest_of(prefix, seq)?));
+                }
+            }
+        }
+        Ok(Lean::Parsed(Numbers(out)))
+    }
+}
+
+/// One row of [`Rows`]: up to 3 numbers.
+struct Row {
+    x: [f64; 3],
+    len: usize,
+}
+
+impl Row {
+    fn to_value(&self) -> Value {
+        Value::Array(self.x[..self.len].iter().map(|&x| Value::from(x)).collect())
+    }
+}
+
+impl Shape for Row {
+    fn from_seq<'de, A: SeqAccess<'de>>(mut seq: A) -> Result<Lean<Self>, A::Error> {
+        let mut row = Row {
+            x: [0.0; 3],
+            len: 0,
+        };
+        while let Some(v) = seq.next_element::<Value>()? {
+            match v.as_f64() {
+                Some(x) if v.is_number() && row.len < 3 => {
+                    row.x[row.len] = x;
+                    row.len += 1;
+                }
+                _ => {
+                    let mut prefix: Vec<Value> =
+                        row.x[..row.len].iter().map(|&x| Value::from(x)).collect();
+                    prefix.push(v);
+                    return Ok(Lean::Other(rest_of(prefix, seq)?));
+                }
+            }
+        }
+        Ok(Lean::Parsed(row))
+    }
+}
+
+/// An array of arrays of numbers, all of one length `width` (at most 3),
+/// packed row after row (points of a trajectory, for example).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rows {
+    /// Numbers per row (0 when there is no row).
+    pub width: usize,
+    /// Number of rows.
+    pub count: usize,
+    /// The numbers, `width` per row.
+    pub flat: Vec<f64>,
+}
+
+impl Shape for Rows {
+    fn from_seq<'de, A: SeqAccess<'de>>(mut seq: A) -> Result<Lean<Self>, A::Error> {
+        let mut rows = Rows {
+            width: 0,
+            count: 0,
+            flat: Vec::new(),
+        };
+        while let Some(row) = seq.next_element::<Lean<Row>>()? {
+            match row {
+                Lean::Parsed(r) if rows.count == 0 || r.len == rows.width => {
+                    rows.width = r.len;
+                    rows.count += 1;
+                    rows.flat.extend_from_slice(&r.x[..r.len]);
+                }
+                other => {
+                    // Rows of several lengths, or something else: as JSON.
+                    let w = rows.width;
+                    let mut prefix: Vec<Value> = (0..rows.count)
+                        .map(|i| {
+                            let row = &rows.flat[i * w..(i + 1) * w];
+                            Value::Array(row.iter().map(|&x| Value::from(x)).collect())
+                        })
+                        .collect();
+                    prefix.push(match other {
+                        Lean::Parsed(r) => r.to_value(),
+                        Lean::Other(v) => v,
+                    });
+                    return Ok(Lean::Other(rest_of(prefix, seq)?));
+                }
+            }
+        }
+        Ok(Lean::Parsed(rows))
     }
 }
 

@@ -5,8 +5,11 @@
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::json::{self, field_path, index_path};
+use crate::json::{self, field_path, index_path, Lean, Numbers, Rows, Shape};
+use serde::de::{Deserialize, IgnoredAny, MapAccess};
+use serde::{Serialize, Serializer};
 use serde_json::{Map, Value};
+use std::collections::{BTreeMap, BTreeSet};
 
 /// Format tag of a mission.
 pub const FORMAT: &str = "nvector-mission/1";
@@ -65,14 +68,67 @@ pub struct Detection {
     pub landmark: Option<usize>,
 }
 
+/// Points of one dimension, stored flat (`points[i]` is the i-th point as
+/// a slice): a trajectory of 10^6 points takes 16 MB, not one allocation
+/// per point.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Points {
+    dim: usize,
+    flat: Vec<f64>,
+}
+
+impl Points {
+    /// Points of dimension `dim` (>= 1) from their coordinates, point after
+    /// point (`flat.len()` a multiple of `dim`).
+    pub fn new(dim: usize, flat: Vec<f64>) -> Points {
+        debug_assert!(dim >= 1 && flat.len() % dim == 0);
+        Points { dim, flat }
+    }
+
+    /// Dimension of each point.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.flat.len().checked_div(self.dim).unwrap_or(0)
+    }
+
+    /// Whether there is no point.
+    pub fn is_empty(&self) -> bool {
+        self.flat.is_empty()
+    }
+
+    /// The points in order, each as a slice.
+    pub fn iter(&self) -> std::slice::ChunksExact<'_, f64> {
+        self.flat.chunks_exact(self.dim.max(1))
+    }
+}
+
+impl std::ops::Index<usize> for Points {
+    type Output = [f64];
+
+    fn index(&self, i: usize) -> &[f64] {
+        &self.flat[i * self.dim..(i + 1) * self.dim]
+    }
+}
+
+impl Serialize for Points {
+    /// As JSON: an array of points, each an array of numbers.
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.iter())
+    }
+}
+
 /// Ground truth of a simulated mission: used to score and draw, never read
 /// by the solver.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Truth {
     /// N+1 true positions.
-    pub positions: Vec<Vec<f64>>,
+    pub positions: Points,
     /// True landmark positions.
-    pub landmarks: Vec<Vec<f64>>,
+    pub landmarks: Points,
     /// For each detection, the true landmark index; `None` (JSON `null`)
     /// for a false detection (no landmark there).
     pub matching: Vec<Option<usize>>,
@@ -122,8 +178,46 @@ fn optional<'a>(obj: &'a Map<String, Value>, field: &str) -> Option<&'a Value> {
     obj.get(field).filter(|v| !v.is_null())
 }
 
+/// The error of [`json::object`] for a value that is not an object.
+fn not_object(v: &Value, path: &str) -> InputError {
+    err(path, format!("expected an object, found {}", json::kind(v)))
+}
+
+/// Field `field` of `obj`, taken out, or the error of [`json::required`].
+fn take<T>(obj: &mut BTreeMap<String, T>, field: &str, path: &str) -> Result<T, InputError> {
+    obj.remove(field)
+        .ok_or_else(|| err(field_path(path, field), "missing required field"))
+}
+
+fn wrong_count(path: &str, n: usize, found: usize) -> InputError {
+    err(
+        path,
+        format!("expected {n} values (one per step), found {found}"),
+    )
+}
+
 /// A number or an array of `n` numbers, each >= 0.
-fn per_step(v: &Value, path: &str, n: usize, what: &str) -> Result<Vec<f64>, InputError> {
+fn per_step(v: Lean<Numbers>, path: &str, n: usize, what: &str) -> Result<Vec<f64>, InputError> {
+    match v {
+        Lean::Parsed(Numbers(a)) => {
+            if a.len() != n {
+                return Err(wrong_count(path, n, a.len()));
+            }
+            if let Some(i) = a.iter().position(|&x| x < 0.0) {
+                let x = a[i];
+                return Err(err(
+                    index_path(path, i),
+                    format!("{what} must be >= 0, found {x}"),
+                ));
+            }
+            Ok(a)
+        }
+        Lean::Other(v) => per_step_json(&v, path, n, what),
+    }
+}
+
+/// [`per_step`] of a JSON value.
+fn per_step_json(v: &Value, path: &str, n: usize, what: &str) -> Result<Vec<f64>, InputError> {
     let check = |x: f64, p: &str| {
         if x < 0.0 {
             Err(err(p, format!("{what} must be >= 0, found {x}")))
@@ -134,10 +228,7 @@ fn per_step(v: &Value, path: &str, n: usize, what: &str) -> Result<Vec<f64>, Inp
     match v {
         Value::Array(a) => {
             if a.len() != n {
-                return Err(err(
-                    path,
-                    format!("expected {n} values (one per step), found {}", a.len()),
-                ));
+                return Err(wrong_count(path, n, a.len()));
             }
             a.iter()
                 .enumerate()
@@ -151,13 +242,16 @@ fn per_step(v: &Value, path: &str, n: usize, what: &str) -> Result<Vec<f64>, Inp
     }
 }
 
-fn numbers(v: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
-    let a = json::array(v, path)?;
+/// An array of `n` numbers.
+fn numbers(v: Lean<Numbers>, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
+    let v = match v {
+        Lean::Parsed(Numbers(a)) if a.len() == n => return Ok(a),
+        Lean::Parsed(Numbers(a)) => return Err(wrong_count(path, n, a.len())),
+        Lean::Other(v) => v,
+    };
+    let a = json::array(&v, path)?;
     if a.len() != n {
-        return Err(err(
-            path,
-            format!("expected {n} values (one per step), found {}", a.len()),
-        ));
+        return Err(wrong_count(path, n, a.len()));
     }
     a.iter()
         .enumerate()
@@ -165,13 +259,20 @@ fn numbers(v: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
         .collect()
 }
 
-fn parse_channel(v: &Value, path: &str, n: usize) -> Result<Vec<Interval>, InputError> {
-    let obj = json::object(v, path)?;
+fn parse_channel(v: Lean<Channel>, path: &str, n: usize) -> Result<Vec<Interval>, InputError> {
+    let mut obj = match v {
+        Lean::Parsed(Channel(obj)) => obj,
+        Lean::Other(v) => return Err(not_object(&v, path)),
+    };
     if obj.contains_key("value") {
-        json::check_fields(obj, &["value", "error"], path)?;
-        let values = numbers(&obj["value"], &field_path(path, "value"), n)?;
+        json::check_keys(obj.keys(), &["value", "error"], path)?;
+        let values = numbers(
+            take(&mut obj, "value", path)?,
+            &field_path(path, "value"),
+            n,
+        )?;
         let error = per_step(
-            json::required(obj, "error", path)?,
+            take(&mut obj, "error", path)?,
             &field_path(path, "error"),
             n,
             "an error bound",
@@ -182,9 +283,9 @@ fn parse_channel(v: &Value, path: &str, n: usize) -> Result<Vec<Interval>, Input
             .map(|(&x, &e)| Interval::centered(x, e))
             .collect())
     } else if obj.contains_key("lo") || obj.contains_key("hi") {
-        json::check_fields(obj, &["lo", "hi"], path)?;
-        let lo = numbers(json::required(obj, "lo", path)?, &field_path(path, "lo"), n)?;
-        let hi = numbers(json::required(obj, "hi", path)?, &field_path(path, "hi"), n)?;
+        json::check_keys(obj.keys(), &["lo", "hi"], path)?;
+        let lo = numbers(take(&mut obj, "lo", path)?, &field_path(path, "lo"), n)?;
+        let hi = numbers(take(&mut obj, "hi", path)?, &field_path(path, "hi"), n)?;
         lo.iter()
             .zip(&hi)
             .enumerate()
@@ -204,45 +305,182 @@ fn parse_channel(v: &Value, path: &str, n: usize) -> Result<Vec<Interval>, Input
     }
 }
 
-fn points(v: &Value, path: &str, dim: Option<usize>) -> Result<Vec<Vec<f64>>, InputError> {
-    let a = json::array(v, path)?;
-    a.iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let pp = index_path(path, i);
-            let c = json::array(p, &pp)?;
-            if let Some(d) = dim {
-                if c.len() != d {
-                    return Err(err(
-                        &pp,
-                        format!(
-                            "expected a point of dimension {d}, found {} coordinates",
-                            c.len()
-                        ),
-                    ));
+/// An array of points of dimension `dim`.
+fn points(v: Lean<Rows>, path: &str, dim: usize) -> Result<Points, InputError> {
+    let wrong_dim = |i: usize, found: usize| {
+        err(
+            index_path(path, i),
+            format!("expected a point of dimension {dim}, found {found} coordinates"),
+        )
+    };
+    let v = match v {
+        Lean::Parsed(rows) if rows.count > 0 && rows.width != dim => {
+            return Err(wrong_dim(0, rows.width))
+        }
+        Lean::Parsed(rows) => return Ok(Points::new(dim, rows.flat)),
+        Lean::Other(v) => v,
+    };
+    let a = json::array(&v, path)?;
+    let mut flat = Vec::with_capacity(a.len() * dim);
+    for (i, p) in a.iter().enumerate() {
+        let pp = index_path(path, i);
+        let c = json::array(p, &pp)?;
+        if c.len() != dim {
+            return Err(wrong_dim(i, c.len()));
+        }
+        for (j, x) in c.iter().enumerate() {
+            flat.push(json::number(x, &index_path(&pp, j))?);
+        }
+    }
+    Ok(Points::new(dim, flat))
+}
+
+/// An input channel's object: its fields, the arrays packed.
+struct Channel(BTreeMap<String, Lean<Numbers>>);
+
+/// The `inputs` object: its channels.
+struct Inputs(BTreeMap<String, Lean<Channel>>);
+
+/// The `truth` object: its keys, and the fields it should have.
+#[derive(Default)]
+struct TruthFields {
+    keys: BTreeSet<String>,
+    positions: Option<Lean<Rows>>,
+    landmarks: Option<Lean<Rows>>,
+    matching: Option<Value>,
+}
+
+/// A mission document before validation: the large arrays (input
+/// channels, motion errors, true positions) parsed straight into floats,
+/// everything else as JSON.
+#[derive(Default)]
+struct Document {
+    fields: Map<String, Value>,
+    inputs: Option<Lean<Inputs>>,
+    motion_error: Option<Lean<Numbers>>,
+    truth: Option<Lean<TruthFields>>,
+}
+
+/// Reads an object's entries with `entry(map, key)` reading each value.
+fn entries<'de, A: MapAccess<'de>>(
+    mut map: A,
+    mut entry: impl FnMut(&mut A, String) -> Result<(), A::Error>,
+) -> Result<(), A::Error> {
+    while let Some(key) = map.next_key::<String>()? {
+        entry(&mut map, key)?;
+    }
+    Ok(())
+}
+
+impl Shape for Channel {
+    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
+        let mut out = BTreeMap::new();
+        entries(map, |m, k| {
+            out.insert(k, m.next_value()?);
+            Ok(())
+        })?;
+        Ok(Lean::Parsed(Channel(out)))
+    }
+}
+
+impl Shape for Inputs {
+    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
+        let mut out = BTreeMap::new();
+        entries(map, |m, k| {
+            out.insert(k, m.next_value()?);
+            Ok(())
+        })?;
+        Ok(Lean::Parsed(Inputs(out)))
+    }
+}
+
+impl Shape for TruthFields {
+    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
+        let mut t = TruthFields::default();
+        entries(map, |m, k| {
+            match k.as_str() {
+                "positions" => t.positions = Some(m.next_value()?),
+                "landmarks" => t.landmarks = Some(m.next_value()?),
+                "matching" => t.matching = Some(m.next_value()?),
+                _ => {
+                    m.next_value::<IgnoredAny>()?;
                 }
             }
-            c.iter()
-                .enumerate()
-                .map(|(j, x)| json::number(x, &index_path(&pp, j)))
-                .collect()
-        })
-        .collect()
+            t.keys.insert(k);
+            Ok(())
+        })?;
+        Ok(Lean::Parsed(t))
+    }
+}
+
+impl Shape for Document {
+    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
+        let mut d = Document::default();
+        entries(map, |m, k| {
+            match k.as_str() {
+                "inputs" => d.inputs = Some(m.next_value()?),
+                "motion_error" => d.motion_error = Some(m.next_value()?),
+                "truth" => d.truth = Some(m.next_value()?),
+                _ => {
+                    let v = m.next_value()?;
+                    d.fields.insert(k, v);
+                }
+            }
+            Ok(())
+        })?;
+        Ok(Lean::Parsed(d))
+    }
+}
+
+impl Document {
+    /// Every top-level key, sorted (as a JSON object's keys iterate).
+    fn keys(&self) -> Vec<String> {
+        let mut keys: Vec<String> = self.fields.keys().cloned().collect();
+        for (k, present) in [
+            ("inputs", self.inputs.is_some()),
+            ("motion_error", self.motion_error.is_some()),
+            ("truth", self.truth.is_some()),
+        ] {
+            if present {
+                keys.push(k.to_string());
+            }
+        }
+        keys.sort_unstable();
+        keys
+    }
+}
+
+/// A value that is absent or `null`: `None`.
+fn present<T>(v: Option<Lean<T>>) -> Option<Lean<T>> {
+    v.filter(|v| !matches!(v, Lean::Other(Value::Null)))
 }
 
 impl Mission {
-    /// Parses JSON text.
+    /// Parses JSON text straight into typed data (the large arrays never
+    /// become JSON values); errors and checks are those of
+    /// [`Mission::from_value`].
     pub fn from_json(text: &str) -> Result<Mission, InputError> {
-        let v: Value =
+        let doc: Lean<Document> =
             serde_json::from_str(text).map_err(|e| err("", format!("invalid JSON: {e}")))?;
-        Mission::from_value(&v)
+        Mission::from_document(doc)
     }
 
     /// Parses and validates a mission; errors name the JSON path.
     pub fn from_value(v: &Value) -> Result<Mission, InputError> {
-        let obj = json::object(v, "")?;
-        json::check_fields(
-            obj,
+        let doc =
+            Lean::<Document>::deserialize(v).map_err(|e| err("", format!("invalid JSON: {e}")))?;
+        Mission::from_document(doc)
+    }
+
+    /// Validates a parsed document: every check of the format, in one
+    /// order, whichever way it was parsed.
+    fn from_document(doc: Lean<Document>) -> Result<Mission, InputError> {
+        let mut doc = match doc {
+            Lean::Parsed(d) => d,
+            Lean::Other(v) => return Err(not_object(&v, "")),
+        };
+        json::check_keys(
+            &doc.keys(),
             &[
                 "format",
                 "name",
@@ -262,6 +500,7 @@ impl Mission {
             ],
             "",
         )?;
+        let obj = &doc.fields;
         let format = json::required(obj, "format", "")?;
         if format.as_str() != Some(FORMAT) {
             return Err(err(
@@ -307,17 +546,21 @@ impl Mission {
         let final_position = optional(obj, "final_position")
             .map(|v| json::ibox(v, "final_position", Some(dim)))
             .transpose()?;
-        let inputs_v = json::object(json::required(obj, "inputs", "")?, "inputs")?;
-        json::check_fields(inputs_v, model.channels(), "inputs")?;
+        let mut inputs_v = match doc.inputs.take() {
+            None => return Err(err("inputs", "missing required field")),
+            Some(Lean::Parsed(Inputs(i))) => i,
+            Some(Lean::Other(v)) => return Err(not_object(&v, "inputs")),
+        };
+        json::check_keys(inputs_v.keys(), model.channels(), "inputs")?;
         let mut inputs = Vec::new();
         for ch in model.channels() {
             let path = field_path("inputs", ch);
             let v = inputs_v
-                .get(*ch)
+                .remove(*ch)
                 .ok_or_else(|| err(&path, "missing required field"))?;
             inputs.push(parse_channel(v, &path, steps)?);
         }
-        let motion_error = match optional(obj, "motion_error") {
+        let motion_error = match present(doc.motion_error.take()) {
             None => vec![0.0; steps],
             Some(v) => per_step(v, "motion_error", steps, "the motion error")?,
         };
@@ -411,7 +654,7 @@ impl Mission {
                 ))
             }
         };
-        let truth = optional(obj, "truth")
+        let truth = present(doc.truth.take())
             .map(|v| parse_truth(v, dim, steps, detections.len()))
             .transpose()?;
         Ok(Mission {
@@ -503,17 +746,21 @@ impl Mission {
 }
 
 fn parse_truth(
-    v: &Value,
+    v: Lean<TruthFields>,
     dim: usize,
     steps: usize,
     detections: usize,
 ) -> Result<Truth, InputError> {
-    let o = json::object(v, "truth")?;
-    json::check_fields(o, &["positions", "landmarks", "matching"], "truth")?;
+    let o = match v {
+        Lean::Parsed(o) => o,
+        Lean::Other(v) => return Err(not_object(&v, "truth")),
+    };
+    json::check_keys(&o.keys, &["positions", "landmarks", "matching"], "truth")?;
+    let missing = |f: &str| err(field_path("truth", f), "missing required field");
     let positions = points(
-        json::required(o, "positions", "truth")?,
+        o.positions.ok_or_else(|| missing("positions"))?,
         "truth.positions",
-        Some(dim),
+        dim,
     )?;
     if positions.len() != steps + 1 {
         return Err(err(
@@ -526,11 +773,14 @@ fn parse_truth(
         ));
     }
     let landmarks = points(
-        json::required(o, "landmarks", "truth")?,
+        o.landmarks.ok_or_else(|| missing("landmarks"))?,
         "truth.landmarks",
-        Some(dim),
+        dim,
     )?;
-    let m = json::array(json::required(o, "matching", "truth")?, "truth.matching")?;
+    let m = json::array(
+        o.matching.as_ref().ok_or_else(|| missing("matching"))?,
+        "truth.matching",
+    )?;
     if m.len() != detections {
         return Err(err(
             "truth.matching",
@@ -721,6 +971,177 @@ mod tests {
                 e.starts_with(expected),
                 "{e} does not start with {expected}"
             );
+            let streamed = Mission::from_json(&v.to_string()).unwrap_err().to_string();
+            assert_eq!(streamed, e, "parsed from text");
+        }
+    }
+
+    /// The streaming parse (large arrays straight into floats) gives the
+    /// errors of a parse through JSON values, also where an array is not
+    /// what it should be (a non-number, ragged or long rows, objects where
+    /// arrays are due), and the same mission when it is valid.
+    #[test]
+    fn streamed_errors_are_those_of_values() {
+        type Edit = fn(&mut Value);
+        fn truth(v: &mut Value, positions: Value) {
+            v["truth"] = json!({"positions": positions, "landmarks": [[1, 1]], "matching": [0]});
+        }
+        let cases: Vec<(Edit, &str)> = vec![
+            (
+                |v| v["motion_error"] = json!([0.1, -1]),
+                "motion_error[1]: the motion error must be >= 0, found -1",
+            ),
+            (
+                |v| v["motion_error"] = json!([0.1, 0.2, 0.3]),
+                "motion_error: expected 2 values (one per step), found 3",
+            ),
+            (
+                |v| v["motion_error"] = json!([0.1, {"a": 1}]),
+                "motion_error[1]: expected a finite number, found an object",
+            ),
+            (
+                |v| v["inputs"]["speed"]["error"] = json!([0.1, -0.5]),
+                "inputs.speed.error[1]: an error bound must be >= 0, found -0.5",
+            ),
+            (
+                |v| v["inputs"]["speed"]["value"] = json!([1, [2]]),
+                "inputs.speed.value[1]: expected a finite number, found an array",
+            ),
+            (
+                |v| v["inputs"]["speed"]["value"] = json!({"a": 1}),
+                "inputs.speed.value: expected an array, found an object",
+            ),
+            (
+                |v| v["inputs"]["heading"]["hi"] = json!([0.0, 0.05]),
+                "inputs.heading.lo[1]: lower bound 0.1 is above upper bound 0.05",
+            ),
+            (
+                |v| v["inputs"]["speed"]["lo"] = json!([1, 2]),
+                "inputs.speed.lo: unknown field `lo`",
+            ),
+            (
+                |v| v["inputs"]["speed"] = json!(3),
+                "inputs.speed: expected an object, found a number",
+            ),
+            (
+                |v| v["inputs"]["speed"] = json!({"x": [1, 2]}),
+                "inputs.speed: an input channel is",
+            ),
+            (
+                |v| v["inputs"] = json!([]),
+                "inputs: expected an object, found an array",
+            ),
+            (
+                |v| v["inputs"] = Value::Null,
+                "inputs: expected an object, found null",
+            ),
+            (
+                |v| {
+                    v.as_object_mut().unwrap().remove("inputs");
+                },
+                "inputs: missing required field",
+            ),
+            (
+                |v| v["inputs"]["roll"] = json!({"value": [0, 0], "error": 0}),
+                "inputs.roll: unknown field `roll`",
+            ),
+            (
+                |v| v["truth"] = json!("x"),
+                "truth: expected an object, found a string",
+            ),
+            (
+                |v| {
+                    v["truth"] =
+                        json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]]})
+                },
+                "truth.matching: missing required field",
+            ),
+            (
+                |v| v["truth"] = json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]], "matching": [0], "fake": 1}),
+                "truth.fake: unknown field",
+            ),
+            (
+                |v| truth(v, json!([[0, 0], [1], [2, 0]])),
+                "truth.positions[1]: expected a point of dimension 2, found 1 coordinates",
+            ),
+            (
+                |v| truth(v, json!([[0, 0, 0], [1, 0, 0], [2, 0, 0]])),
+                "truth.positions[0]: expected a point of dimension 2, found 3 coordinates",
+            ),
+            (
+                |v| truth(v, json!([[0, 0], [1, 0, 0, 0], [2, 0]])),
+                "truth.positions[1]: expected a point of dimension 2, found 4 coordinates",
+            ),
+            (
+                |v| truth(v, json!([[0, 0], ["1", 0], [2, 0]])),
+                "truth.positions[1][0]: expected a finite number, found a string",
+            ),
+            (
+                |v| truth(v, json!([[0, 0], 5, [2, 0]])),
+                "truth.positions[1]: expected an array, found a number",
+            ),
+            (
+                |v| truth(v, json!([[0, 0], [1, 0]])),
+                "truth.positions: expected 3 positions (steps + 1), found 2",
+            ),
+            (
+                |v| truth(v, json!({})),
+                "truth.positions: expected an array, found an object",
+            ),
+            (|v| *v = json!([1, 2]), "expected an object, found an array"),
+            (
+                |v| *v = json!("mission"),
+                "expected an object, found a string",
+            ),
+        ];
+        for (edit, expected) in cases {
+            let mut v = small();
+            edit(&mut v);
+            let e = Mission::from_value(&v).unwrap_err().to_string();
+            assert!(
+                e.starts_with(expected),
+                "{e} does not start with {expected}"
+            );
+            let streamed = Mission::from_json(&v.to_string()).unwrap_err().to_string();
+            assert_eq!(streamed, e, "parsed from text");
+        }
+        // Null is absence for optional fields.
+        let mut v = small();
+        v["motion_error"] = Value::Null;
+        v["truth"] = Value::Null;
+        assert_eq!(
+            Mission::from_json(&v.to_string()).unwrap(),
+            Mission::from_value(&small()).unwrap()
+        );
+        // Invalid JSON: serde_json's own message.
+        for text in ["{", "{\"steps\": 1,}", "[1, 2] x", ""] {
+            let want = serde_json::from_str::<Value>(text).unwrap_err();
+            assert_eq!(
+                Mission::from_json(text).unwrap_err().to_string(),
+                format!("invalid JSON: {want}")
+            );
+        }
+    }
+
+    #[test]
+    fn streamed_missions_equal_parsed_values() {
+        use crate::slam::simulate::{simulate, Scenario, SimulateOptions};
+        for (scenario, seed, operator, false_detections) in [
+            (Scenario::Paper, 1, false, 0),
+            (Scenario::Paper, 2, true, 0),
+            (Scenario::Paper, 3, false, 3),
+            (Scenario::Auv, 4, true, 0),
+        ] {
+            let mut o = SimulateOptions::new(scenario, seed);
+            o.steps = Some(800);
+            o.operator = operator;
+            o.false_detections = false_detections;
+            let v = simulate(&o);
+            let m = Mission::from_value(&v).unwrap();
+            assert_eq!(Mission::from_json(&v.to_string()).unwrap(), m);
+            assert_eq!(m.truth.as_ref().unwrap().positions.len(), 801);
+            // Through its own JSON again (inputs as lo/hi arrays).
+            assert_eq!(Mission::from_json(&m.to_value().to_string()).unwrap(), m);
         }
     }
 }

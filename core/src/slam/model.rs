@@ -97,6 +97,28 @@ impl Model {
         IntervalBox::new(&self.pos[i * self.dim..(i + 1) * self.dim])
     }
 
+    /// Largest diameter of the trajectory boxes: the first value of
+    /// [`Model::trajectory_diameters`], bit for bit, in one pass that
+    /// rounds only the widths that can be the largest. O(N·d).
+    pub fn max_trajectory_diameter(&self) -> f64 {
+        // Widths rounded to nearest order the exact widths weakly (rounding
+        // is monotone), and the rounded-up width is monotone too: the
+        // largest rounded-up width is among the axes whose nearest width is
+        // the largest. Empty axes give a negative width (0 in the result);
+        // unbounded ones +inf (never NaN: lo < +inf and hi > -inf).
+        let mut near = 0.0f64;
+        let mut best = 0.0f64;
+        for x in &self.pos {
+            let w = x.hi() - x.lo();
+            if w >= near {
+                let up = x.width();
+                best = if w > near { up } else { best.max(up) };
+                near = w;
+            }
+        }
+        best
+    }
+
     /// Largest and mean diameter of the trajectory boxes.
     pub fn trajectory_diameters(&self) -> (f64, f64) {
         let mut max = 0.0f64;
@@ -110,5 +132,56 @@ impl Model {
             sum += w;
         }
         (max, sum / (self.steps + 1) as f64)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The one-pass maximum gives the bits of `trajectory_diameters` on
+    /// positions with equal, nearly equal, unbounded, empty and degenerate
+    /// widths.
+    #[test]
+    fn max_trajectory_diameter_is_the_same_bits() {
+        let mission = Mission::from_value(&serde_json::json!({
+            "format": "nvector-mission/1",
+            "model": "unicycle2d",
+            "dt": 1.0,
+            "steps": 1,
+            "initial_position": [[0, 0], [0, 0]],
+            "inputs": {"speed": {"value": [1.0], "error": 0}, "heading": {"value": [0.0], "error": 0}},
+            "detections": []
+        }))
+        .unwrap();
+        let mut rng = crate::test_rng::Lcg::new(12);
+        for case in 0..2000 {
+            let dim = 2 + case % 2;
+            let steps = 1 + (rng.bits() % 40) as usize;
+            let pos: Vec<Interval> = (0..(steps + 1) * dim)
+                .map(|_| {
+                    let lo = match rng.bits() % 4 {
+                        0 => 0.1,
+                        1 => 1e16 + (rng.bits() % 4) as f64,
+                        _ => (rng.bits() % 1000) as f64 * 0.37 - 100.0,
+                    };
+                    match rng.bits() % 10 {
+                        0 => Interval::EMPTY,
+                        1 => Interval::new(f64::NEG_INFINITY, lo),
+                        2 => Interval::point(lo),
+                        3 => Interval::new(lo, lo + 0.3),
+                        _ => Interval::new(lo, lo + (rng.bits() % 5) as f64 * 0.1 + 0.2),
+                    }
+                })
+                .collect();
+            let mut model = Model::new(&mission);
+            (model.dim, model.steps, model.pos) = (dim, steps, pos);
+            let (max, _) = model.trajectory_diameters();
+            assert_eq!(
+                model.max_trajectory_diameter().to_bits(),
+                max.to_bits(),
+                "case {case}"
+            );
+        }
     }
 }

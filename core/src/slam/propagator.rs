@@ -306,7 +306,7 @@ impl<'a> Propagation<'a> {
     /// Dead reckoning, then rounds to the fixpoint.
     fn run(&mut self) -> Result<(), Halt> {
         self.dead_reckoning()?;
-        let (d0, _) = self.model.trajectory_diameters();
+        let d0 = self.model.max_trajectory_diameter();
         self.report.initial_max_trajectory_diameter = d0;
         self.report.max_trajectory_diameter = d0;
         // Before the first round ends, it is taken as half the job; a pass
@@ -591,7 +591,7 @@ impl<'a> Propagation<'a> {
         };
         self.last_round_work = work;
         self.estimated_total = self.contractions as f64 + work as f64 * r / (1.0 - r);
-        let (max_d, _) = self.model.trajectory_diameters();
+        let max_d = self.model.max_trajectory_diameter();
         self.report.max_trajectory_diameter = max_d;
         self.report.moving = moving;
         self.report.detections_done = self.mission.detections.len();
