@@ -230,8 +230,10 @@ def run(
 
     elif callable(progress):
         callback = progress
-    else:
+    elif progress is False or progress is None:
         callback = None
+    else:
+        raise TypeError(f"progress must be True, False or a callable, not {type(progress).__name__}")
     file = None
     source: Any = mission
     if isinstance(mission, (str, os.PathLike)):

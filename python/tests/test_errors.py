@@ -103,6 +103,8 @@ def test_bad_run_options(mission: dict) -> None:
     assert info.value.path == "tolerance"
     with pytest.raises(OverflowError):
         nvector.run(mission, max_rounds=-1)
+    with pytest.raises(TypeError, match="progress"):
+        nvector.run(mission, progress=5)  # type: ignore[arg-type]
     with pytest.raises(nvector.InputError, match="expected an object") as info:
         nvector.run(42)  # type: ignore[arg-type]
     assert info.value.path == ""
