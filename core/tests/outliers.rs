@@ -112,6 +112,13 @@ fn check_truth(p: &Planted, s: &Solution) -> Result<(), String> {
             ));
         }
     }
+    for (g, b) in s.matching.iter().zip(s.landmarks()) {
+        if let Some(l) = g.iter().find_map(|&j| p.truth_of[j]) {
+            if !b.contains(&p.landmarks[l]) {
+                return Err(format!("group {g:?}: landmark {l} not in {b:?}"));
+            }
+        }
+    }
     for (j, l) in p.truth_of.iter().enumerate() {
         if let Some(l) = l {
             if !s.model.det[j].contains(&p.landmarks[*l]) {
@@ -246,4 +253,73 @@ fn a_detection_that_reaches_no_landmark_is_proved_false() {
         }
         other => panic!("expected infeasible, got {other:?}"),
     }
+}
+
+fn solve_json(v: &serde_json::Value, association: Association) -> serde_json::Value {
+    let m = Mission::from_value(v).expect("valid mission");
+    let options = SolveOptions {
+        association,
+        ..SolveOptions::default()
+    };
+    nvector_core::slam::propagator::solve(&m, &options, &mut |_| {}, &AtomicBool::new(false))
+}
+
+#[test]
+fn simulated_false_detections_with_max_outliers_keep_the_truth() {
+    use nvector_core::nvector::Mode;
+    use nvector_core::slam::simulate::Layout;
+    for (seed, layout) in [(1, Layout::Line), (2, Layout::Ring), (3, Layout::Random)] {
+        for operator in [false, true] {
+            let mut o = SimulateOptions::new(Scenario::Paper, seed);
+            o.steps = Some(3000);
+            o.layout = layout;
+            o.operator = operator;
+            o.false_detections = 3;
+            let v = simulate(&o);
+            assert_eq!(v["max_outliers"], 3);
+            for assoc in [Association::None, Association::NVector(Mode::Best)] {
+                let r = solve_json(&v, assoc);
+                let what = format!("seed {seed} {layout:?} operator {operator} {assoc:?}");
+                assert_eq!(r["status"], "consistent", "{what}: {}", r["reason"]);
+                assert_eq!(r["score"]["truth_inside"], true, "{what}");
+                assert_eq!(r["score"]["matching_errors"], 0, "{what}");
+            }
+        }
+    }
+}
+
+#[test]
+fn max_outliers_zero_changes_nothing() {
+    let mut o = SimulateOptions::new(Scenario::Paper, 6);
+    o.steps = Some(2000);
+    let mut v = simulate(&o);
+    let without = solve_json(&v, Association::NVector(nvector_core::nvector::Mode::Best));
+    v["max_outliers"] = json!(0);
+    let with = solve_json(&v, Association::NVector(nvector_core::nvector::Mode::Best));
+    assert_eq!(without, with);
+}
+
+#[test]
+fn an_infeasible_result_names_the_detections_to_check() {
+    let mut o = SimulateOptions::new(Scenario::Paper, 21);
+    o.steps = Some(3000);
+    o.operator = true;
+    let mut v = simulate(&o);
+    let r = v["detections"][5]["range"].clone();
+    let (lo, hi) = (r[0].as_f64().unwrap(), r[1].as_f64().unwrap());
+    v["detections"][5]["range"] = json!([lo + 8.0, hi + 8.0]);
+    let r = solve_json(&v, Association::None);
+    assert_eq!(r["status"], "infeasible");
+    let reason = r["reason"].as_str().unwrap();
+    assert!(
+        reason.contains("removing detections [5] makes the mission consistent"),
+        "{reason}"
+    );
+    // Allowed one false detection, the same mission is consistent and the
+    // truth (of the 5 others) is inside.
+    v["max_outliers"] = json!(1);
+    v["truth"]["matching"][5] = serde_json::Value::Null;
+    let r = solve_json(&v, Association::None);
+    assert_eq!(r["status"], "consistent", "{}", r["reason"]);
+    assert_eq!(r["score"]["truth_inside"], true);
 }

@@ -30,7 +30,7 @@
 //! work (then the answer is a correction set that may not be minimal).
 
 use super::mission::Mission;
-use super::propagator::{solve_model, SolveOptions};
+use super::propagator::{propagate, SolveOptions};
 use super::result::SolveStatus;
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -71,7 +71,9 @@ pub fn minimal_correction(
             .collect();
         sub.detection_count = sub.detections.len();
         sub.truth = None;
-        let s = solve_model(&sub, options, &mut |_| {}, cancel);
+        // Consistency of the detections themselves: no outlier allowed.
+        sub.max_outliers = 0;
+        let s = propagate(&sub, options, &mut |_| {}, cancel);
         Some(!matches!(s.status, SolveStatus::Infeasible(_)))
     };
     if !consistent(&[])? {

@@ -23,6 +23,10 @@ pub struct Model {
     /// Heading (unicycle2d) or yaw (auv3d) at each detection's step, for the
     /// bearing constraint.
     pub heading_at: Vec<Interval>,
+    /// At most this many detections may be false (the mission's
+    /// `max_outliers`): a group's landmark box is then the q-relaxed
+    /// intersection of its members' boxes.
+    pub max_outliers: usize,
 }
 
 impl Model {
@@ -89,6 +93,7 @@ impl Model {
             pos,
             det,
             heading_at,
+            max_outliers: m.max_outliers,
         }
     }
 

@@ -186,10 +186,13 @@ fn own(
     (ok && !p.is_empty() && !d.is_empty()).then_some((p, d))
 }
 
-/// The q-relaxed intersection of boxes, per axis: on each axis the
-/// (q+1)-th largest lower bound and (q+1)-th smallest upper bound (entire
-/// when fewer than q+1 boxes).
-fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> IntervalBox {
+/// The q-relaxed intersection of boxes (the points lying in all but at
+/// most q of them), enclosed per axis: on each axis the (q+1)-th largest
+/// lower bound and the (q+1)-th smallest upper bound (entire when there
+/// are at most q boxes). Tightness: on each axis, exactly the q-relaxed
+/// intersection of the projections (which encloses that of the boxes).
+/// O(m log m · d).
+pub fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> IntervalBox {
     let mut out = IntervalBox::entire(dim);
     if boxes.len() <= q {
         return out;
@@ -445,6 +448,7 @@ pub fn solve_robust(
     cancel: &AtomicBool,
 ) -> Solution {
     let mut model = Model::new(mission);
+    model.max_outliers = q;
     let k = mission.detections.len();
     let dim = model.dim;
     let tol = options.tolerance.max(0.0);

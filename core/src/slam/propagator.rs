@@ -62,6 +62,7 @@
 //! trajectory and landmarks stay inside.
 
 use super::bearing::contract_bearing;
+use super::diagnose::minimal_correction;
 use super::distance::contract_distance;
 use super::mission::Mission;
 use super::model::Model;
@@ -621,6 +622,46 @@ pub fn solve_model(
     progress: &mut dyn FnMut(&Progress),
     cancel: &AtomicBool,
 ) -> Solution {
+    let mut solution = propagate(mission, options, progress, cancel);
+    if let SolveStatus::Infeasible(reason) = &mut solution.status {
+        // Name the detections to check (DESIGN.md, "False detections";
+        // spec: a minimal set whose removal makes the mission consistent).
+        if let Some(c) = minimal_correction(mission, options, cancel, DIAGNOSIS_TESTS) {
+            let what = if c.minimal {
+                "a minimal set"
+            } else {
+                "a set (not proved minimal: the diagnosis budget ran out)"
+            };
+            reason.push_str(&format!(
+                "; removing detections {:?} makes the mission consistent ({what}, found in {} propagations)",
+                c.detections, c.tests
+            ));
+        }
+    }
+    solution
+}
+
+/// Most propagations the diagnosis of an infeasible mission may run.
+const DIAGNOSIS_TESTS: usize = 64;
+
+/// The fixpoint alone, without the diagnosis of an infeasible result:
+/// the robust propagation ([`super::outliers`]) when the mission allows
+/// false detections, else the rounds of this module.
+pub fn propagate(
+    mission: &Mission,
+    options: &SolveOptions,
+    progress: &mut dyn FnMut(&Progress),
+    cancel: &AtomicBool,
+) -> Solution {
+    if mission.max_outliers > 0 {
+        return super::outliers::solve_robust(
+            mission,
+            mission.max_outliers,
+            options,
+            progress,
+            cancel,
+        );
+    }
     let mut p = Propagation::new(mission, options, progress, cancel);
     let status = match p.run() {
         Ok(()) => SolveStatus::Consistent,

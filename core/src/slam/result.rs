@@ -3,6 +3,7 @@
 
 use super::mission::Mission;
 use super::model::Model;
+use super::outliers::relaxed_intersection;
 use super::propagator::SolveOptions;
 use crate::ibox::IntervalBox;
 use crate::json::box_to_json;
@@ -35,12 +36,24 @@ pub struct Solution {
 }
 
 impl Solution {
-    /// One box per matching group (the common intersection), in the order
-    /// of `matching`.
+    /// One box per matching group, in the order of `matching`: the common
+    /// intersection of its members' boxes; with false detections allowed
+    /// (q = `max_outliers` > 0), the q-relaxed intersection of the boxes of
+    /// the members not proved false (a sub-mission may drop up to q of
+    /// them; see [`super::outliers`]).
     pub fn landmarks(&self) -> Vec<IntervalBox> {
+        let q = self.model.max_outliers;
         self.matching
             .iter()
             .map(|g| {
+                if q > 0 {
+                    let members: Vec<&IntervalBox> = g
+                        .iter()
+                        .map(|&j| &self.model.det[j])
+                        .filter(|b| !b.is_empty())
+                        .collect();
+                    return relaxed_intersection(&members, q, self.model.dim);
+                }
                 let mut b = self.model.det[g[0]].clone();
                 for &j in &g[1..] {
                     b.intersect_with(&self.model.det[j]);
