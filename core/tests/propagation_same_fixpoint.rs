@@ -1,4 +1,4 @@
-//! The propagator of issue 12 (a forward and a backward pass per round,
+//! The propagator of issue 12 (`propagate`: a forward and a backward pass per round,
 //! sweeping only what changed) against the one before it (each detection
 //! swept on its own), kept as a reference in `propagation_reference/`: on
 //! random simulated missions (paper and AUV scenarios, landmark layouts,
@@ -12,7 +12,7 @@ mod propagation_reference;
 
 use nvector_core::nvector::Mode;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve_model, Association, SolveOptions};
+use nvector_core::slam::propagator::{propagate, Association, SolveOptions};
 use nvector_core::slam::result::{score, Solution, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
 use nvector_core::Interval;
@@ -87,7 +87,7 @@ fn compare(mission: &Mission, what: &str, slack: f64, stats: &mut Stats) -> f64 
             ..SolveOptions::default()
         };
         let cancel = AtomicBool::new(false);
-        let new = solve_model(mission, &options, &mut |_| {}, &cancel);
+        let new = propagate(mission, &options, &mut |_| {}, &cancel);
         let old = reference_solve(mission, &options, &cancel);
         let name = association.name();
         assert!(
@@ -215,7 +215,7 @@ fn infeasible_missions_stay_infeasible() {
                 ..SolveOptions::default()
             };
             let cancel = AtomicBool::new(false);
-            let new = solve_model(&mission, &options, &mut |_| {}, &cancel);
+            let new = propagate(&mission, &options, &mut |_| {}, &cancel);
             let old = reference_solve(&mission, &options, &cancel);
             assert!(
                 same_status(&new.status, &old.status),

@@ -6,8 +6,10 @@ use super::model::Model;
 use super::outliers::relaxed_intersection;
 use super::propagator::SolveOptions;
 use crate::ibox::IntervalBox;
-use crate::json::box_to_json;
-use serde_json::{json, Map, Value};
+use crate::interval::Interval;
+use serde::ser::{SerializeMap, Serializer};
+use serde::Serialize;
+use serde_json::Value;
 
 /// How propagation ended.
 #[derive(Debug, Clone, PartialEq)]
@@ -114,77 +116,327 @@ pub fn score(mission: &Mission, s: &Solution) -> Option<(bool, usize, f64)> {
     Some((inside, errors, recall))
 }
 
-fn finite_or_inf(x: f64) -> Value {
-    if x.is_finite() {
-        json!(x)
-    } else {
-        json!("inf")
+/// The result JSON (`metrics.elapsed_ms` = 0; the caller measures time).
+pub fn result_json(mission: &Mission, options: &SolveOptions, s: &Solution) -> Value {
+    // Serializing a view only fails for non-string keys, which it has none
+    // of.
+    serde_json::to_value(ResultView::new(mission, options, s, 0.0)).unwrap_or(Value::Null)
+}
+
+/// Writes the result JSON to `w` without building it in memory (a 10^6-step
+/// trajectory as a `Value` takes hundreds of megabytes): the same bytes as
+/// `serde_json::to_writer(w, &result_json(..))` with `metrics.elapsed_ms`
+/// set to `elapsed_ms`.
+pub fn write_result<W: std::io::Write>(
+    w: W,
+    mission: &Mission,
+    options: &SolveOptions,
+    s: &Solution,
+    elapsed_ms: f64,
+) -> std::io::Result<()> {
+    serde_json::to_writer(w, &ResultView::new(mission, options, s, elapsed_ms))
+        .map_err(std::io::Error::from)
+}
+
+/// `nvector-result/1` of a solution, serialized field by field (keys in
+/// sorted order, as a serde_json map iterates, so both ways give the same
+/// bytes).
+struct ResultView<'a> {
+    mission: &'a Mission,
+    options: &'a SolveOptions,
+    s: &'a Solution,
+    elapsed_ms: f64,
+}
+
+impl<'a> ResultView<'a> {
+    fn new(
+        mission: &'a Mission,
+        options: &'a SolveOptions,
+        s: &'a Solution,
+        elapsed_ms: f64,
+    ) -> ResultView<'a> {
+        ResultView {
+            mission,
+            options,
+            s,
+            elapsed_ms,
+        }
     }
 }
 
-/// The result JSON (`metrics.elapsed_ms` = 0; the caller measures time).
-pub fn result_json(mission: &Mission, options: &SolveOptions, s: &Solution) -> Value {
-    let m = &s.model;
-    let mut o = Map::new();
-    o.insert("format".into(), "nvector-result/1".into());
-    o.insert("mission".into(), mission.name.clone().into());
-    let status = match &s.status {
-        SolveStatus::Consistent => "consistent",
-        SolveStatus::Infeasible(_) => "infeasible",
-        SolveStatus::Stopped => "stopped",
-    };
-    o.insert("status".into(), status.into());
-    if let SolveStatus::Infeasible(r) = &s.status {
-        o.insert("reason".into(), r.clone().into());
+/// A bound: a number, or `"inf"` / `"-inf"` ([`crate::json::bound_to_json`]).
+struct Bound(f64);
+
+impl Serialize for Bound {
+    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        if self.0.is_finite() {
+            ser.serialize_f64(self.0)
+        } else if self.0 > 0.0 {
+            ser.serialize_str("inf")
+        } else {
+            ser.serialize_str("-inf")
+        }
     }
-    o.insert(
-        "options".into(),
-        json!({
-            "contractor": options.association.name(),
-            "max_rounds": options.max_rounds,
-            "tolerance": options.tolerance,
-        }),
-    );
-    let trajectory: Vec<Value> = (0..=m.steps).map(|i| box_to_json(&m.position(i))).collect();
-    o.insert("trajectory".into(), Value::Array(trajectory));
-    o.insert(
-        "detections".into(),
-        Value::Array(m.det.iter().map(box_to_json).collect()),
-    );
-    o.insert(
-        "landmarks".into(),
-        Value::Array(s.landmarks().iter().map(box_to_json).collect()),
-    );
-    o.insert("matching".into(), json!(s.matching));
-    let (max_d, mean_d) = m.trajectory_diameters();
-    let max_det = m.det.iter().map(|b| b.diameter()).fold(0.0, f64::max);
-    let matched: usize = s.matching.iter().map(|g| g.len()).sum();
-    o.insert(
-        "metrics".into(),
-        json!({
-            "max_trajectory_diameter": finite_or_inf(max_d),
-            "mean_trajectory_diameter": finite_or_inf(mean_d),
-            "max_detection_diameter": finite_or_inf(max_det),
-            "matched_detections": matched,
-            "rounds": s.rounds,
-            "contractions": s.contractions,
-            "elapsed_ms": 0.0,
-        }),
-    );
-    if let Some((inside, errors, recall)) = score(mission, s) {
-        o.insert(
-            "score".into(),
-            json!({"truth_inside": inside, "matching_errors": errors, "matching_recall": recall}),
-        );
+}
+
+/// A box: an array of `[lo, hi]`, or `"empty"` ([`crate::json::box_to_json`]).
+struct BoxView<'a>(&'a [Interval]);
+
+impl Serialize for BoxView<'_> {
+    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        if self.0.iter().any(|x| x.is_empty()) {
+            return ser.serialize_str("empty");
+        }
+        ser.collect_seq(self.0.iter().map(|x| [Bound(x.lo()), Bound(x.hi())]))
     }
-    Value::Object(o)
+}
+
+/// A diameter: a number, or `"inf"` when unbounded.
+struct Diameter(f64);
+
+impl Serialize for Diameter {
+    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        if self.0.is_finite() {
+            ser.serialize_f64(self.0)
+        } else {
+            ser.serialize_str("inf")
+        }
+    }
+}
+
+impl Serialize for ResultView<'_> {
+    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        let (s, m) = (self.s, &self.s.model);
+        let dim = m.dim;
+        let mut o = ser.serialize_map(None)?;
+        o.serialize_entry("detections", &Seq(m.det.iter().map(|b| BoxView(b.axes()))))?;
+        o.serialize_entry("format", "nvector-result/1")?;
+        let landmarks = s.landmarks();
+        o.serialize_entry(
+            "landmarks",
+            &Seq(landmarks.iter().map(|b| BoxView(b.axes()))),
+        )?;
+        o.serialize_entry("matching", &s.matching)?;
+        let (max_d, mean_d) = m.trajectory_diameters();
+        let max_det = m.det.iter().map(|b| b.diameter()).fold(0.0, f64::max);
+        let matched: usize = s.matching.iter().map(|g| g.len()).sum();
+        o.serialize_entry(
+            "metrics",
+            &Metrics {
+                contractions: s.contractions,
+                elapsed_ms: self.elapsed_ms,
+                matched_detections: matched,
+                max_detection_diameter: Diameter(max_det),
+                max_trajectory_diameter: Diameter(max_d),
+                mean_trajectory_diameter: Diameter(mean_d),
+                rounds: s.rounds,
+            },
+        )?;
+        o.serialize_entry("mission", &self.mission.name)?;
+        o.serialize_entry(
+            "options",
+            &Options {
+                contractor: self.options.association.name(),
+                max_rounds: self.options.max_rounds,
+                tolerance: self.options.tolerance,
+            },
+        )?;
+        if let SolveStatus::Infeasible(r) = &s.status {
+            o.serialize_entry("reason", r)?;
+        }
+        if let Some((inside, errors, recall)) = score(self.mission, s) {
+            o.serialize_entry(
+                "score",
+                &Score {
+                    matching_errors: errors,
+                    matching_recall: recall,
+                    truth_inside: inside,
+                },
+            )?;
+        }
+        let status = match &s.status {
+            SolveStatus::Consistent => "consistent",
+            SolveStatus::Infeasible(_) => "infeasible",
+            SolveStatus::Stopped => "stopped",
+        };
+        o.serialize_entry("status", status)?;
+        o.serialize_entry(
+            "trajectory",
+            &Seq(m.pos.chunks_exact(dim.max(1)).map(BoxView)),
+        )?;
+        o.end()
+    }
+}
+
+/// An iterator serialized as an array (once).
+struct Seq<I>(I);
+
+impl<I: Iterator<Item = T> + Clone, T: Serialize> Serialize for Seq<I> {
+    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        ser.collect_seq(self.0.clone())
+    }
+}
+
+/// `metrics`, fields in sorted order.
+#[derive(Serialize)]
+struct Metrics {
+    contractions: u64,
+    elapsed_ms: f64,
+    matched_detections: usize,
+    max_detection_diameter: Diameter,
+    max_trajectory_diameter: Diameter,
+    mean_trajectory_diameter: Diameter,
+    rounds: u32,
+}
+
+/// `options`, fields in sorted order.
+#[derive(Serialize)]
+struct Options {
+    contractor: &'static str,
+    max_rounds: u32,
+    tolerance: f64,
+}
+
+/// `score`, fields in sorted order.
+#[derive(Serialize)]
+struct Score {
+    matching_errors: usize,
+    matching_recall: f64,
+    truth_inside: bool,
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::json::box_to_json;
     use crate::slam::mission::Mission;
-    use serde_json::json;
+    use serde_json::{json, Map};
+
+    /// The Value-building code the view replaced, kept to check the bytes.
+    fn reference_result_json(mission: &Mission, options: &SolveOptions, s: &Solution) -> Value {
+        let m = &s.model;
+        let mut o = Map::new();
+        o.insert("format".into(), "nvector-result/1".into());
+        o.insert("mission".into(), mission.name.clone().into());
+        let status = match &s.status {
+            SolveStatus::Consistent => "consistent",
+            SolveStatus::Infeasible(_) => "infeasible",
+            SolveStatus::Stopped => "stopped",
+        };
+        o.insert("status".into(), status.into());
+        if let SolveStatus::Infeasible(r) = &s.status {
+            o.insert("reason".into(), r.clone().into());
+        }
+        o.insert(
+            "options".into(),
+            json!({
+                "contractor": options.association.name(),
+                "max_rounds": options.max_rounds,
+                "tolerance": options.tolerance,
+            }),
+        );
+        let trajectory: Vec<Value> = (0..=m.steps).map(|i| box_to_json(&m.position(i))).collect();
+        o.insert("trajectory".into(), Value::Array(trajectory));
+        o.insert(
+            "detections".into(),
+            Value::Array(m.det.iter().map(box_to_json).collect()),
+        );
+        o.insert(
+            "landmarks".into(),
+            Value::Array(s.landmarks().iter().map(box_to_json).collect()),
+        );
+        o.insert("matching".into(), json!(s.matching));
+        let (max_d, mean_d) = m.trajectory_diameters();
+        let max_det = m.det.iter().map(|b| b.diameter()).fold(0.0, f64::max);
+        let matched: usize = s.matching.iter().map(|g| g.len()).sum();
+        o.insert(
+            "metrics".into(),
+            json!({
+                "max_trajectory_diameter": finite_or_inf(max_d),
+                "mean_trajectory_diameter": finite_or_inf(mean_d),
+                "max_detection_diameter": finite_or_inf(max_det),
+                "matched_detections": matched,
+                "rounds": s.rounds,
+                "contractions": s.contractions,
+                "elapsed_ms": 0.0,
+            }),
+        );
+        if let Some((inside, errors, recall)) = score(mission, s) {
+            o.insert(
+                "score".into(),
+                json!({"truth_inside": inside, "matching_errors": errors, "matching_recall": recall}),
+            );
+        }
+        Value::Object(o)
+    }
+
+    fn finite_or_inf(x: f64) -> Value {
+        if x.is_finite() {
+            json!(x)
+        } else {
+            json!("inf")
+        }
+    }
+
+    /// The streamed writer gives the bytes of the former code that built
+    /// the result as a `Value` (keys, numbers, "inf", "empty" alike), for
+    /// consistent, infeasible and stopped solutions, with and without truth.
+    #[test]
+    fn streamed_result_is_the_former_bytes() {
+        use crate::slam::propagator::{solve_model, Association, SolveOptions};
+        use crate::slam::simulate::{simulate, Scenario, SimulateOptions};
+        use std::sync::atomic::AtomicBool;
+        for (scenario, seed, operator, max_rounds) in [
+            (Scenario::Paper, 1, false, 10_000),
+            (Scenario::Paper, 2, true, 1),
+            (Scenario::Auv, 3, true, 10_000),
+        ] {
+            let mut o = SimulateOptions::new(scenario, seed);
+            o.steps = Some(700);
+            o.operator = operator;
+            let mut v = simulate(&o);
+            if seed == 2 {
+                v.as_object_mut().unwrap().remove("truth");
+            }
+            for infeasible in [false, true] {
+                if infeasible {
+                    v["detections"][0]["range"] = json!([1e5, 1e5 + 1.0]);
+                }
+                let m = Mission::from_value(&v).unwrap();
+                for association in [
+                    Association::None,
+                    Association::NVector(crate::nvector::Mode::Best),
+                ] {
+                    let options = SolveOptions {
+                        association,
+                        max_rounds,
+                        ..SolveOptions::default()
+                    };
+                    let s = solve_model(&m, &options, &mut |_| {}, &AtomicBool::new(false));
+                    let mut want = reference_result_json(&m, &options, &s);
+                    want["metrics"]["elapsed_ms"] = json!(12.5);
+                    let mut got = Vec::new();
+                    write_result(&mut got, &m, &options, &s, 12.5).unwrap();
+                    assert_eq!(String::from_utf8(got).unwrap(), want.to_string());
+                    want["metrics"]["elapsed_ms"] = json!(0.0);
+                    assert_eq!(result_json(&m, &options, &s), want);
+                }
+            }
+        }
+        // Unbounded and empty boxes.
+        let m = mission();
+        let mut s = solution(&m, vec![vec![0, 1]]);
+        s.model.pos[1] = crate::Interval::new(f64::NEG_INFINITY, 2.0);
+        s.model.det[2] = IntervalBox::empty(2);
+        s.model.pos[3] = crate::Interval::EMPTY;
+        let options = SolveOptions::default();
+        let mut got = Vec::new();
+        write_result(&mut got, &m, &options, &s, 0.0).unwrap();
+        assert_eq!(
+            String::from_utf8(got).unwrap(),
+            reference_result_json(&m, &options, &s).to_string()
+        );
+    }
 
     /// Three detections of one landmark at (2, 2) by truth, the third a
     /// false detection (`null`), scored against hand-made solutions.
@@ -202,7 +454,6 @@ mod tests {
                 {"step": 1, "range": [5, 6]}
             ],
             "landmark_count": 1,
-            "max_outliers": 1,
             "truth": {"positions": [[0, 0], [0, 0]], "landmarks": [[2, 2]], "matching": [0, 0, null]}
         }))
         .unwrap()
