@@ -8,13 +8,17 @@
 //!   grid (all corners are integers, so every cell of the arrangement has a
 //!   grid point) — independent of the branch and bound under test.
 //! - Ordering: exact ⊆ every mode ⊆ nvalue, independent ⊆ projection.
+//! - Signed zeros and bounds spreading over f64::MAX keep planted solutions.
+//! - `exact` under a node budget: the exact answer or a sound error.
 //!
 //! Case count: `NVECTOR_PROPTEST_CASES` (default 3000).
 
 // Index loops compare several parallel vectors of boxes: clearer as ranges.
 #![allow(clippy::needless_range_loop)]
 
-use nvector_core::nvector::{atmost_nvector, Mode, Status};
+use nvector_core::nvector::contract::ContractError;
+use nvector_core::nvector::hitting_set::{Limits, WorkLimit};
+use nvector_core::nvector::{atmost_nvector, atmost_nvector_with, Mode, Status};
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 
@@ -417,6 +421,35 @@ proptest! {
     fn planted_solution_survives_signed_zeros_and_overflowing_ranges(p in planted_extreme(7)) {
         for mode in MODES {
             check_sound(&p, mode)?;
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(config(6))]
+
+    /// `exact` under a small node budget either finishes with the same
+    /// boxes as without one, or answers the work-limit error with boxes
+    /// that still hold the planted solution (what the polynomial passes
+    /// proved) and enclose the exact answer.
+    #[test]
+    fn exact_under_a_budget_is_exact_or_a_sound_error(p in planted(7, false), budget in 0u64..3000) {
+        let mut full = p.boxes.clone();
+        let full_out = atmost_nvector(p.n, &mut full, Mode::Exact).unwrap();
+        let mut b = p.boxes.clone();
+        let limits = Limits { node_budget: budget, ..Limits::default() };
+        match atmost_nvector_with(p.n, &mut b, Mode::Exact, &limits) {
+            Ok(out) => {
+                prop_assert_eq!(&b, &full);
+                prop_assert_eq!(out, full_out);
+            }
+            Err(e) => {
+                prop_assert_eq!(e, ContractError::Limit(WorkLimit::NodeBudget(budget)));
+                for (i, x) in b.iter().enumerate() {
+                    prop_assert!(x.contains(&p.points[p.owner[i]]), "box {} lost its planted point", i);
+                    prop_assert!(full[i].is_subset(x) && x.is_subset(&p.boxes[i]));
+                }
+            }
         }
     }
 }

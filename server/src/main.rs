@@ -26,6 +26,10 @@ enum Command {
         /// nvalue, projection, independent, exact or best (overrides the request).
         #[arg(long, value_parser = cli::contract::parse_mode)]
         contractor: Option<nvector_core::nvector::Mode>,
+        /// Most search nodes of the exact contractor (default 16000000);
+        /// out of them, exit 1 naming the limit.
+        #[arg(long)]
+        node_budget: Option<u64>,
     },
     /// A simulated mission with truth.
     Simulate(cli::simulate::Args),
@@ -74,7 +78,10 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Serve(a) => cli::serve::run(a),
         Command::Run(a) => cli::run::run(a),
-        Command::Contract { contractor } => cli::contract::run(contractor),
+        Command::Contract {
+            contractor,
+            node_budget,
+        } => cli::contract::run(contractor, node_budget),
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Import(a) => cli::import::run(a),
         Command::Plot(a) => cli::plot::run(a),

@@ -2,7 +2,8 @@
 //! response of spec/formats.md, shared by `nvector contract`,
 //! `POST /api/v1/contract` and the browser.
 
-use super::{atmost_nvector, Mode, Outcome, Status};
+use super::hitting_set::{Limits, WorkLimit};
+use super::{atmost_nvector_with, Mode, Outcome, Status};
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::json;
@@ -12,6 +13,80 @@ use serde_json::{json, Map, Value};
 pub const REQUEST_FORMAT: &str = "nvector-contract/1";
 /// Format tag of a response.
 pub const RESPONSE_FORMAT: &str = "nvector-contract-result/1";
+
+/// Why a contraction gave no response: bad input, or `exact` out of its
+/// work limits. The service answers both with HTTP 422 and the spec's error
+/// body, under the codes of [`ContractError::code`]; the CLI exits 1 with
+/// the message.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ContractError {
+    /// The request is invalid (the JSON path says where).
+    Input(InputError),
+    /// The exact contractor ran out of its node budget or was cancelled.
+    Limit(WorkLimit),
+}
+
+impl ContractError {
+    /// The error code of the spec's error body: `"invalid_request"` or
+    /// `"work_limit"`.
+    pub fn code(&self) -> &'static str {
+        match self {
+            ContractError::Input(_) => "invalid_request",
+            ContractError::Limit(_) => "work_limit",
+        }
+    }
+
+    /// The JSON path of the offending value (`""` for a work limit: the
+    /// request as a whole).
+    pub fn path(&self) -> &str {
+        match self {
+            ContractError::Input(e) => &e.path,
+            ContractError::Limit(_) => "",
+        }
+    }
+
+    /// What went wrong, without the path.
+    pub fn message(&self) -> String {
+        match self {
+            ContractError::Input(e) => e.message.clone(),
+            ContractError::Limit(l) => l.to_string(),
+        }
+    }
+}
+
+impl std::fmt::Display for ContractError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ContractError::Input(e) => e.fmt(f),
+            ContractError::Limit(l) => l.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for ContractError {}
+
+impl From<InputError> for ContractError {
+    fn from(e: InputError) -> Self {
+        ContractError::Input(e)
+    }
+}
+
+impl From<WorkLimit> for ContractError {
+    fn from(e: WorkLimit) -> Self {
+        ContractError::Limit(e)
+    }
+}
+
+/// For the callers that know one error type: a work limit becomes an
+/// `InputError` of the whole request (path `""`) naming the limit.
+impl From<ContractError> for InputError {
+    fn from(e: ContractError) -> Self {
+        match e {
+            ContractError::Input(e) => e,
+            ContractError::Limit(l) => InputError::new("", l.to_string()),
+        }
+    }
+}
 
 /// A validated contraction request.
 #[derive(Debug, Clone)]
@@ -89,7 +164,10 @@ impl ContractRequest {
 }
 
 /// The response JSON for a contraction outcome (`elapsed_us` = 0: core has
-/// no clock; callers overwrite `stats.elapsed_us`).
+/// no clock; callers overwrite `stats.elapsed_us`). `stats.stopped` is
+/// present, `true`, only when the fixpoint stopped at its round cap
+/// ([`super::MAX_ROUNDS`]) with work pending: the boxes are sound, another
+/// request on them may contract further.
 pub fn response_json(boxes: &[IntervalBox], outcome: &Outcome) -> Value {
     let mut out = Map::new();
     out.insert("format".into(), Value::from(RESPONSE_FORMAT));
@@ -111,19 +189,33 @@ pub fn response_json(boxes: &[IntervalBox], outcome: &Outcome) -> Value {
         "min_distinct".into(),
         json!({"lower": outcome.min_distinct_lower, "upper": outcome.min_distinct_upper}),
     );
-    out.insert(
-        "stats".into(),
-        json!({"rounds": outcome.rounds, "elapsed_us": 0}),
-    );
+    let mut stats = json!({"rounds": outcome.rounds, "elapsed_us": 0});
+    if outcome.stopped_early {
+        stats["stopped"] = Value::Bool(true);
+    }
+    out.insert("stats".into(), stats);
     Value::Object(out)
 }
 
 /// Runs one contraction request (JSON value) and returns the response.
 /// `mode_override` (from the CLI's `--contractor`) wins over the request's.
+/// `exact` runs with the default [`Limits`]; running out of them is an
+/// `InputError` naming the limit (path `""`).
 pub fn contract_json(request: &Value, mode_override: Option<Mode>) -> Result<Value, InputError> {
+    contract_json_with(request, mode_override, &Limits::default()).map_err(InputError::from)
+}
+
+/// [`contract_json`] with explicit limits on the work of `exact` (node
+/// budget, cancellation flag for the caller's deadline), and a distinct
+/// error when they run out ([`ContractError::Limit`]).
+pub fn contract_json_with(
+    request: &Value,
+    mode_override: Option<Mode>,
+    limits: &Limits,
+) -> Result<Value, ContractError> {
     let mut req = ContractRequest::from_value(request)?;
     let mode = mode_override.unwrap_or(req.mode);
-    let outcome = atmost_nvector(req.n, &mut req.boxes, mode)?;
+    let outcome = atmost_nvector_with(req.n, &mut req.boxes, mode, limits)?;
     Ok(response_json(&req.boxes, &outcome))
 }
 
@@ -174,6 +266,79 @@ mod tests {
                 .starts_with("nn: unknown field")
         );
         assert!(bad(json!({"format": "nvector-contract/1", "n": 1, "boxes": [[[0, 1]]], "contractor": "fast"})).starts_with("contractor:"));
+    }
+
+    /// The worst case of issue 12 as a request (see
+    /// `hitting_set::tests::worst_case`).
+    fn worst_case_request() -> Value {
+        let boxes: Vec<Value> = crate::nvector::hitting_set::tests::worst_case()
+            .iter()
+            .map(json::box_to_json)
+            .collect();
+        json!({"format": "nvector-contract/1", "n": 6, "boxes": boxes, "contractor": "exact"})
+    }
+
+    #[test]
+    fn exact_out_of_budget_is_a_work_limit_error() {
+        let limits = Limits {
+            node_budget: 50_000,
+            ..Limits::default()
+        };
+        let e = contract_json_with(&worst_case_request(), None, &limits).unwrap_err();
+        assert_eq!(e, ContractError::Limit(WorkLimit::NodeBudget(50_000)));
+        assert_eq!((e.code(), e.path()), ("work_limit", ""));
+        assert!(e.message().contains("work budget (50000 search nodes)"));
+        // One error type for the callers that know only InputError.
+        let i = InputError::from(e);
+        assert_eq!(i.path, "");
+        assert!(i
+            .to_string()
+            .starts_with("the exact contractor ran out of its work budget"));
+        // Bad input stays an input error with its path.
+        let bad = json!({"format": "nvector-contract/1", "n": 0, "boxes": [[[0, 1]]]});
+        let e = contract_json_with(&bad, None, &limits).unwrap_err();
+        assert_eq!((e.code(), e.path()), ("invalid_request", "n"));
+        // The same request with a polynomial contractor needs no budget.
+        let out = contract_json_with(&worst_case_request(), Some(Mode::Best), &limits).unwrap();
+        assert_eq!(out["format"], RESPONSE_FORMAT);
+    }
+
+    #[test]
+    fn the_round_cap_is_reported() {
+        // Round 1: axis 0 needs one value (slack); axis 1 groups boxes 0
+        // and 1, whose intersection moves box 0 on axis 0, so a second
+        // round is due. Capped at one round, the response says it stopped,
+        // and its boxes enclose the full fixpoint's.
+        let req = json!({
+            "format": "nvector-contract/1",
+            "n": 2,
+            "boxes": [[[0, 10], [0, 1]], [[2, 3], [0.5, 2]], [[0, 10], [8, 9]]],
+            "contractor": "projection"
+        });
+        let full = contract_json(&req, None).unwrap();
+        assert!(full["stats"].get("stopped").is_none(), "{}", full["stats"]);
+        assert_eq!(full["stats"]["rounds"], 2);
+        let capped = contract_json_with(
+            &req,
+            None,
+            &Limits {
+                max_rounds: 1,
+                ..Limits::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(capped["stats"]["stopped"], true, "{}", capped["stats"]);
+        assert_eq!(capped["stats"]["rounds"], 1);
+        let parse = |v: &Value| {
+            ContractRequest::from_value(
+                &json!({"format": REQUEST_FORMAT, "n": 2, "boxes": v["boxes"]}),
+            )
+            .unwrap()
+            .boxes
+        };
+        for (a, b) in parse(&full).iter().zip(&parse(&capped)) {
+            assert!(a.is_subset(b));
+        }
     }
 
     #[test]

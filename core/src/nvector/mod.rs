@@ -19,6 +19,8 @@
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use contract::ContractError;
+use hitting_set::Limits;
 use independent::IndependentScratch;
 use nvalue::{NValue, NValueScratch};
 
@@ -95,11 +97,16 @@ pub struct Outcome {
     pub min_distinct_upper: usize,
     /// Passes over the axes / fixpoint rounds.
     pub rounds: u32,
+    /// The fixpoint stopped at its round cap ([`Limits::max_rounds`],
+    /// default [`MAX_ROUNDS`]) with work pending: the boxes are sound but
+    /// another round might contract them further.
+    pub stopped_early: bool,
 }
 
 /// Most fixpoint rounds (each round is one pass over the axes and, for
 /// `independent`, one witness pass); a round that changes nothing stops.
-const MAX_ROUNDS: u32 = 64;
+/// Reaching it with work pending sets [`Outcome::stopped_early`].
+pub const MAX_ROUNDS: u32 = 64;
 
 /// Union-find over box indices: the groups proved so far.
 struct Groups {
@@ -263,19 +270,35 @@ fn infeasible(boxes: &mut [IntervalBox], reason: String, lower: usize, rounds: u
         min_distinct_lower: lower,
         min_distinct_upper: k,
         rounds,
+        stopped_early: false,
     }
 }
 
 /// Contracts `boxes` (all of one dimension) under atmost_nvector(n, boxes)
 /// with the contractor `mode`, to a fixpoint. Never removes a vector tuple
 /// satisfying the constraint. Errors: n = 0, boxes of different dimensions
-/// or of dimension 0, `exact` with more than 40 boxes.
+/// or of dimension 0, `exact` with more than 40 boxes, and `exact` out of
+/// its default work budget (as an `InputError` naming the limit; see
+/// [`atmost_nvector_with`] for a distinct error and a cancellation flag).
 pub fn atmost_nvector(
     n: usize,
     boxes: &mut [IntervalBox],
     mode: Mode,
 ) -> Result<Outcome, InputError> {
-    contract(n, boxes, mode, true)
+    atmost_nvector_with(n, boxes, mode, &Limits::default()).map_err(InputError::from)
+}
+
+/// [`atmost_nvector`] with limits ([`Limits`]): the fixpoint's round cap,
+/// and the work of `exact` (node budget and cancellation flag); out of the
+/// latter, it answers [`ContractError::Limit`], the boxes holding what the
+/// polynomial passes proved (sound, not exact).
+pub fn atmost_nvector_with(
+    n: usize,
+    boxes: &mut [IntervalBox],
+    mode: Mode,
+    limits: &Limits,
+) -> Result<Outcome, ContractError> {
+    contract(n, boxes, mode, true, limits)
 }
 
 /// [`atmost_nvector`], with the per-group atmost_nvalue passes allowed or
@@ -285,10 +308,11 @@ fn contract(
     boxes: &mut [IntervalBox],
     mode: Mode,
     by_group_passes: bool,
-) -> Result<Outcome, InputError> {
+    limits: &Limits,
+) -> Result<Outcome, ContractError> {
     let k = boxes.len();
     if n == 0 {
-        return Err(InputError::new("n", "n must be at least 1"));
+        return Err(InputError::new("n", "n must be at least 1").into());
     }
     if k == 0 {
         return Ok(Outcome {
@@ -297,11 +321,12 @@ fn contract(
             min_distinct_lower: 0,
             min_distinct_upper: 0,
             rounds: 0,
+            stopped_early: false,
         });
     }
     let dim = boxes[0].dim();
     if dim == 0 {
-        return Err(InputError::new("boxes[0]", "a box needs at least one axis"));
+        return Err(InputError::new("boxes[0]", "a box needs at least one axis").into());
     }
     if let Some(i) = boxes.iter().position(|b| b.dim() != dim) {
         return Err(InputError::new(
@@ -310,7 +335,8 @@ fn contract(
                 "expected a box of dimension {dim} like boxes[0], found {} axes",
                 boxes[i].dim()
             ),
-        ));
+        )
+        .into());
     }
     if mode == Mode::Exact && k > hitting_set::MAX_K {
         return Err(InputError::new(
@@ -319,7 +345,8 @@ fn contract(
                 "the exact contractor is exponential and accepts at most {} boxes, found {k}",
                 hitting_set::MAX_K
             ),
-        ));
+        )
+        .into());
     }
     if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
         return Ok(infeasible(boxes, format!("box {i} is empty"), 0, 0));
@@ -343,6 +370,7 @@ fn contract(
     // the last witness pass.
     let mut dirty = vec![true; dim];
     let mut witness_dirty = true;
+    let mut stopped_early;
     loop {
         rounds += 1;
         for axis in 0..dim {
@@ -475,7 +503,8 @@ fn contract(
             }
         }
         let pending = dirty.iter().any(|&d| d) || (with_witnesses && witness_dirty);
-        if !pending || rounds >= MAX_ROUNDS {
+        if !pending || rounds >= limits.max_rounds {
+            stopped_early = pending;
             break;
         }
     }
@@ -494,9 +523,9 @@ fn contract(
     let mut upper = greedy_hitting_set(boxes, &members).max(lower);
     if mode == Mode::Exact {
         let snapshot = boxes.to_vec();
-        let mut hs = hitting_set::HittingSet::new(&snapshot);
+        let mut hs = hitting_set::HittingSet::with_limits(&snapshot, limits)?;
         let all = hs.all();
-        let m = hs.min_cover(all);
+        let m = hs.min_cover(all)?;
         if m > n {
             let reason = format!(
                 "the boxes need at least {m} distinct vectors (minimum hitting set), n = {n}"
@@ -505,9 +534,13 @@ fn contract(
         }
         lower = m;
         upper = m;
-        for (i, b) in boxes.iter_mut().enumerate() {
-            *b = hs.consistent_box(n, i);
-        }
+        // All bounds first: out of budget midway, no box has changed.
+        let exact: Vec<IntervalBox> = (0..k)
+            .map(|i| hs.consistent_box(n, i))
+            .collect::<Result<_, _>>()?;
+        boxes.clone_from_slice(&exact);
+        // Exact bound consistency: no round left could contract further.
+        stopped_early = false;
         contracted |= boxes.iter().zip(&snapshot).any(|(a, b)| a != b);
         if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
             return Ok(infeasible(
@@ -529,6 +562,7 @@ fn contract(
         min_distinct_lower: lower.min(upper),
         min_distinct_upper: upper,
         rounds,
+        stopped_early,
     })
 }
 
@@ -600,8 +634,9 @@ mod tests {
             for n in [clusters.saturating_sub(1).max(1), clusters, clusters + 1] {
                 for mode in [Mode::Projection, Mode::Independent, Mode::Best] {
                     let (mut a, mut b) = (boxes.clone(), boxes.clone());
-                    let fast = contract(n, &mut a, mode, true).unwrap();
-                    let slow = contract(n, &mut b, mode, false).unwrap();
+                    let limits = Limits::default();
+                    let fast = contract(n, &mut a, mode, true, &limits).unwrap();
+                    let slow = contract(n, &mut b, mode, false, &limits).unwrap();
                     assert_eq!(a, b, "case {case} n {n} {mode:?}");
                     assert_eq!(fast.status, slow.status, "case {case} n {n} {mode:?}");
                     assert_eq!(fast.groups, slow.groups, "case {case} n {n} {mode:?}");

@@ -2,7 +2,8 @@
 //! stdin, response JSON on stdout (spec/formats.md).
 
 use crate::CliError;
-use nvector_core::nvector::contract::contract_json;
+use nvector_core::nvector::contract::contract_json_with;
+use nvector_core::nvector::hitting_set::Limits;
 use nvector_core::nvector::Mode;
 use std::io::{Read, Write};
 use std::time::Instant;
@@ -16,8 +17,9 @@ pub fn parse_mode(name: &str) -> Result<Mode, String> {
     })
 }
 
-/// Runs the subcommand.
-pub fn run(mode: Option<Mode>) -> Result<(), CliError> {
+/// Runs the subcommand; `node_budget` bounds the exact contractor's search
+/// (default [`nvector_core::nvector::hitting_set::DEFAULT_NODE_BUDGET`]).
+pub fn run(mode: Option<Mode>, node_budget: Option<u64>) -> Result<(), CliError> {
     let mut text = String::new();
     std::io::stdin()
         .read_to_string(&mut text)
@@ -25,7 +27,12 @@ pub fn run(mode: Option<Mode>) -> Result<(), CliError> {
     let request: serde_json::Value = serde_json::from_str(&text)
         .map_err(|e| CliError(format!("invalid JSON on standard input: {e}")))?;
     let start = Instant::now();
-    let mut response = contract_json(&request, mode).map_err(|e| CliError(e.to_string()))?;
+    let mut limits = Limits::default();
+    if let Some(b) = node_budget {
+        limits.node_budget = b;
+    }
+    let mut response =
+        contract_json_with(&request, mode, &limits).map_err(|e| CliError(e.to_string()))?;
     response["stats"]["elapsed_us"] = serde_json::Value::from(start.elapsed().as_micros() as u64);
     let mut out = std::io::stdout().lock();
     serde_json::to_writer(&mut out, &response)?;
