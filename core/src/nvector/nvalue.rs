@@ -509,7 +509,7 @@ mod tests {
         for case in 0..400 {
             let k = 1 + case % 9;
             let overflow = case % 2 == 1;
-            let mut pick = |r: u64| match r % if overflow { 5 } else { 3 } {
+            let pick = |r: u64| match r % if overflow { 5 } else { 3 } {
                 0 | 1 => zeros[(r / 8 % 2) as usize],
                 2 => {
                     if r / 8 % 3 == 0 {
