@@ -1,13 +1,15 @@
 //! SLAM measures of `nvector bench`: one forward+backward sweep of the
 //! motion chain against a plain summing pass, the paper scenario to the
-//! fixpoint, the Redermor-scale AUV survey end to end, and the paper's
-//! experiment over seeds 1..10 (diameter ratios, truth inside, matching).
+//! fixpoint, the Redermor-scale AUV survey end to end, the paper's
+//! experiment over seeds 1..10 (diameter ratios, truth inside, matching),
+//! and propagation on a 10^6-step mission against a 10^5-step one.
 
 use super::bench::{median_ms, paired_ms};
 use nvector_core::nvector::Mode;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward, Sweep};
-use nvector_core::slam::propagator::{solve, Association, SolveOptions};
+use nvector_core::slam::propagator::{solve, solve_model, Association, SolveOptions};
+use nvector_core::slam::result::{score, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::Interval;
 use serde_json::{json, Value};
@@ -122,14 +124,51 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
             runs.min(5),
             || (),
             |_| {
-                let v: Value = serde_json::from_str(&text).expect("json");
-                let m = Mission::from_value(&v).expect("valid mission");
+                // The parse of `nvector run` and of the service's jobs:
+                // straight into typed data.
+                let m = Mission::from_json(&text).expect("valid mission");
                 solve_with(&m, Association::NVector(Mode::Best))
             },
         );
         emit(
             json!({"name": name, "ms": ms, "goal_ms": 1000.0, "what": "parse + precompute + fixpoint, best contractor"}),
         );
+    }
+
+    let name = format!("propagate_1e6{suffix}");
+    if wanted(&name) {
+        // The paper scenario with the operator's ids, seed 5, basic model:
+        // the time to the fixpoint (model and propagation; the simulation
+        // and the parse are not timed), against 10 times fewer steps, timed
+        // in alternation. Issue 12: under 1 s, ratio at most 12.
+        let (big, small) = if quick {
+            (100_000, 10_000)
+        } else {
+            (1_000_000, 100_000)
+        };
+        let mission = |steps: usize| {
+            let mut o = SimulateOptions::new(Scenario::Paper, 5);
+            o.steps = Some(steps);
+            o.operator = true;
+            Mission::from_value(&simulate(&o)).expect("valid mission")
+        };
+        let (mb, ms_) = (mission(big), mission(small));
+        let options = SolveOptions {
+            association: Association::None,
+            ..SolveOptions::default()
+        };
+        let run = |m: &Mission| solve_model(m, &options, &mut |_| {}, &AtomicBool::new(false));
+        let check = run(&mb);
+        let (inside, errors, _) = score(&mb, &check).expect("simulated missions have truth");
+        let consistent = check.status == SolveStatus::Consistent;
+        let (base, ms, ratio) = paired_ms(runs.min(7), || (), |_| run(&ms_), || (), |_| run(&mb));
+        emit(json!({
+            "name": name, "ms": ms, "baseline": format!("propagate_{small}"), "baseline_ms": base,
+            "ratio": ratio, "goal_ratio": 12.0, "goal_ms": 1000.0,
+            "steps": mb.steps, "detections": mb.detections.len(), "rounds": check.rounds,
+            "contractions": check.contractions, "consistent": consistent,
+            "truth_inside": inside, "matching_errors": errors,
+        }));
     }
 
     let name = format!("paper_seeds_1_10{suffix}");

@@ -1,9 +1,12 @@
 //! `nvector run`: one SLAM job, locally, with a progress line on a terminal.
+//! The mission is parsed straight into typed data and the result streamed
+//! out, so memory stays in proportion to the mission (issue 12).
 
 use crate::CliError;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve, Association, SolveOptions};
-use std::io::IsTerminal;
+use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
+use nvector_core::slam::result::{result_json, write_result};
+use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -38,19 +41,17 @@ fn parse_association(s: &str) -> Result<Association, String> {
 }
 
 /// Reads and validates a mission file; errors name the file and JSON path.
-pub fn read_mission(path: &PathBuf) -> Result<(Mission, serde_json::Value), CliError> {
+/// The text is parsed straight into the typed mission (no JSON value of
+/// the whole file) and freed on return.
+pub fn read_mission(path: &PathBuf) -> Result<Mission, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError(format!("reading {}: {e}", path.display())))?;
-    let value: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| CliError(format!("{}: invalid JSON: {e}", path.display())))?;
-    let mission =
-        Mission::from_value(&value).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
-    Ok((mission, value))
+    Mission::from_json(&text).map_err(|e| CliError(format!("{}: {e}", path.display())))
 }
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
-    let (mission, mission_json) = read_mission(&a.mission)?;
+    let mission = read_mission(&a.mission)?;
     if !(a.tolerance.is_finite() && a.tolerance >= 0.0) {
         return Err(CliError(format!(
             "--tolerance must be a finite number >= 0, found {}",
@@ -79,24 +80,53 @@ pub fn run(a: Args) -> Result<(), CliError> {
         indicatif::ProgressBar::hidden()
     };
     let start = Instant::now();
-    let mut progress = |p: &nvector_core::slam::propagator::Progress| {
+    let mut progress = |p: &Progress| {
         bar.set_position((p.fraction * 1000.0) as u64);
-        bar.set_message(format!(
-            "round {}, max trajectory diameter {:.4}",
-            p.round, p.max_trajectory_diameter
-        ));
+        if !bar.is_hidden() {
+            bar.set_message(progress_message(p));
+        }
     };
-    let mut result = solve(&mission, &options, &mut progress, &AtomicBool::new(false));
+    let solution = solve_model(&mission, &options, &mut progress, &AtomicBool::new(false));
+    let elapsed_ms = start.elapsed().as_secs_f64() * 1e3;
     bar.finish_and_clear();
-    result["metrics"]["elapsed_ms"] = serde_json::json!(start.elapsed().as_secs_f64() * 1e3);
     if let Some(path) = &a.plot {
-        super::plot::write_plot(path, &result, &mission_json)?;
+        let mut result = result_json(&mission, &options, &solution);
+        result["metrics"]["elapsed_ms"] = serde_json::json!(elapsed_ms);
+        super::plot::write_plot(path, &result, &mission.to_value())?;
     }
-    let text = serde_json::to_string(&result)?;
+    // The result goes out as it is serialized: a 10^6-step trajectory never
+    // sits in memory as JSON.
+    let write = |w: &mut dyn Write| -> std::io::Result<()> {
+        let mut w = BufWriter::with_capacity(1 << 16, w);
+        write_result(&mut w, &mission, &options, &solution, elapsed_ms)?;
+        w.write_all(b"\n")?;
+        w.flush()
+    };
     match a.out {
-        Some(path) => std::fs::write(&path, text + "\n")
+        Some(path) => std::fs::File::create(&path)
+            .and_then(|mut f| write(&mut f))
             .map_err(|e| CliError(format!("writing {}: {e}", path.display())))?,
-        None => println!("{text}"),
+        None => write(&mut std::io::stdout().lock())
+            .map_err(|e| CliError(format!("writing the result: {e}")))?,
     }
     Ok(())
+}
+
+/// The progress line: round, pass, detections processed, detections still
+/// moving, and the fall of the max trajectory diameter.
+fn progress_message(p: &Progress) -> String {
+    let moving = if p.round <= 1 && p.pass != "round" {
+        String::new()
+    } else {
+        format!(", {} of {} detections still moving", p.moving, p.detections)
+    };
+    let pass = if p.pass == "round" {
+        "end".to_string()
+    } else {
+        format!("{} pass {}/{}", p.pass, p.detections_done, p.detections)
+    };
+    format!(
+        "round {} ({pass}){moving}, max trajectory diameter {:.4} (dead reckoning {:.4})",
+        p.round, p.max_trajectory_diameter, p.initial_max_trajectory_diameter
+    )
 }
