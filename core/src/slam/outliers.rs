@@ -25,10 +25,11 @@
 //!   the evidence (the points lying in all but at most q of the sets): on
 //!   each axis, its lower bound is at least the (q+1)-th largest of the
 //!   evidence lower bounds, its upper bound at most the (q+1)-th smallest
-//!   upper bound. A forward pass applies this to the evidence of detections
-//!   at or before t, a backward pass to those at or after t (each is a
-//!   subset, so each bound is sound; merging the two sides would be tighter
-//!   and is left for later).
+//!   upper bound. The forward pass applies this to the evidence of
+//!   detections at or before t; the backward pass to the evidence on both
+//!   sides (the forward keys of the detections strictly before t are
+//!   recorded by the forward pass, those at or after t are its own: no
+//!   detection counts twice).
 //! - Keys: the sums of displacement bounds are carried as running interval
 //!   sums `S(t) ∋ Σ_{s<t} D(s).lo` (outward-rounded), so an evidence lower
 //!   bound at t is `M.lo - S(t_j) + S(t) >= down(M.lo - S(t_j).hi) +
@@ -64,9 +65,11 @@
 //!
 //! # Complexity
 //!
-//! A round is O(N·d + k·(d + log q)) time (two passes over the chain, one
-//! contraction per detection, sorted lists of q+1 keys per axis and bound)
-//! and O(k·q·d) memory beyond the model.
+//! A round is O(N·d·q + k·d·q) time (two passes over the chain, one
+//! contraction per detection, sorted lists of q+1 keys per axis and bound,
+//! merged at each step of the backward pass) and O(N·d + k·q·d) memory
+//! beyond the model (recorded sums and key snapshots; past 2^24 keys the
+//! merge is given up and the one-sided bounds stay).
 
 use super::bearing::contract_bearing;
 use super::distance::contract_distance;
@@ -103,11 +106,6 @@ impl TopKeys {
         let at = self.keys.partition_point(|&k| k >= key);
         self.keys.insert(at, key);
         self.keys.truncate(self.keep);
-    }
-
-    /// The keep-th largest key, when `keep` keys were seen.
-    fn kth(&self) -> Option<f64> {
-        (self.keys.len() == self.keep).then(|| self.keys[self.keep - 1])
     }
 }
 
@@ -302,9 +300,89 @@ fn gather(
     Ok(budget)
 }
 
+/// What the forward pass leaves for the backward one, so that the backward
+/// pass can take the (q+1)-th best evidence among the detections on *both*
+/// sides of each step: the forward running sums at each step, and the
+/// forward keys of the detections strictly before it (a detection at step
+/// t is in the backward lists at t: none is counted twice).
+#[derive(Default)]
+struct Record {
+    /// (N+1)·dim forward sides' sums (lower, upper displacement bounds).
+    sums: Vec<(Interval, Interval)>,
+    /// Per step: the snapshot of the forward keys of earlier detections.
+    at: Vec<u32>,
+    /// Snapshots: per axis, (lower keys, negated upper keys), sorted
+    /// largest first.
+    lists: Vec<Vec<[Vec<f64>; 2]>>,
+}
+
+/// No forward keys.
+const NO_KEYS: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+
+/// Most keys kept in snapshots before the merge is given up (the one-sided
+/// bounds stay, sound and looser).
+const RECORD_KEYS: usize = 1 << 24;
+
+/// The lower bound of p at a step from a lower key, with the running sums
+/// (lower, upper displacement bounds) of the pass at that step.
+fn lower_at(sums: (Interval, Interval), key: f64, forward: bool) -> f64 {
+    if forward {
+        add_lo(key, sums.0.lo())
+    } else {
+        add_lo(key, -sums.1.hi())
+    }
+}
+
+/// The upper bound of p at a step from a negated upper key (see
+/// [`lower_at`]).
+fn upper_at(sums: (Interval, Interval), neg_key: f64, forward: bool) -> f64 {
+    if forward {
+        add_hi(-neg_key, sums.1.hi())
+    } else {
+        add_hi(-neg_key, -sums.0.lo())
+    }
+}
+
+/// The m-th largest of `f(a_i)` and `g(b_j)` over two lists sorted largest
+/// first, `f` and `g` non-decreasing (so each mapped list stays sorted).
+fn kth_merged(
+    a: &[f64],
+    f: impl Fn(f64) -> f64,
+    b: &[f64],
+    g: impl Fn(f64) -> f64,
+    m: usize,
+) -> Option<f64> {
+    if a.len() + b.len() < m {
+        return None;
+    }
+    let (mut i, mut j) = (0, 0);
+    let mut last = f64::NEG_INFINITY;
+    for _ in 0..m {
+        let x = a.get(i).map(|&k| f(k));
+        let y = b.get(j).map(|&k| g(k));
+        last = match (x, y) {
+            (Some(x), Some(y)) if x >= y => {
+                i += 1;
+                x
+            }
+            (_, Some(y)) => {
+                j += 1;
+                y
+            }
+            (Some(x), None) => {
+                i += 1;
+                x
+            }
+            (None, None) => return None,
+        };
+    }
+    Some(last)
+}
+
 /// One relaxed pass over the chain (forward or backward), applying the
-/// chain step and the q-relaxed evidence bounds. Returns the largest move,
-/// or `Err(step)` when a position becomes empty.
+/// chain step and the q-relaxed evidence bounds. The forward pass fills
+/// `record` (when given); the backward pass merges it. Returns the largest
+/// move, or `Err(step)` when a position becomes empty.
 fn relaxed_pass(
     mission: &Mission,
     model: &mut Model,
@@ -312,11 +390,24 @@ fn relaxed_pass(
     ev: &Evidence,
     keep: usize,
     forward: bool,
+    record: &mut Option<Record>,
 ) -> Result<f64, usize> {
     let dim = model.dim;
     let n = model.steps;
     let mut sides: Vec<Side> = (0..dim).map(|_| Side::new(keep)).collect();
     let mut moved = 0.0f64;
+    let snapshot = |sides: &[Side]| -> Vec<[Vec<f64>; 2]> {
+        sides
+            .iter()
+            .map(|s| [s.lower.keys.clone(), s.upper.keys.clone()])
+            .collect()
+    };
+    if forward {
+        if let Some(r) = record.as_mut() {
+            *r = Record::default();
+            r.lists.push(snapshot(&sides));
+        }
+    }
     // Detections sorted by step; walk them along with t.
     let mut next = if forward { 0 } else { order.len() };
     let steps: Box<dyn Iterator<Item = usize>> = if forward {
@@ -332,11 +423,13 @@ fn relaxed_pass(
         } else {
             (t < n).then_some(t)
         };
+        let mut changed_lists = false;
         if let Some(s) = link {
             for (a, side) in sides.iter_mut().enumerate() {
                 let d = model.disp[s * dim + a];
                 if !d.lo().is_finite() || !d.hi().is_finite() {
                     *side = Side::new(keep);
+                    changed_lists = true;
                     continue;
                 }
                 side.sum_lo = side.sum_lo + Interval::point(d.lo());
@@ -355,7 +448,18 @@ fn relaxed_pass(
                 model.pos[to * dim + a] = new;
             }
         }
+        if forward {
+            if let Some(r) = record.as_mut() {
+                if changed_lists {
+                    r.lists.push(snapshot(&sides));
+                }
+                // The keys of detections before t, and the sums at t.
+                r.at.push((r.lists.len() - 1) as u32);
+                r.sums.extend(sides.iter().map(|s| (s.sum_lo, s.sum_hi)));
+            }
+        }
         // Evidence of the detections at step t joins the lists.
+        let mut joined = false;
         loop {
             let j = if forward {
                 match order.get(next) {
@@ -378,55 +482,66 @@ fn relaxed_pass(
             if ev.proved_false[j] || m.is_empty() {
                 continue;
             }
+            joined = true;
             for (a, side) in sides.iter_mut().enumerate() {
-                // Forward: p(t') >= M.lo + S_lo(t') - S_lo(t_j), with S_lo
-                // the sum of lower displacement bounds; backward: p(t') >=
-                // M.lo - (sum of upper bounds from t' to t_j), the running
-                // sum then being of upper bounds. Mirror for the upper
-                // bound of p.
-                let (lo_sum, hi_sum) = if forward {
-                    (side.sum_lo, side.sum_hi)
+                // Forward: p(t') >= M.lo + S(t') - S(t_j), S the sum of
+                // lower displacement bounds; backward: p(t') >= M.lo -
+                // (V(t') - V(t_j)), V the suffix sum of upper bounds.
+                // Mirror for the upper bound of p.
+                let (key_lo, key_hi) = if forward {
+                    (
+                        add_lo(m[a].lo(), -side.sum_lo.hi()),
+                        add_hi(m[a].hi(), -side.sum_hi.lo()),
+                    )
                 } else {
-                    (side.sum_hi, side.sum_lo)
-                };
-                let key_lo = if forward {
-                    add_lo(m[a].lo(), -lo_sum.hi())
-                } else {
-                    add_lo(m[a].lo(), lo_sum.lo())
-                };
-                let key_hi = if forward {
-                    add_hi(m[a].hi(), -hi_sum.lo())
-                } else {
-                    add_hi(m[a].hi(), hi_sum.hi())
+                    (
+                        add_lo(m[a].lo(), side.sum_hi.lo()),
+                        add_hi(m[a].hi(), side.sum_lo.hi()),
+                    )
                 };
                 side.lower.push(key_lo);
                 side.upper.push(-key_hi);
             }
         }
-        // The q-relaxed bounds at t.
+        if forward && joined {
+            if let Some(r) = record.as_mut() {
+                r.lists.push(snapshot(&sides));
+                if r.lists.len() * dim * 2 * keep > RECORD_KEYS {
+                    *record = None;
+                }
+            }
+        }
+        // The q-relaxed bounds at t (backward: over both sides).
         for (a, side) in sides.iter().enumerate() {
-            let (lo_sum, hi_sum) = if forward {
-                (side.sum_lo, side.sum_hi)
-            } else {
-                (side.sum_hi, side.sum_lo)
-            };
             let old = model.pos[t * dim + a];
             let (mut lo, mut hi) = (old.lo(), old.hi());
-            if let Some(k) = side.lower.kth() {
-                let b = if forward {
-                    add_lo(k, lo_sum.lo())
-                } else {
-                    add_lo(k, -lo_sum.hi())
+            let own = (side.sum_lo, side.sum_hi);
+            // Backward: the forward keys of the detections before t, at
+            // the forward sums of step t.
+            let (keys, fwd): (&[Vec<f64>; 2], Option<(Interval, Interval)>) =
+                match (&*record, forward) {
+                    (Some(r), false) => (&r.lists[r.at[t] as usize][a], Some(r.sums[t * dim + a])),
+                    _ => (&NO_KEYS, None),
                 };
+            let f_lo = |k: f64| fwd.map_or(f64::NEG_INFINITY, |f| lower_at(f, k, true));
+            let f_hi = |k: f64| -fwd.map_or(f64::INFINITY, |f| upper_at(f, k, true));
+            if let Some(b) = kth_merged(
+                &side.lower.keys,
+                |k| lower_at(own, k, forward),
+                &keys[0],
+                f_lo,
+                keep,
+            ) {
                 lo = lo.max(b);
             }
-            if let Some(k) = side.upper.kth() {
-                let b = if forward {
-                    add_hi(-k, hi_sum.hi())
-                } else {
-                    add_hi(-k, -hi_sum.lo())
-                };
-                hi = hi.min(b);
+            if let Some(b) = kth_merged(
+                &side.upper.keys,
+                |k| -upper_at(own, k, forward),
+                &keys[1],
+                f_hi,
+                keep,
+            ) {
+                hi = hi.min(-b);
             }
             let new = Interval::new(lo, hi);
             if new.is_empty() {
@@ -515,8 +630,17 @@ pub fn solve_robust(
         };
         contractions += 2 * k as u64;
         let mut moved = 0.0f64;
+        let mut record = Some(Record::default());
         for forward in [true, false] {
-            match relaxed_pass(mission, &mut model, &order, &ev, budget + 1, forward) {
+            match relaxed_pass(
+                mission,
+                &mut model,
+                &order,
+                &ev,
+                budget + 1,
+                forward,
+                &mut record,
+            ) {
                 Ok(m) => moved = moved.max(m),
                 Err(t) => {
                     let reason = format!(
@@ -549,4 +673,59 @@ pub fn solve_robust(
         }
     }
     end(model, SolveStatus::Consistent, round, contractions)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Lcg;
+
+    #[test]
+    fn top_keys_and_the_merge_match_a_sort() {
+        let mut rng = Lcg::new(7);
+        for _ in 0..2000 {
+            let m = 1 + (rng.bits() % 6) as usize;
+            let (na, nb) = ((rng.bits() % 9) as usize, (rng.bits() % 9) as usize);
+            let draw = |rng: &mut Lcg| (rng.bits() % 41) as f64 - 20.0;
+            let a: Vec<f64> = (0..na).map(|_| draw(&mut rng)).collect();
+            let b: Vec<f64> = (0..nb).map(|_| draw(&mut rng)).collect();
+            let (mut ta, mut tb) = (TopKeys::new(m), TopKeys::new(m));
+            a.iter().for_each(|&x| ta.push(x));
+            b.iter().for_each(|&x| tb.push(x));
+            // Offsets: a shifted by 0.5, b by -1.25 (exact in binary).
+            let got = kth_merged(&ta.keys, |k| k + 0.5, &tb.keys, |k| k - 1.25, m);
+            let mut all: Vec<f64> = a
+                .iter()
+                .map(|k| k + 0.5)
+                .chain(b.iter().map(|k| k - 1.25))
+                .collect();
+            all.sort_by(|x, y| y.total_cmp(x));
+            assert_eq!(got, all.get(m - 1).copied(), "{a:?} {b:?} m {m}");
+        }
+    }
+
+    #[test]
+    fn relaxed_intersection_holds_every_point_in_all_but_q_boxes() {
+        let mut rng = Lcg::new(3);
+        for _ in 0..2000 {
+            let count = 1 + (rng.bits() % 6) as usize;
+            let q = (rng.bits() % 3) as usize;
+            let boxes: Vec<IntervalBox> = (0..count)
+                .map(|_| {
+                    let lo = (rng.bits() % 10) as f64;
+                    let w = (rng.bits() % 6) as f64;
+                    IntervalBox::new(&[Interval::new(lo, lo + w)])
+                })
+                .collect();
+            let refs: Vec<&IntervalBox> = boxes.iter().collect();
+            let r = relaxed_intersection(&refs, q, 1);
+            for x in 0..=32 {
+                let x = x as f64 * 0.5;
+                let inside = boxes.iter().filter(|b| b[0].contains(x)).count();
+                if inside + q >= count {
+                    assert!(r[0].contains(x), "{x} in {inside} of {count}, q {q}: {r:?}");
+                }
+            }
+        }
+    }
 }
