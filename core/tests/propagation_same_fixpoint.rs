@@ -7,6 +7,8 @@
 //! new box, and each new box lies in the reference's box up to a slack of
 //! the order of the tolerance (bounds that a sweep stopping below the
 //! tolerance leaves behind), and the other way round: the same fixpoint.
+//! `best` has gained contractors since (the detection shapes of issue 11):
+//! there the new boxes lie in the old ones and the old groups in new ones.
 
 mod propagation_reference;
 
@@ -77,11 +79,26 @@ fn same_status(a: &SolveStatus, b: &SolveStatus) -> bool {
     )
 }
 
+/// Whether the association step of `propagate` is the reference's for
+/// `association`: `best` gained the detection shapes of issue 11 (a
+/// stronger contractor), where the new boxes may only be tighter and the
+/// groups only larger.
+fn same_association(association: Association) -> bool {
+    association != Association::NVector(Mode::Best)
+}
+
+/// Whether every group of `old` lies in one group of `new`.
+fn refines(new: &[Vec<usize>], old: &[Vec<usize>]) -> bool {
+    old.iter()
+        .all(|g| new.iter().any(|h| g.iter().all(|j| h.contains(j))))
+}
+
 /// Runs both propagators on `mission` with every mode; returns the largest
-/// stick-out seen in either direction.
+/// stick-out seen in either direction (only new out of old for `best`).
 fn compare(mission: &Mission, what: &str, slack: f64, stats: &mut Stats) -> f64 {
     let mut worst = 0.0f64;
     for association in MODES {
+        let same = same_association(association);
         let options = SolveOptions {
             association,
             ..SolveOptions::default()
@@ -96,7 +113,14 @@ fn compare(mission: &Mission, what: &str, slack: f64, stats: &mut Stats) -> f64 
             new.status,
             old.status
         );
-        assert_eq!(new.matching, old.matching, "{what} {name}: matching");
+        if same {
+            assert_eq!(new.matching, old.matching, "{what} {name}: matching");
+        } else {
+            assert!(
+                refines(&new.matching, &old.matching),
+                "{what} {name}: a group was lost"
+            );
+        }
         if new.status != SolveStatus::Consistent {
             continue;
         }
@@ -104,7 +128,7 @@ fn compare(mission: &Mission, what: &str, slack: f64, stats: &mut Stats) -> f64 
         assert!(inside, "{what} {name}: the truth is outside a new box");
         assert_eq!(errors, 0, "{what} {name}: matching errors");
         let out = stick_out(&new, &old);
-        let back = stick_out(&old, &new);
+        let back = if same { stick_out(&old, &new) } else { 0.0 };
         assert!(
             out <= slack,
             "{what} {name}: a new box sticks out of the old one by {out}"

@@ -134,10 +134,10 @@ pub struct Progress {
     /// (before the first one ends: after dead reckoning).
     pub max_trajectory_diameter: f64,
     /// Estimated share of the work done, 0..=1, never decreasing, 1 at the
-    /// fixpoint: the contractions done over those done plus an estimate of
-    /// those left, extrapolated from how the work per round falls (a
-    /// geometric series; before the first round ends, the first round is
-    /// taken as half the job).
+    /// fixpoint: the work done over the work done and left, a round's work
+    /// counted as the detections whose change it carries (all in the first
+    /// round, then those still moving), the work left extrapolated from
+    /// the fall of that count (a geometric series).
     pub fraction: f64,
     /// What runs: `"forward"` or `"backward"` (the passes along the
     /// chain), `"association"`, or `"round"` (a round just ended).
@@ -233,11 +233,12 @@ struct Propagation<'a> {
     cancel: &'a AtomicBool,
     /// The last report (diameters, moving count, fraction so far).
     report: Progress,
-    /// Contractions at the start of this round and work of the last round
-    /// (for the fraction's estimate), and the estimated total.
-    round_start: u64,
-    last_round_work: u64,
-    estimated_total: f64,
+    /// The fraction's estimate, in detections to settle: done in the
+    /// finished rounds, to do in this one (those that moved in the last),
+    /// and left from the start of this one (see [`Propagation::end_round`]).
+    units_done: f64,
+    units_round: f64,
+    units_left: f64,
 }
 
 impl<'a> Propagation<'a> {
@@ -298,9 +299,11 @@ impl<'a> Propagation<'a> {
                 moving: k,
                 ..Progress::default()
             },
-            round_start: 0,
-            last_round_work: 0,
-            estimated_total: 0.0,
+            units_done: 0.0,
+            units_round: k as f64,
+            // Before the first round ends, as pessimistic as later rounds
+            // can be (the ratio capped at 0.9).
+            units_left: 10.0 * k as f64,
         }
     }
 
@@ -310,16 +313,11 @@ impl<'a> Propagation<'a> {
         let d0 = self.model.max_trajectory_diameter();
         self.report.initial_max_trajectory_diameter = d0;
         self.report.max_trajectory_diameter = d0;
-        // Before the first round ends, it is taken as half the job; a pass
-        // sweeps at most N steps and contracts k detections.
-        let first = 2 * (self.model.steps + self.mission.detections.len()) as u64;
-        self.estimated_total = (self.contractions + 2 * first) as f64;
         loop {
             if self.round >= self.options.max_rounds || self.cancel.load(Ordering::Relaxed) {
                 return Err(Halt::Stopped);
             }
             self.round += 1;
-            self.round_start = self.contractions;
             self.moving.fill(false);
             self.pass(Direction::Forward)?;
             self.pass(Direction::Backward)?;
@@ -564,11 +562,18 @@ impl<'a> Propagation<'a> {
 
     /// Reports progress within a round and checks for cancellation.
     fn tell(&mut self, pass: &'static str, detections_done: usize) -> Result<(), Halt> {
-        let work = self.contractions as f64;
-        // Past the estimate: the estimate was short; stay below 1 until
-        // the fixpoint.
-        let f = (work / self.estimated_total.max(work + 1.0)).min(0.99);
-        self.report.fraction = self.report.fraction.max(f);
+        // The share of this round done: each pass visits every detection.
+        let k = self.mission.detections.len().max(1) as f64;
+        let share = match pass {
+            "forward" => detections_done as f64 / (2.0 * k),
+            "backward" => 0.5 + detections_done as f64 / (2.0 * k),
+            _ => 1.0,
+        };
+        let total = self.units_done + self.units_left;
+        if total > 0.0 {
+            let f = (self.units_done + self.units_round * share) / total;
+            self.report.fraction = self.report.fraction.max(f.min(0.99));
+        }
         self.report.round = self.round;
         self.report.pass = pass;
         self.report.detections_done = detections_done;
@@ -581,17 +586,23 @@ impl<'a> Propagation<'a> {
 
     /// Reports the end of a round: the new diameter, the detections still
     /// moving, and a new estimate of the work left.
+    ///
+    /// The estimate: a round's work is taken as the count of detections
+    /// whose change it carries (those that moved in the round before; all
+    /// of them in the first), and the counts as falling geometrically, with
+    /// the last ratio r (capped at 0.9): what is left is m / (1 - r) for m
+    /// detections still moving. The fraction is the work done over done
+    /// plus left, never decreasing, 1 at the fixpoint.
     fn end_round(&mut self, moving: usize) {
-        let work = self.contractions - self.round_start;
-        // The work per round falls roughly geometrically: with ratio r,
-        // what is left is work·r/(1-r) (r = 1/2 after the first round).
-        let r = if self.round == 1 {
-            0.5
+        let m = moving as f64;
+        let r = if self.units_round > 0.0 {
+            (m / self.units_round).min(0.9)
         } else {
-            (work as f64 / self.last_round_work.max(1) as f64).clamp(0.05, 0.9)
+            0.0
         };
-        self.last_round_work = work;
-        self.estimated_total = self.contractions as f64 + work as f64 * r / (1.0 - r);
+        self.units_done += self.units_round;
+        self.units_round = m;
+        self.units_left = m / (1.0 - r);
         let max_d = self.model.max_trajectory_diameter();
         self.report.max_trajectory_diameter = max_d;
         self.report.moving = moving;
@@ -601,7 +612,7 @@ impl<'a> Propagation<'a> {
         let f = if moving == 0 {
             1.0
         } else {
-            (self.contractions as f64 / self.estimated_total).min(0.99)
+            (self.units_done / (self.units_done + self.units_left)).min(0.99)
         };
         self.report.fraction = self.report.fraction.max(f);
         (self.progress)(&self.report);

@@ -1,0 +1,130 @@
+//! Progress reports of the propagator (issue 12): what a user reads
+//! (round, pass, detections processed, detections still moving, the fall of
+//! the max trajectory diameter) is consistent with the result, the fraction
+//! never decreases and is 1 exactly at the fixpoint, and cancellation stops
+//! within a pass with sound boxes.
+
+use nvector_core::nvector::Mode;
+use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagator::{propagate, Association, Progress, SolveOptions};
+use nvector_core::slam::result::{score, SolveStatus};
+use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+fn mission(seed: u64, steps: usize, operator: bool) -> Mission {
+    let mut o = SimulateOptions::new(Scenario::Paper, seed);
+    o.steps = Some(steps);
+    o.operator = operator;
+    Mission::from_value(&simulate(&o)).expect("valid")
+}
+
+#[test]
+fn reports_are_consistent_with_the_result() {
+    for (seed, operator, association) in [
+        (1, true, Association::None),
+        (2, false, Association::NVector(Mode::Best)),
+        (3, false, Association::NVector(Mode::Projection)),
+    ] {
+        let m = mission(seed, 6000, operator);
+        let k = m.detections.len();
+        let options = SolveOptions {
+            association,
+            ..SolveOptions::default()
+        };
+        let mut reports: Vec<Progress> = Vec::new();
+        let s = propagate(
+            &m,
+            &options,
+            &mut |p| reports.push(p.clone()),
+            &AtomicBool::new(false),
+        );
+        assert_eq!(s.status, SolveStatus::Consistent, "seed {seed}");
+        assert!(
+            reports.len() > 2 * s.rounds as usize,
+            "seed {seed}: reports within the passes"
+        );
+        let last = reports.last().unwrap();
+        assert_eq!((last.pass, last.round, last.moving), ("round", s.rounds, 0));
+        assert_eq!(last.fraction, 1.0);
+        assert_eq!(
+            last.max_trajectory_diameter,
+            s.model.trajectory_diameters().0,
+            "seed {seed}: the last diameter is the result's"
+        );
+        let d0 = reports[0].initial_max_trajectory_diameter;
+        let mut round_ends = 0;
+        for (i, (a, b)) in reports.iter().zip(&reports[1..]).enumerate() {
+            assert!(
+                b.fraction >= a.fraction && a.fraction < 1.0,
+                "seed {seed} report {i}: fraction {} then {}",
+                a.fraction,
+                b.fraction
+            );
+            assert!(b.round >= a.round);
+            assert!(b.max_trajectory_diameter <= a.max_trajectory_diameter);
+        }
+        for p in &reports {
+            assert!(["forward", "backward", "association", "round"].contains(&p.pass));
+            assert_eq!((p.detections, p.initial_max_trajectory_diameter), (k, d0));
+            assert!(p.detections_done <= k && p.moving <= k);
+            assert!(p.max_trajectory_diameter <= d0);
+            assert!((0.0..=1.0).contains(&p.fraction));
+            round_ends += usize::from(p.pass == "round");
+        }
+        assert_eq!(round_ends, s.rounds as usize);
+        assert!(
+            last.max_trajectory_diameter < d0 / 5.0,
+            "seed {seed}: the diameter falls from dead reckoning ({d0} to {})",
+            last.max_trajectory_diameter
+        );
+    }
+}
+
+/// A cancellation seen at a report inside a pass stops there: the status
+/// is stopped, the fraction stays below 1, and the boxes hold the truth.
+#[test]
+fn cancellation_stops_within_a_pass() {
+    let m = mission(4, 8000, true);
+    let cancel = AtomicBool::new(false);
+    let mut reports: Vec<Progress> = Vec::new();
+    let s = propagate(
+        &m,
+        &SolveOptions {
+            association: Association::None,
+            ..SolveOptions::default()
+        },
+        &mut |p| {
+            reports.push(p.clone());
+            if p.round == 2 && p.pass == "forward" {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        },
+        &cancel,
+    );
+    assert_eq!(s.status, SolveStatus::Stopped);
+    assert_eq!(s.rounds, 2);
+    let last = reports.last().unwrap();
+    assert_eq!((last.round, last.pass), (2, "forward"));
+    assert!(last.fraction < 1.0);
+    let (inside, _, _) = score(&m, &s).unwrap();
+    assert!(inside, "stopped early, the boxes are still sound");
+}
+
+#[test]
+fn max_rounds_stops_below_one() {
+    let m = mission(5, 4000, true);
+    let mut last = Progress::default();
+    let s = propagate(
+        &m,
+        &SolveOptions {
+            association: Association::None,
+            max_rounds: 1,
+            ..SolveOptions::default()
+        },
+        &mut |p| last = p.clone(),
+        &AtomicBool::new(false),
+    );
+    assert_eq!((&s.status, s.rounds), (&SolveStatus::Stopped, 1));
+    assert!(last.moving > 0 && last.fraction < 1.0);
+    assert!(score(&m, &s).unwrap().0);
+}
