@@ -80,3 +80,55 @@ fn infeasible_is_a_result_not_an_error() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["status"], "infeasible");
 }
+
+/// The worst case of issue 12: 40 overlapping boxes in 8-D with integer
+/// bounds, n = 6 (exact would run for minutes without its work budget).
+fn worst_case_request() -> String {
+    let mut state: u64 = 12;
+    let mut unit = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let boxes: Vec<Vec<[f64; 2]>> = (0..40)
+        .map(|_| {
+            (0..8)
+                .map(|_| {
+                    let c = (unit() * 10.0).round();
+                    let a = (4.0 + unit() * 4.0).round();
+                    let b = (4.0 + unit() * 4.0).round();
+                    [c - a, c + b]
+                })
+                .collect()
+        })
+        .collect();
+    serde_json::json!({"format": "nvector-contract/1", "n": 6, "boxes": boxes}).to_string()
+}
+
+#[test]
+fn exact_out_of_its_work_budget_exits_1_naming_the_limit() {
+    // A small budget keeps the test quick (the default, 16 million nodes,
+    // answers in about 1.5 s on a release build).
+    let out = contract(
+        &["--contractor", "exact", "--node-budget", "100000"],
+        &worst_case_request(),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("the exact contractor ran out of its work budget (100000 search nodes)"),
+        "{err}"
+    );
+    // A polynomial contractor answers the same request.
+    let out = contract(
+        &["--contractor", "best", "--node-budget", "100000"],
+        &worst_case_request(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
