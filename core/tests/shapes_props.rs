@@ -13,7 +13,7 @@ use nvector_core::shapes::region::Paving;
 use nvector_core::shapes::relative::relative_pairs;
 use nvector_core::shapes::shape::{disjoint_paved, Shape};
 use nvector_core::shapes::witnesses::{find_witnesses, Item};
-use nvector_core::shapes::{Domains, ShapesState};
+use nvector_core::shapes::{Chain, Domains, ShapesState};
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward, Sweep};
 use nvector_core::{Interval, IntervalBox};
@@ -283,6 +283,51 @@ impl Planted {
     }
 }
 
+/// The chain for the round: sweeps at once, both ways, to the end.
+struct Sweeps<'a> {
+    disp: &'a [Interval],
+    dim: usize,
+    failed: Option<String>,
+}
+
+impl Chain for Sweeps<'_> {
+    fn sweep_forward(
+        &mut self,
+        pos: &mut [Interval],
+        from: usize,
+        to: usize,
+    ) -> Result<bool, String> {
+        let dim = self.dim;
+        match sweep_forward(
+            &mut pos[..(to + 1) * dim],
+            &self.disp[..to * dim],
+            dim,
+            from,
+            1e-9,
+        ) {
+            Sweep::Done(visited) => Ok(visited == to - from),
+            Sweep::Empty(s) => Err(format!("chain emptied at {s}")),
+        }
+    }
+
+    fn changed(&mut self, _step: usize) {}
+}
+
+impl Sweeps<'_> {
+    fn settle(&mut self, pos: &mut [Interval], steps: &[usize]) {
+        for &t in steps {
+            for s in [
+                sweep_forward(pos, self.disp, self.dim, t, 1e-9),
+                sweep_backward(pos, self.disp, self.dim, t, 1e-9),
+            ] {
+                if let Sweep::Empty(s) = s {
+                    self.failed = Some(format!("chain emptied at {s}"));
+                }
+            }
+        }
+    }
+}
+
 fn layout(i: u8) -> Layout {
     [Layout::Line, Layout::Ring, Layout::Random][i as usize % 3]
 }
@@ -308,24 +353,19 @@ proptest! {
             inst.own_constraints(&groups).map_err(TestCaseError::fail)?;
             inst.truth_inside().map_err(TestCaseError::fail)?;
             let Planted { pos, disp, det, heading_at, mission, .. } = &mut inst;
-            let disp_ref: &[Interval] = disp;
-            let mut settle = |pos: &mut [Interval], t: usize| -> Result<(), String> {
-                for s in [sweep_forward(pos, disp_ref, dim, t, 1e-9), sweep_backward(pos, disp_ref, dim, t, 1e-9)] {
-                    if let Sweep::Empty(s) = s {
-                        return Err(format!("chain emptied at {s}"));
-                    }
-                }
-                Ok(())
-            };
+            let mut chain = Sweeps { disp, dim, failed: None };
             let out = state.contract(
                 mission,
-                Domains { dim, pos, det, heading_at, disp: disp_ref },
+                Domains { dim, pos, det, heading_at, disp },
                 &groups,
                 n,
                 0,
                 1e-9,
-                &mut settle,
+                &mut chain,
             );
+            let steps: Vec<usize> = mission.detections.iter().map(|d| d.step).collect();
+            chain.settle(pos, &steps);
+            prop_assert!(chain.failed.is_none(), "seed {seed}: {:?}", chain.failed);
             prop_assert!(out.infeasible.is_none(), "seed {seed}: {:?}", out.infeasible);
             for (a, b) in out.unions {
                 prop_assert_eq!(inst.matching[a], inst.matching[b], "seed {} grouped {} and {}", seed, a, b);

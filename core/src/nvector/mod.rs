@@ -11,6 +11,9 @@
 //! - `independent` ([`independent`]): pairwise-disjoint witnesses in full
 //!   dimension, with `projection`.
 //! - `exact` ([`hitting_set`]): exact bound consistency, k <= 40.
+//! - `shapes`: in SLAM, `best` plus the detection shapes of
+//!   [`crate::shapes`] (annuli and sectors instead of their hulls); on
+//!   plain boxes there are no shapes, and it acts as `best`.
 //!
 //! Groups are proved equalities, merged across axes and rounds with a
 //! union-find (equality is transitive and a sound contraction keeps every
@@ -42,6 +45,9 @@ pub enum Mode {
     Exact,
     /// The strongest polynomial contractor.
     Best,
+    /// Detection shapes (SLAM only, `crate::shapes`); on plain boxes, as
+    /// `Best`.
+    Shapes,
 }
 
 impl Mode {
@@ -53,6 +59,7 @@ impl Mode {
             "independent" => Mode::Independent,
             "exact" => Mode::Exact,
             "best" => Mode::Best,
+            "shapes" => Mode::Shapes,
             _ => return None,
         })
     }
@@ -65,6 +72,7 @@ impl Mode {
             Mode::Independent => "independent",
             Mode::Exact => "exact",
             Mode::Best => "best",
+            Mode::Shapes => "shapes",
         }
     }
 }
@@ -364,7 +372,10 @@ fn contract(
     let mut sole = Vec::new();
     let mut common: Vec<Interval> = Vec::with_capacity(k);
     let whole_boxes = mode != Mode::Nvalue;
-    let with_witnesses = matches!(mode, Mode::Independent | Mode::Best | Mode::Exact);
+    let with_witnesses = matches!(
+        mode,
+        Mode::Independent | Mode::Best | Mode::Shapes | Mode::Exact
+    );
     // Axes whose bounds moved since their last atmost_nvalue pass (the pass
     // is idempotent: bound consistency), and whether anything moved since
     // the last witness pass.
@@ -583,6 +594,7 @@ mod tests {
             Mode::Independent,
             Mode::Exact,
             Mode::Best,
+            Mode::Shapes,
         ] {
             let mut boxes = vec![
                 b2(0.0, 2.0, 0.0, 2.0),

@@ -24,5 +24,5 @@ pub mod shape;
 pub mod witnesses;
 
 pub use region::Paving;
-pub use round::{Domains, ShapesOptions, ShapesOutcome, ShapesState};
+pub use round::{Chain, Domains, ShapesOptions, ShapesOutcome, ShapesState};
 pub use shape::Shape;

@@ -38,8 +38,10 @@
 //!    distinct pair.
 //!
 //! Whenever p(step) shrinks by more than the tolerance the caller's
-//! `settle` callback propagates it along the motion chain before the next
-//! detection is read.
+//! [`Chain`] is told (its own passes sweep the change along the motion
+//! chain in both directions later); in step 4, the change is also swept
+//! forward to each next detection's step before that detection is read,
+//! so that the filter sees it.
 //!
 //! # Soundness
 //!
@@ -126,13 +128,32 @@ pub struct Domains<'a> {
     pub disp: &'a [Interval],
 }
 
+/// The motion chain as a round sees it (the propagator implements it).
+pub trait Chain {
+    /// Sweeps the change of p(`from`) forward to p(`to`) (`from < to`),
+    /// while it moves a bound by more than the tolerance; returns whether
+    /// it is still alive at `to`. Err: a position emptied (the reason).
+    fn sweep_forward(
+        &mut self,
+        pos: &mut [Interval],
+        from: usize,
+        to: usize,
+    ) -> Result<bool, String>;
+    /// p(`step`) changed (a detection step): the caller sweeps it along
+    /// the chain, both ways, later.
+    fn changed(&mut self, step: usize);
+}
+
 /// What a round did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ShapesOutcome {
     /// Pairs of detections proved to see the same landmark.
     pub unions: Vec<(usize, usize)>,
-    /// Whether a bound moved by more than the tolerance.
+    /// Whether a bound moved by more than the tolerance or a group grew.
     pub moved: bool,
+    /// Detections whose boxes (or whose p(step)) moved by more than the
+    /// tolerance, or that joined a group.
+    pub moved_detections: Vec<usize>,
     /// Contractor calls (pieces contracted).
     pub contractions: u64,
     /// Why the mission is infeasible, when it was proved.
@@ -203,9 +224,7 @@ impl ShapesState {
 
     /// One round (module doc). `groups`: the proved groups (size >= 2);
     /// `n`: the landmark count when known; `max_outliers`: q (the round
-    /// does nothing when q > 0); `settle(pos, step)` propagates a shrunk
-    /// p(step) along the motion chain and returns an infeasibility reason
-    /// when a position empties.
+    /// does nothing when q > 0); `chain` propagates shrunk positions.
     #[allow(clippy::too_many_arguments)]
     pub fn contract(
         &mut self,
@@ -215,7 +234,7 @@ impl ShapesState {
         n: Option<usize>,
         max_outliers: usize,
         tolerance: f64,
-        settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+        chain: &mut dyn Chain,
     ) -> ShapesOutcome {
         let mut out = ShapesOutcome::default();
         let k = mission.detections.len();
@@ -236,7 +255,7 @@ impl ShapesState {
             }
         }
         if let Err(reason) =
-            self.group_regions(mission, &mut dom, &mut uf, tolerance, settle, &mut out)
+            self.group_regions(mission, &mut dom, &mut uf, tolerance, chain, &mut out)
         {
             out.infeasible = Some(reason);
             return out;
@@ -286,6 +305,8 @@ impl ShapesState {
                 Ok(u) => {
                     let done = u.is_empty() && pass > 0;
                     out.moved |= !u.is_empty();
+                    out.moved_detections.extend(u.iter().map(|&(_, b)| b));
+                    out.moved_detections.extend(u.iter().map(|&(_, b)| b));
                     out.unions.extend(u);
                     if done {
                         break;
@@ -298,7 +319,7 @@ impl ShapesState {
             }
         }
         if let Err(reason) = self.witness_branches(
-            mission, &mut dom, &mut uf, n, &order, tolerance, settle, &mut out,
+            mission, &mut dom, &mut uf, n, &order, tolerance, chain, &mut out,
         ) {
             out.infeasible = Some(reason);
             return out;
@@ -306,6 +327,7 @@ impl ShapesState {
         match self.distinct.infer(&mut uf, n, self.options.clique_budget) {
             Ok(u) => {
                 out.moved |= !u.is_empty();
+                out.moved_detections.extend(u.iter().map(|&(_, b)| b));
                 out.unions.extend(u);
             }
             Err(reason) => out.infeasible = Some(reason),
@@ -320,7 +342,7 @@ impl ShapesState {
         dom: &mut Domains,
         uf: &mut Uf,
         tol: f64,
-        settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+        chain: &mut dyn Chain,
         out: &mut ShapesOutcome,
     ) -> Result<(), String> {
         let opts = self.options.clone();
@@ -374,7 +396,7 @@ impl ShapesState {
             for (s, &j) in shapes.iter().zip(&g) {
                 let br = branch(s, &[&region]);
                 out.contractions += region.boxes().len() as u64;
-                apply(mission, dom, j, &br, tol, settle, out)?;
+                apply(mission, dom, j, &br, tol, chain, out)?;
             }
             self.regions[root] = Some(region);
         }
@@ -408,7 +430,7 @@ impl ShapesState {
         n: usize,
         order: &[usize],
         tol: f64,
-        settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+        chain: &mut dyn Chain,
         out: &mut ShapesOutcome,
     ) -> Result<(), String> {
         let k = mission.detections.len();
@@ -522,6 +544,7 @@ impl ShapesState {
                     wregions[i].intersect(&region, opts.max_boxes);
                     out.unions.push((slot_root[i], r));
                     out.moved = true;
+                    out.moved_detections.push(r);
                     slot_root[i] = uf.union(slot_root[i], r);
                     if wregions[i].is_empty() {
                         return Err(format!(
@@ -534,10 +557,23 @@ impl ShapesState {
             }
         }
         let mut result = Ok(());
+        // The step from which a forward change of the chain may be alive.
+        let mut alive: Option<usize> = None;
         for &j in order {
             let rj = uf.find(j);
             if slot_root.contains(&rj) {
                 continue;
+            }
+            let t = mission.detections[j].step;
+            if let Some(from) = alive.filter(|&f| f < t) {
+                match chain.sweep_forward(dom.pos, from, t) {
+                    Ok(true) => alive = Some(t),
+                    Ok(false) => alive = None,
+                    Err(e) => {
+                        result = Err(e);
+                        break;
+                    }
+                }
             }
             let s = shape_of(mission, dom, j);
             let br = {
@@ -561,6 +597,7 @@ impl ShapesState {
                 // j (and its group) sees the landmark of witness i.
                 out.unions.push((slot_root[i], j));
                 out.moved = true;
+                out.moved_detections.push(j);
                 if let Some(p) = self.regions[rj].take() {
                     wregions[i].intersect(&p, opts.max_boxes);
                 }
@@ -577,10 +614,17 @@ impl ShapesState {
                     break;
                 }
             }
-            if let Err(e) = apply(mission, dom, j, &br, tol, settle, out) {
-                result = Err(e);
-                break;
+            match apply(mission, dom, j, &br, tol, chain, out) {
+                Ok(true) => alive = Some(t),
+                Ok(false) => {}
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
             }
+        }
+        if let Some(step) = alive {
+            chain.changed(step);
         }
         for (p, r) in wregions.into_iter().zip(slot_root) {
             self.regions[r] = Some(p);
@@ -590,17 +634,17 @@ impl ShapesState {
     }
 }
 
-/// Intersects p(step) and d(j) with a branch result; settles a shrunk
-/// position.
+/// Intersects p(step) and d(j) with a branch result; tells the chain of a
+/// shrunk position. Returns whether p(step) moved.
 fn apply(
     mission: &Mission,
     dom: &mut Domains,
     j: usize,
     br: &Branches,
     tol: f64,
-    settle: &mut dyn FnMut(&mut [Interval], usize) -> Result<(), String>,
+    chain: &mut dyn Chain,
     out: &mut ShapesOutcome,
-) -> Result<(), String> {
+) -> Result<bool, String> {
     let dim = dom.dim;
     let t = mission.detections[j].step;
     if br.p.is_empty() || br.d.is_empty() {
@@ -609,6 +653,7 @@ fn apply(
         ));
     }
     let mut p_moved = 0.0f64;
+    let mut d_moved = false;
     for a in 0..dim {
         let before = dom.pos[t * dim + a];
         let after = before.intersect(br.p[a]);
@@ -616,9 +661,7 @@ fn apply(
         dom.pos[t * dim + a] = after;
         let before = dom.det[j][a];
         let after = before.intersect(br.d[a]);
-        if shrinkage(before, after) > tol {
-            out.moved = true;
-        }
+        d_moved |= shrinkage(before, after) > tol;
         dom.det[j][a] = after;
     }
     if dom.det[j].is_empty() || dom.pos[t * dim..(t + 1) * dim].iter().any(|x| x.is_empty()) {
@@ -626,9 +669,12 @@ fn apply(
             "detection {j} (step {t}): its shape meets no part of its landmark's region"
         ));
     }
-    if p_moved > tol {
+    if p_moved > tol || d_moved {
         out.moved = true;
-        settle(dom.pos, t)?;
+        out.moved_detections.push(j);
     }
-    Ok(())
+    if p_moved > tol {
+        chain.changed(t);
+    }
+    Ok(p_moved > tol)
 }

@@ -27,6 +27,10 @@ pub struct Model {
     /// `max_outliers`): a group's landmark box is then the q-relaxed
     /// intersection of its members' boxes.
     pub max_outliers: usize,
+    /// Landmark regions (mode `shapes`, [`crate::shapes`]): per detection,
+    /// the paving of its group's landmark when one was built, held at the
+    /// group's smallest member; empty when none was.
+    pub landmark_regions: Vec<Option<Vec<IntervalBox>>>,
 }
 
 impl Model {
@@ -94,6 +98,7 @@ impl Model {
             det,
             heading_at,
             max_outliers: m.max_outliers,
+            landmark_regions: Vec::new(),
         }
     }
 

@@ -212,6 +212,31 @@ impl Serialize for ResultView<'_> {
         o.serialize_entry("detections", &Seq(m.det.iter().map(|b| BoxView(b.axes()))))?;
         o.serialize_entry("format", "nvector-result/1")?;
         let landmarks = s.landmarks();
+        if !m.landmark_regions.is_empty() {
+            // One paving per entry of `landmarks`: the group's landmark
+            // region when the shapes contractor built one (each box cut to
+            // the landmark's box), else that box.
+            let pavings: Vec<Vec<IntervalBox>> = s
+                .matching
+                .iter()
+                .zip(&landmarks)
+                .map(
+                    |(g, b)| match g.iter().find_map(|&j| m.landmark_regions.get(j)?.as_ref()) {
+                        Some(boxes) => boxes
+                            .iter()
+                            .map(|x| x.intersect(b))
+                            .filter(|x| !x.is_empty())
+                            .collect(),
+                        None => vec![b.clone()],
+                    },
+                )
+                .collect();
+            let views: Vec<Vec<BoxView>> = pavings
+                .iter()
+                .map(|p| p.iter().map(|x| BoxView(x.axes())).collect())
+                .collect();
+            o.serialize_entry("landmark_regions", &views)?;
+        }
         o.serialize_entry(
             "landmarks",
             &Seq(landmarks.iter().map(|b| BoxView(b.axes()))),
