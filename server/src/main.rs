@@ -23,7 +23,7 @@ enum Command {
     Run(cli::run::Args),
     /// One atmost_nvector contraction: request JSON on stdin, response on stdout.
     Contract {
-        /// nvalue, projection, independent, exact or best (overrides the request).
+        /// nvalue, projection, independent, exact, shapes or best (overrides the request).
         #[arg(long, value_parser = cli::contract::parse_mode)]
         contractor: Option<nvector_core::nvector::Mode>,
         /// Most search nodes of the exact contractor (default 16000000);

@@ -52,7 +52,7 @@ pub fn contract_with_kernels(request: &Value) -> Result<Value, InputError> {
 }
 
 /// Runs a mission (JSON) to the fixpoint with a contractor name (`none`,
-/// `nvalue`, `projection`, `independent`, `best`).
+/// `nvalue`, `projection`, `independent`, `shapes`, `best`).
 pub fn run_mission(
     mission: &Value,
     contractor: &str,

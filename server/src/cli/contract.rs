@@ -12,7 +12,7 @@ use std::time::Instant;
 pub fn parse_mode(name: &str) -> Result<Mode, String> {
     Mode::parse(name).ok_or_else(|| {
         format!(
-            "unknown contractor '{name}' (expected nvalue, projection, independent, exact or best)"
+            "unknown contractor '{name}' (expected nvalue, projection, independent, exact, shapes or best)"
         )
     })
 }

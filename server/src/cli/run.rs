@@ -16,7 +16,7 @@ use std::time::Instant;
 pub struct Args {
     /// The mission (nvector-mission/1 JSON).
     mission: PathBuf,
-    /// none, nvalue, projection, independent or best (default: best when the
+    /// none, nvalue, projection, independent, shapes or best (default: best when the
     /// mission has landmark_count, none otherwise).
     #[arg(long, value_parser = parse_association)]
     contractor: Option<Association>,
@@ -36,7 +36,7 @@ pub struct Args {
 
 fn parse_association(s: &str) -> Result<Association, String> {
     Association::parse(s).ok_or_else(|| {
-        format!("unknown contractor '{s}' (expected none, nvalue, projection, independent or best)")
+        format!("unknown contractor '{s}' (expected none, nvalue, projection, independent, shapes or best)")
     })
 }
 
