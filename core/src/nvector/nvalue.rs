@@ -512,7 +512,7 @@ mod tests {
             let pick = |r: u64| match r % if overflow { 5 } else { 3 } {
                 0 | 1 => zeros[(r / 8 % 2) as usize],
                 2 => {
-                    if r / 8 % 3 == 0 {
+                    if (r / 8).is_multiple_of(3) {
                         f64::INFINITY
                     } else {
                         f64::NEG_INFINITY
