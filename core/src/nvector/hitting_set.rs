@@ -61,7 +61,7 @@ pub const MAX_K: usize = 40;
 
 /// The default [`Limits::node_budget`]: 16 million nodes, 1.3 to 3 s of
 /// search on the worst cases measured (40 boxes in 8-D, n = 6, which
-/// would otherwise run for minutes; release build, BENCHMARKS.md), while
+/// would otherwise run for minutes; release build, docs/contract.md), while
 /// the paper-like instances of `nvector bench --only exact` (k = 40 in
 /// 2-D) need a few thousand nodes and 40 boxes in 4-D with n = 8 about 15
 /// million.
