@@ -28,6 +28,7 @@ Example::
 from __future__ import annotations
 
 import os
+from importlib.metadata import PackageNotFoundError, version
 from dataclasses import dataclass, field
 from typing import Any, Callable, NamedTuple, Sequence, Union
 
@@ -57,13 +58,8 @@ __all__ = [
 ]
 
 try:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        __version__ = version("nvector-slam")
-    except PackageNotFoundError:
-        __version__ = "0+unknown"
-except ImportError:  # pragma: no cover
+    __version__ = version("nvector-slam")
+except PackageNotFoundError:  # imported from the source tree
     __version__ = "0+unknown"
 
 #: Most steps of a mission.
