@@ -1,15 +1,33 @@
 //! The OpenAPI document against the service's real behaviour: every
-//! documented operation is routed, and real responses (statuses and the
-//! required properties of their JSON bodies) match what it documents.
+//! documented operation is routed; real responses (statuses, content types
+//! and whole JSON bodies, checked against their schemas) match what it
+//! documents; its links lead from a mission to its job, the job's events
+//! and its result; its request examples are accepted; and the cases a
+//! schema-driven fuzzer found (nulls, whole floats, unknown fields) agree
+//! between the document and the service.
 
 use nvector_tests as common;
 
+use common::schema::validate;
 use common::{small_mission, Server};
 use serde_json::{json, Value};
 use std::time::Duration;
 
-/// Checks one real response against the document.
-fn conforms(doc: &Value, method: &str, template: &str, status: u16, body: &[u8]) {
+/// The content type of a response head, without parameters.
+fn content_type(head: &str) -> String {
+    head.lines()
+        .find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            k.eq_ignore_ascii_case("content-type")
+                .then(|| v.split(';').next().unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_default()
+}
+
+/// Checks one real response against the document: the status is
+/// documented, with the content type, and a JSON body conforms to its
+/// schema.
+fn conforms(doc: &Value, method: &str, template: &str, status: u16, head: &str, body: &[u8]) {
     let op = &doc["paths"][template][method];
     assert!(op.is_object(), "{method} {template} is not documented");
     let resp = &op["responses"][status.to_string()];
@@ -17,21 +35,56 @@ fn conforms(doc: &Value, method: &str, template: &str, status: u16, body: &[u8])
         resp.is_object(),
         "{method} {template} answered {status}, which is not documented"
     );
-    if let Some(r) = resp["content"]["application/json"]["schema"]["$ref"].as_str() {
-        let name = r.rsplit('/').next().unwrap();
-        let schema = &doc["components"]["schemas"][name];
+    let ctype = content_type(head);
+    if body.is_empty() {
+        return;
+    }
+    let content = &resp["content"][&ctype];
+    assert!(
+        content.is_object(),
+        "{method} {template} {status}: content type {ctype} is not documented: {}",
+        resp["content"]
+    );
+    if ctype == "application/json" {
         let v: Value = serde_json::from_slice(body)
             .unwrap_or_else(|_| panic!("{method} {template} {status}: not JSON"));
-        for field in schema["required"].as_array().unwrap() {
-            assert!(
-                v.get(field.as_str().unwrap()).is_some(),
-                "{method} {template} {status}: missing `{field}` of {name}: {v}"
-            );
-        }
-        if name == "Error" {
-            for f in ["code", "message", "path"] {
-                assert!(v["error"].get(f).is_some(), "error body without `{f}`: {v}");
-            }
+        let errors = validate(doc, &content["schema"], &v);
+        assert!(
+            errors.is_empty(),
+            "{method} {template} {status}: the body does not match the document: {errors:?}\n{v}"
+        );
+    }
+}
+
+/// A client of one server that records every exchange for `conforms`.
+struct Recorder<'a> {
+    s: &'a Server,
+    exchanges: Vec<(String, String, String, u16, String, Vec<u8>)>,
+}
+
+impl Recorder<'_> {
+    fn send(&mut self, method: &str, path: &str, template: &str, body: Option<Value>) -> Value {
+        let text = body.map(|b| b.to_string());
+        let (st, head, b) = self.s.req(
+            &method.to_ascii_uppercase(),
+            path,
+            text.as_deref().map(|t| ("application/json", t.as_bytes())),
+            &[],
+        );
+        let v = serde_json::from_slice(&b).unwrap_or(Value::Null);
+        self.exchanges
+            .push((method.into(), path.into(), template.into(), st, head, b));
+        v
+    }
+
+    fn status(&self) -> u16 {
+        self.exchanges.last().unwrap().3
+    }
+
+    fn check_all(&self, doc: &Value) {
+        for (method, path, template, status, head, body) in &self.exchanges {
+            assert!(*status < 500, "{method} {path}: {status}");
+            conforms(doc, method, template, *status, head, body);
         }
     }
 }
@@ -41,137 +94,126 @@ fn real_responses_match_the_document() {
     let s = Server::start(&["--workers", "1"]);
     let (st, doc) = s.get("/api/v1/openapi.json");
     assert_eq!(st, 200);
-    assert_eq!(doc["openapi"], "3.0.3");
-    let mut exchanges: Vec<(&str, String, &str, u16, Vec<u8>)> = Vec::new();
-    let mut send = |method: &'static str,
-                    path: String,
-                    template: &'static str,
-                    body: Option<Value>|
-     -> Value {
-        let text = body.map(|b| b.to_string());
-        let (st, _, b) = s.req(
-            &method.to_ascii_uppercase(),
-            &path,
-            text.as_deref().map(|t| ("application/json", t.as_bytes())),
-            &[],
-        );
-        let v = serde_json::from_slice(&b).unwrap_or(Value::Null);
-        exchanges.push((method, path, template, st, b));
-        v
+    assert_eq!(doc["openapi"], "3.1.0");
+    let mut r = Recorder {
+        s: &s,
+        exchanges: Vec::new(),
     };
-    let m = send(
+    let m = r.send(
         "post",
-        "/api/v1/missions".into(),
+        "/api/v1/missions",
         "/api/v1/missions",
         Some(small_mission(3, 500)),
     );
     let id = m["id"].as_str().unwrap().to_string();
-    send(
+    r.send(
         "post",
-        "/api/v1/missions".into(),
+        "/api/v1/missions",
         "/api/v1/missions",
         Some(json!({"format": "nope"})),
     );
-    send("get", "/api/v1/missions".into(), "/api/v1/missions", None);
-    send(
+    r.send("get", "/api/v1/missions", "/api/v1/missions", None);
+    r.send("get", "/api/v1/missions?limit=0", "/api/v1/missions", None);
+    r.send(
         "get",
-        format!("/api/v1/missions/{id}"),
+        &format!("/api/v1/missions/{id}"),
         "/api/v1/missions/{id}",
         None,
     );
-    send(
+    r.send(
         "get",
-        "/api/v1/missions/m-none".into(),
+        "/api/v1/missions/m-none",
         "/api/v1/missions/{id}",
         None,
     );
-    let j = send(
+    let j = r.send(
         "post",
-        "/api/v1/jobs".into(),
+        "/api/v1/jobs",
         "/api/v1/jobs",
         Some(json!({"mission": id})),
     );
     let jid = j["id"].as_str().unwrap().to_string();
-    send(
+    r.send(
         "post",
-        "/api/v1/jobs".into(),
+        "/api/v1/jobs",
         "/api/v1/jobs",
         Some(json!({"mission": "m-none"})),
     );
-    send(
+    r.send(
         "post",
-        "/api/v1/jobs".into(),
+        "/api/v1/jobs",
         "/api/v1/jobs",
         Some(json!({"mission": id, "contractor": 3})),
     );
     s.wait_job(&jid, Duration::from_secs(60));
-    send(
+    r.send(
         "get",
-        format!("/api/v1/jobs/{jid}"),
+        &format!("/api/v1/jobs/{jid}"),
         "/api/v1/jobs/{id}",
         None,
     );
-    send(
+    for q in [
+        "",
+        "?format=json",
+        "?format=csv",
+        "?format=svg",
+        "?format=bmp",
+    ] {
+        r.send(
+            "get",
+            &format!("/api/v1/jobs/{jid}/result{q}"),
+            "/api/v1/jobs/{id}/result",
+            None,
+        );
+    }
+    r.send(
         "get",
-        format!("/api/v1/jobs/{jid}/result"),
-        "/api/v1/jobs/{id}/result",
-        None,
-    );
-    send(
-        "get",
-        format!("/api/v1/jobs/{jid}/result?format=bmp"),
-        "/api/v1/jobs/{id}/result",
-        None,
-    );
-    send(
-        "get",
-        format!("/api/v1/jobs/{jid}/events"),
+        &format!("/api/v1/jobs/{jid}/events"),
         "/api/v1/jobs/{id}/events",
         None,
     );
-    send(
+    r.send(
         "delete",
-        format!("/api/v1/jobs/{jid}"),
+        &format!("/api/v1/jobs/{jid}"),
         "/api/v1/jobs/{id}",
         None,
     );
-    send(
-        "delete",
-        "/api/v1/jobs/j-none".into(),
-        "/api/v1/jobs/{id}",
-        None,
-    );
-    send(
+    r.send("delete", "/api/v1/jobs/j-none", "/api/v1/jobs/{id}", None);
+    r.send(
         "post",
-        "/api/v1/contract".into(),
+        "/api/v1/contract",
         "/api/v1/contract",
         Some(json!({"format": "nvector-contract/1", "n": 1, "boxes": [[[0, 1]]]})),
     );
-    send(
+    r.send(
         "post",
-        "/api/v1/contract".into(),
+        "/api/v1/contract",
+        "/api/v1/contract",
+        Some(json!({"format": "nvector-contract/1", "n": 1, "boxes": [[[0, 1]], [[2, 3]]]})),
+    );
+    r.send(
+        "post",
+        "/api/v1/contract",
         "/api/v1/contract",
         Some(json!({"format": "nvector-contract/1", "n": 0, "boxes": [[[0, 1]]]})),
     );
-    send(
+    r.send(
         "post",
-        "/api/v1/simulate".into(),
+        "/api/v1/simulate",
         "/api/v1/simulate",
         Some(json!({"scenario": "paper", "steps": 300})),
     );
-    send(
+    r.send(
         "delete",
-        format!("/api/v1/missions/{id}"),
+        &format!("/api/v1/missions/{id}"),
         "/api/v1/missions/{id}",
         None,
     );
-    send("get", "/healthz".into(), "/healthz", None);
-    send("get", "/readyz".into(), "/readyz", None);
-    send("get", "/metrics".into(), "/metrics", None);
-    for (method, path, template, status, body) in &exchanges {
-        assert!(*status < 500, "{method} {path}: {status}");
-        conforms(&doc, method, template, *status, body);
-    }
+    r.send("get", "/healthz", "/healthz", None);
+    r.send("get", "/readyz", "/readyz", None);
+    r.send("get", "/metrics", "/metrics", None);
+    r.send("get", "/api/v1/openapi.json", "/api/v1/openapi.json", None);
+    r.check_all(&doc);
     // Every documented operation is routed (no 404 "no such endpoint" and
     // no 405).
     for (template, ops) in doc["paths"].as_object().unwrap() {
@@ -191,4 +233,218 @@ fn real_responses_match_the_document() {
             );
         }
     }
+}
+
+/// The (path template, method) of an operation id.
+fn operation(doc: &Value, id: &str) -> (String, String) {
+    for (path, ops) in doc["paths"].as_object().unwrap() {
+        for (method, op) in ops.as_object().unwrap() {
+            if op["operationId"] == id {
+                return (path.clone(), method.clone());
+            }
+        }
+    }
+    panic!("no operation {id}");
+}
+
+/// A link's value with its `$response.body#/...` expressions evaluated.
+fn evaluate(v: &Value, response: &Value) -> Value {
+    match v {
+        Value::String(s) if s.starts_with("$response.body#") => response
+            .pointer(&s["$response.body#".len()..])
+            .cloned()
+            .unwrap_or_else(|| panic!("{s} is not in {response}")),
+        Value::Object(o) => Value::Object(
+            o.iter()
+                .map(|(k, x)| (k.clone(), evaluate(x, response)))
+                .collect(),
+        ),
+        other => other.clone(),
+    }
+}
+
+/// Follows every link of `response` (the answer of `op_id` with
+/// `status`); returns the answers by link name.
+fn follow(
+    r: &mut Recorder,
+    doc: &Value,
+    op_id: &str,
+    status: u16,
+    response: &Value,
+    skip: &[&str],
+) -> Vec<(String, u16, Value)> {
+    let (path, method) = operation(doc, op_id);
+    let links = doc["paths"][&path][&method]["responses"][status.to_string()]["links"]
+        .as_object()
+        .unwrap_or_else(|| panic!("{op_id} {status} has no links"))
+        .clone();
+    let mut out = Vec::new();
+    for (name, link) in links {
+        if skip.contains(&name.as_str()) {
+            continue;
+        }
+        let (target, target_method) = operation(doc, link["operationId"].as_str().unwrap());
+        let mut concrete = target.clone();
+        for (p, expr) in link["parameters"].as_object().into_iter().flatten() {
+            let value = evaluate(expr, response);
+            concrete = concrete.replace(&format!("{{{p}}}"), value.as_str().unwrap());
+        }
+        let body = link.get("requestBody").map(|b| evaluate(b, response));
+        let v = r.send(&target_method, &concrete, &target, body);
+        out.push((name, r.status(), v));
+    }
+    out
+}
+
+/// Regression (issue 13: "no links from a created mission to its jobs,
+/// events and results"): the document's links, followed as a client
+/// generator would, lead from a simulated mission to a job, its events and
+/// its result, and from the job back to its mission.
+#[test]
+fn issue_13_links_lead_from_a_mission_to_its_job_events_and_result() {
+    let s = Server::start(&["--workers", "1"]);
+    let (_, doc) = s.get("/api/v1/openapi.json");
+    let mut r = Recorder {
+        s: &s,
+        exchanges: Vec::new(),
+    };
+    let sim = r.send(
+        "post",
+        "/api/v1/simulate",
+        "/api/v1/simulate",
+        Some(json!({"scenario": "paper", "steps": 400, "seed": 2})),
+    );
+    assert_eq!(r.status(), 201, "{sim}");
+    let from_mission = follow(&mut r, &doc, "simulate", 201, &sim, &["deleteMission"]);
+    let names: Vec<&str> = from_mission.iter().map(|(n, _, _)| n.as_str()).collect();
+    assert!(
+        names.contains(&"createJob") && names.contains(&"getMission"),
+        "{names:?}"
+    );
+    let (_, st, job) = from_mission
+        .iter()
+        .find(|(n, _, _)| n == "createJob")
+        .unwrap()
+        .clone();
+    assert_eq!(st, 202, "{job}");
+    s.wait_job(job["id"].as_str().unwrap(), Duration::from_secs(60));
+    for (name, st, v) in follow(&mut r, &doc, "createJob", 202, &job, &[]) {
+        match name.as_str() {
+            "getJob" => assert_eq!(v["state"], "done", "{v}"),
+            "jobResult" => assert_eq!(v["format"], "nvector-result/1", "{v}"),
+            "jobEvents" => assert_eq!(st, 200),
+            "cancelJob" => assert_eq!(st, 409, "{v}"),
+            other => panic!("unexpected link {other}"),
+        }
+    }
+    let (_, got) = s.get(&format!("/api/v1/jobs/{}", job["id"].as_str().unwrap()));
+    for (name, st, v) in follow(&mut r, &doc, "getJob", 200, &got, &[]) {
+        assert_eq!(st, 200, "{name}: {v}");
+    }
+    // The mission's delete link last: the job goes with it.
+    let deleted = follow(&mut r, &doc, "createMission", 201, &sim, &[]);
+    assert!(deleted
+        .iter()
+        .any(|(n, st, _)| n == "deleteMission" && *st == 204));
+    r.check_all(&doc);
+}
+
+/// The examples the document gives for request bodies are accepted.
+#[test]
+fn request_examples_are_accepted() {
+    let s = Server::start(&["--workers", "1"]);
+    let (_, doc) = s.get("/api/v1/openapi.json");
+    let example = |name: &str| doc["components"]["schemas"][name]["example"].clone();
+    let (st, m) = s.post("/api/v1/missions", &example("Mission"));
+    assert_eq!(st, 201, "{m}");
+    let (st, v) = s.post("/api/v1/contract", &example("ContractRequest"));
+    assert_eq!((st, &v["status"]), (200, &json!("contracted")), "{v}");
+    let (st, v) = s.post("/api/v1/simulate", &example("SimulateRequest"));
+    assert_eq!(st, 201, "{v}");
+    let mut job = example("JobRequest");
+    job["mission"] = m["id"].clone();
+    let (st, v) = s.post("/api/v1/jobs", &job);
+    assert_eq!(st, 202, "{v}");
+}
+
+/// Regression (issue 13, the fuzzer's findings): what the document allows
+/// the service accepts, and what it refuses the service refuses:
+/// `"steps": null` is documented (null means absent) and accepted; a whole
+/// float is an integer for both; a non-boolean `operator` and an unknown
+/// field are refused by both.
+#[test]
+fn issue_13_nulls_whole_floats_and_unknown_fields_agree() {
+    let s = Server::start(&["--workers", "1", "--max-steps", "5000"]);
+    let (_, doc) = s.get("/api/v1/openapi.json");
+    let schema = |name: &str| json!({"$ref": format!("#/components/schemas/{name}")});
+    let agree = |name: &str, path: &str, body: Value, expect: u16| {
+        let valid = validate(&doc, &schema(name), &body).is_empty();
+        let (st, v) = s.post(path, &body);
+        assert_eq!(st, expect, "{body} -> {v}");
+        assert_eq!(
+            valid,
+            st < 300,
+            "document valid = {valid}, service {st}: {body}"
+        );
+        v
+    };
+    let sim = agree(
+        "SimulateRequest",
+        "/api/v1/simulate",
+        json!({"scenario": "paper", "steps": null, "seed": 4.0, "landmarks": null}),
+        201,
+    );
+    // Absent steps: the scenario's 10,000, capped at this service's 5,000.
+    assert_eq!(sim["steps"], 5000);
+    let v = agree(
+        "SimulateRequest",
+        "/api/v1/simulate",
+        json!({"scenario": "paper", "operator": "yes"}),
+        422,
+    );
+    assert_eq!(v["error"]["path"], "operator");
+    agree(
+        "SimulateRequest",
+        "/api/v1/simulate",
+        json!({"scenario": "auv", "layout": "ring"}),
+        422,
+    );
+    agree(
+        "SimulateRequest",
+        "/api/v1/simulate",
+        json!({"scenario": "paper", "stpes": 10}),
+        422,
+    );
+    let id = sim["id"].clone();
+    agree(
+        "JobRequest",
+        "/api/v1/jobs",
+        json!({"mission": id, "max_rounds": 5.0, "time_limit_s": null}),
+        202,
+    );
+    agree(
+        "JobRequest",
+        "/api/v1/jobs",
+        json!({"mission": id, "max_rounds": 5.5}),
+        422,
+    );
+    agree(
+        "ContractRequest",
+        "/api/v1/contract",
+        json!({"format": "nvector-contract/1", "n": 2.0, "boxes": [[[0, 1]]], "contractor": null}),
+        200,
+    );
+    agree(
+        "ContractRequest",
+        "/api/v1/contract",
+        json!({"format": "nvector-contract/1", "n": 1, "boxes": [[[0, 1]]], "extra": 1}),
+        422,
+    );
+    let mut m = small_mission(5, 2000);
+    assert!(!m["detections"].as_array().unwrap().is_empty());
+    m["final_position"] = Value::Null;
+    m["landmark_count"] = json!(4.0);
+    agree("Mission", "/api/v1/missions", m.clone(), 201);
+    m["detections"][0]["range"] = json!([-1, 2]);
+    agree("Mission", "/api/v1/missions", m, 422);
 }

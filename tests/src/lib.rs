@@ -5,6 +5,7 @@
 //! socket (raw, so that malformed requests can be sent too).
 
 pub mod pg;
+pub mod schema;
 
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};

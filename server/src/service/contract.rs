@@ -2,6 +2,7 @@
 //! on the blocking pool.
 
 use super::error::{parse_json, ApiResult, AppError};
+use super::formats::{ContractRequest, ContractResponse, ErrorBody};
 use super::state::{owner, AppState};
 use axum::body::Bytes;
 use axum::extract::State;
@@ -9,6 +10,22 @@ use axum::http::{HeaderMap, StatusCode};
 use axum::Json;
 use serde_json::{json, Value};
 
+/// One atmost_nvector contraction (spec/formats.md), synchronous.
+#[utoipa::path(
+    post,
+    path = "/contract",
+    operation_id = "contract",
+    tag = "contraction",
+    request_body = ContractRequest,
+    responses(
+        (status = 200, description = "The contraction", body = ContractResponse),
+        (status = 400, description = "Malformed JSON", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 413, description = "More than 100000 boxes, or body too large", body = ErrorBody),
+        (status = 422, description = "Invalid request, with the JSON path; or `work_limit`: \
+            the exact contractor ran out of its work budget or the time limit", body = ErrorBody),
+    )
+)]
 pub(super) async fn post_contract(
     State(state): State<AppState>,
     headers: HeaderMap,

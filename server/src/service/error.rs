@@ -12,9 +12,9 @@ use serde_json::{json, Value};
 #[derive(Debug)]
 pub struct AppError {
     pub(super) status: StatusCode,
-    code: &'static str,
-    message: String,
-    path: String,
+    pub(super) code: &'static str,
+    pub(super) message: String,
+    pub(super) path: String,
     pub(super) retry_after: Option<u64>,
 }
 

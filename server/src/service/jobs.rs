@@ -4,6 +4,7 @@
 //! or SVG). The workers that run jobs are in `worker.rs`.
 
 use super::error::{parse_json, ApiResult, AppError};
+use super::formats::{ErrorBody, SlamResult};
 use super::state::{owner, AppState};
 use super::store::JobRow;
 use super::worker::now_ms;
@@ -15,38 +16,242 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use futures_util::stream::{self, Stream};
 use nvector_core::slam::propagator::Association;
+use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 use std::convert::Infallible;
 use std::time::Duration;
+use utoipa::{IntoParams, ToSchema};
 
-fn job_json(j: &JobRow) -> Value {
-    let mut v = json!({
-        "id": j.id,
-        "mission": j.mission,
-        "state": j.state,
-        "contractor": j.contractor,
-        "progress": {"round": j.round, "max_trajectory_diameter": j.diameter, "fraction": j.fraction},
-        "created_ms": j.created,
-        "started_ms": j.started,
-        "finished_ms": j.finished,
-    });
-    if let Some(e) = &j.error {
-        v["error"] = json!(e);
-    }
-    if j.attempts > 0 {
-        v["attempts"] = json!(j.attempts);
-    }
-    if let Some(r) = &j.runner {
-        v["runner"] = json!(r);
-    }
-    v
+/// The association modes a job may name (`Association::parse` decides; the
+/// document lists those it accepts: see `contractor_names`).
+pub const CONTRACTOR_CANDIDATES: [&str; 7] = [
+    "none",
+    "nvalue",
+    "projection",
+    "independent",
+    "exact",
+    "shapes",
+    "best",
+];
+
+/// The contractors core accepts for a SLAM job, in the order of
+/// `CONTRACTOR_CANDIDATES`.
+pub fn contractor_names() -> Vec<&'static str> {
+    CONTRACTOR_CANDIDATES
+        .into_iter()
+        .filter(|c| Association::parse(c).is_some())
+        .collect()
 }
 
+/// "a, b or c".
+pub(super) fn or_list(names: &[&str]) -> String {
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        Some((last, _)) => last.to_string(),
+        None => String::new(),
+    }
+}
+
+/// A job's association mode. The document lists the ones core accepts.
+#[derive(Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum JobContractor {
+    /// The basic model: no nvector (operator matches only).
+    None,
+    /// atmost_nvalue per axis.
+    Nvalue,
+    /// The paper's improved contractor.
+    Projection,
+    /// Pairwise-disjoint witnesses, with projection.
+    Independent,
+    /// Refused for jobs (exponential); listed only if core accepts it.
+    Exact,
+    /// Detection shapes (annuli, sectors), landmark regions, branch
+    /// contraction.
+    Shapes,
+    /// The strongest polynomial contractor.
+    Best,
+}
+
+/// A SLAM job to queue.
+#[derive(Deserialize, ToSchema)]
+#[allow(dead_code)] // Described, not built: core's parser reads the body.
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"mission": "m-0123456789abcdef0123456789abcdef", "contractor": "best"}))]
+pub struct JobRequest {
+    /// The mission's id.
+    pub mission: String,
+    /// The association mode (default: `best` when the mission has a
+    /// `landmark_count`, else `none`).
+    #[serde(default)]
+    pub contractor: Option<JobContractor>,
+    /// The round cap (default 10,000; 0 reads as 1).
+    #[serde(default)]
+    #[schema(minimum = 0, maximum = 4294967295u32)]
+    pub max_rounds: Option<u32>,
+    /// The time limit in seconds (default and largest: this service's job
+    /// time limit).
+    #[serde(default)]
+    #[schema(exclusive_minimum = 0, maximum = 300)]
+    pub time_limit_s: Option<f64>,
+}
+
+/// The state of a job.
+#[derive(ToSchema)]
+#[allow(dead_code)] // Described: the state is the stored string.
+#[schema(rename_all = "lowercase")]
+pub enum JobState {
+    /// Waiting for a worker.
+    Queued,
+    /// Running.
+    Running,
+    /// Finished: the result is there (`error` says if a time limit cut it).
+    Done,
+    /// Failed (`error` says why).
+    Failed,
+    /// Cancelled.
+    Cancelled,
+}
+
+/// A job's progress.
+#[derive(Serialize, ToSchema)]
+pub struct JobProgress {
+    /// Propagation rounds so far.
+    pub round: i64,
+    /// The largest trajectory box diameter so far (null while unknown or
+    /// unbounded).
+    pub max_trajectory_diameter: Option<f64>,
+    /// The fraction of the work done, in [0, 1].
+    pub fraction: f64,
+}
+
+/// A job.
+#[derive(Serialize, ToSchema)]
+pub struct Job {
+    /// The job's id (`j-...`).
+    pub id: String,
+    /// Its mission's id.
+    pub mission: String,
+    /// Its state.
+    #[schema(value_type = JobState)]
+    pub state: String,
+    /// Its association mode.
+    pub contractor: String,
+    /// Its progress.
+    pub progress: JobProgress,
+    /// When it was queued (ms since the Unix epoch).
+    pub created_ms: i64,
+    /// When it last started.
+    pub started_ms: Option<i64>,
+    /// When it ended.
+    pub finished_ms: Option<i64>,
+    /// Why it failed, or that a time limit cut it short.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false)]
+    pub error: Option<String>,
+    /// Times a worker claimed it (1 unless re-queued).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false)]
+    pub attempts: Option<i64>,
+    /// The id of the nvector process that runs or ran it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false)]
+    pub runner: Option<String>,
+}
+
+impl From<&JobRow> for Job {
+    fn from(j: &JobRow) -> Job {
+        Job {
+            id: j.id.clone(),
+            mission: j.mission.clone(),
+            state: j.state.clone(),
+            contractor: j.contractor.clone(),
+            progress: JobProgress {
+                round: j.round,
+                max_trajectory_diameter: j.diameter.filter(|d| d.is_finite()),
+                fraction: j.fraction,
+            },
+            created_ms: j.created,
+            started_ms: j.started,
+            finished_ms: j.finished,
+            error: j.error.clone(),
+            attempts: (j.attempts > 0).then_some(j.attempts),
+            runner: j.runner.clone(),
+        }
+    }
+}
+
+/// One Server-Sent Event of `GET /jobs/{id}/events`.
+#[derive(ToSchema)]
+#[allow(dead_code)] // Described: the stream writes the events.
+pub struct JobEvent {
+    /// `progress` while the job runs, `end` once, last.
+    #[schema(value_type = JobEventName)]
+    pub event: String,
+    /// A `Job` object as JSON (or `{"id", "state": "deleted"}` when the job
+    /// was deleted meanwhile).
+    #[schema(content_media_type = "application/json")]
+    pub data: String,
+}
+
+/// The names of a job's events.
+#[derive(ToSchema)]
+#[allow(dead_code)] // Described.
+#[schema(rename_all = "lowercase")]
+pub enum JobEventName {
+    /// The job changed.
+    Progress,
+    /// The job ended (or was deleted); the stream closes.
+    End,
+}
+
+/// A job's id and state, as `POST /jobs` and `DELETE /jobs/{id}` answer.
+#[derive(Serialize, ToSchema)]
+pub struct JobQueued {
+    /// The job's id.
+    pub id: String,
+    /// `queued` (POST) or `cancelled` (DELETE).
+    #[schema(value_type = JobState)]
+    pub state: String,
+}
+
+fn job_json(j: &JobRow) -> String {
+    serde_json::to_string(&Job::from(j)).unwrap_or_default()
+}
+
+/// Queue a SLAM job on a stored mission.
+#[utoipa::path(
+    post,
+    path = "/jobs",
+    operation_id = "createJob",
+    tag = "jobs",
+    request_body = JobRequest,
+    responses(
+        (status = 202, description = "Queued", body = JobQueued,
+            links(
+                ("getJob" = (operation_id = "getJob", parameters(("id" = "$response.body#/id")),
+                    description = "The job and its progress")),
+                ("jobEvents" = (operation_id = "jobEvents", parameters(("id" = "$response.body#/id")),
+                    description = "Its progress as Server-Sent Events")),
+                ("jobResult" = (operation_id = "jobResult", parameters(("id" = "$response.body#/id")),
+                    description = "Its result, once done")),
+                ("cancelJob" = (operation_id = "cancelJob", parameters(("id" = "$response.body#/id")),
+                    description = "Cancel it"))
+            )),
+        (status = 400, description = "Malformed JSON", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 404, description = "No such mission", body = ErrorBody),
+        (status = 413, description = "Request body too large", body = ErrorBody),
+        (status = 422, description = "Invalid field, with its path", body = ErrorBody),
+        (status = 429, description = "Too many queued jobs (Retry-After)", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn post_job(
     State(state): State<AppState>,
     headers: HeaderMap,
     body: Bytes,
-) -> ApiResult<(StatusCode, Json<Value>)> {
+) -> ApiResult<(StatusCode, Json<JobQueued>)> {
     let owner = owner(&state, &headers)?;
     let v = parse_json(&body)?;
     let obj = nvector_core::json::object(&v, "").map_err(|e| AppError::bad("invalid_job", e))?;
@@ -77,7 +282,10 @@ pub(super) async fn post_job(
     };
     let contractor = match obj.get("contractor") {
         None | Some(Value::Null) => {
-            let has_n = serde_json::from_str::<Value>(&body).ok().and_then(|m| m.get("landmark_count").cloned()).is_some_and(|n| !n.is_null());
+            let has_n = serde_json::from_str::<Value>(&body)
+                .ok()
+                .and_then(|m| m.get("landmark_count").cloned())
+                .is_some_and(|n| !n.is_null());
             if has_n { "best" } else { "none" }.to_string()
         }
         Some(Value::String(s)) if Association::parse(s).is_some() => s.clone(),
@@ -85,7 +293,10 @@ pub(super) async fn post_job(
             return Err(AppError::new(
                 StatusCode::UNPROCESSABLE_ENTITY,
                 "invalid_job",
-                format!("unknown contractor {other} (expected none, nvalue, projection, independent or best)"),
+                format!(
+                    "unknown contractor {other} (expected {})",
+                    or_list(&contractor_names())
+                ),
             )
             .at("contractor"))
         }
@@ -143,28 +354,69 @@ pub(super) async fn post_job(
     state.workers.notify();
     Ok((
         StatusCode::ACCEPTED,
-        Json(json!({"id": id, "state": "queued"})),
+        Json(JobQueued {
+            id,
+            state: "queued".into(),
+        }),
     ))
 }
 
+/// A job and its progress.
+#[utoipa::path(
+    get,
+    path = "/jobs/{id}",
+    operation_id = "getJob",
+    tag = "jobs",
+    params(("id" = String, Path, description = "The job's id")),
+    responses(
+        (status = 200, description = "The job", body = Job,
+            links(
+                ("getMission" = (operation_id = "getMission", parameters(("id" = "$response.body#/mission")),
+                    description = "The job's mission")),
+                ("jobResult" = (operation_id = "jobResult", parameters(("id" = "$response.body#/id")),
+                    description = "Its result, once done")),
+                ("jobEvents" = (operation_id = "jobEvents", parameters(("id" = "$response.body#/id")),
+                    description = "Its progress as Server-Sent Events"))
+            )),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn get_job(
     State(state): State<AppState>,
     headers: HeaderMap,
     Path(id): Path<String>,
-) -> ApiResult<Json<Value>> {
+) -> ApiResult<Json<Job>> {
     let owner = owner(&state, &headers)?;
     let j = state
         .db(move |st| st.job(&owner, &id))
         .await?
         .ok_or_else(|| AppError::not_found("job"))?;
-    Ok(Json(job_json(&j)))
+    Ok(Json(Job::from(&j)))
 }
 
+/// Cancel a queued or running job. The job stays, in state `cancelled`
+/// (this is a cancellation, not a deletion: `GET` still answers it).
+#[utoipa::path(
+    delete,
+    path = "/jobs/{id}",
+    operation_id = "cancelJob",
+    tag = "jobs",
+    params(("id" = String, Path, description = "The job's id")),
+    responses(
+        (status = 202, description = "Cancelled", body = JobQueued),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 409, description = "The job has already ended", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn delete_job(
     State(state): State<AppState>,
     headers: HeaderMap,
     Path(id): Path<String>,
-) -> ApiResult<(StatusCode, Json<Value>)> {
+) -> ApiResult<(StatusCode, Json<JobQueued>)> {
     let owner = owner(&state, &headers)?;
     let (o, i) = (owner.clone(), id.clone());
     let cancelled = state.db(move |st| st.cancel_job(&o, &i, now_ms())).await?;
@@ -173,7 +425,10 @@ pub(super) async fn delete_job(
         None => Err(AppError::not_found("job")),
         Some(s) if s == "queued" || s == "running" => Ok((
             StatusCode::ACCEPTED,
-            Json(json!({"id": id, "state": "cancelled"})),
+            Json(JobQueued {
+                id,
+                state: "cancelled".into(),
+            }),
         )),
         Some(s) => Err(AppError::new(
             StatusCode::CONFLICT,
@@ -183,6 +438,23 @@ pub(super) async fn delete_job(
     }
 }
 
+/// The job's progress as Server-Sent Events: a `progress` event (a `Job`
+/// object) whenever it changes, then one `end` event with the final state,
+/// and the stream closes.
+#[utoipa::path(
+    get,
+    path = "/jobs/{id}/events",
+    operation_id = "jobEvents",
+    tag = "jobs",
+    params(("id" = String, Path, description = "The job's id")),
+    responses(
+        (status = 200, description = "text/event-stream: events `progress` and `end`, each data a Job object",
+            content_type = "text/event-stream", body = JobEvent),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn job_events(
     State(state): State<AppState>,
     headers: HeaderMap,
@@ -217,7 +489,7 @@ pub(super) async fn job_events(
                         .data(json!({"id": id, "state": "deleted"}).to_string());
                     return Some((Ok(ev), (state, owner, id, last, true, rx)));
                 };
-                let text = job_json(&job).to_string();
+                let text = job_json(&job);
                 let terminal = matches!(job.state.as_str(), "done" | "failed" | "cancelled");
                 if text != last {
                     let ev = Event::default()
@@ -246,11 +518,48 @@ pub(super) async fn job_events(
     Ok(Sse::new(s).keep_alive(KeepAlive::default()))
 }
 
-#[derive(serde::Deserialize)]
+/// The result's formats.
+#[derive(Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ResultFormat {
+    /// The result JSON (`nvector-result/1`).
+    Json,
+    /// The trajectory as CSV: `step,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]`.
+    Csv,
+    /// The figure (SVG).
+    Svg,
+}
+
+/// The query of `GET /jobs/{id}/result`.
+#[derive(Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub(super) struct ResultQuery {
+    /// `json` (default), `csv` or `svg`.
+    #[param(value_type = Option<ResultFormat>)]
     format: Option<String>,
 }
 
+/// The result of a finished job.
+#[utoipa::path(
+    get,
+    path = "/jobs/{id}/result",
+    operation_id = "jobResult",
+    tag = "jobs",
+    params(("id" = String, Path, description = "The job's id"), ResultQuery),
+    responses(
+        (status = 200, description = "The result",
+            content(
+                (SlamResult = "application/json"),
+                (String = "text/csv"),
+                (String = "image/svg+xml")
+            )),
+        (status = 400, description = "Unknown `format`", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 409, description = "The job is not done", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn job_result(
     State(state): State<AppState>,
     headers: HeaderMap,

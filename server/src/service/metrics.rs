@@ -3,21 +3,38 @@
 //! route and status) and the middleware that counts requests.
 
 use super::error::ApiResult;
+use super::formats::ErrorBody;
 use super::state::AppState;
 use axum::extract::{MatchedPath, Request, State};
 use axum::http::header;
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 
+/// Liveness.
+#[utoipa::path(get, path = "/healthz", operation_id = "healthz", tag = "operations",
+    responses((status = 200, description = "`ok`", content_type = "text/plain", body = String)))]
 pub(super) async fn healthz() -> &'static str {
     "ok\n"
 }
 
+/// Readiness: the storage is reachable.
+#[utoipa::path(get, path = "/readyz", operation_id = "readyz", tag = "operations",
+    responses(
+        (status = 200, description = "`ready`", content_type = "text/plain", body = String),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    ))]
 pub(super) async fn readyz(State(state): State<AppState>) -> ApiResult<&'static str> {
     state.db(|st| st.ping()).await?;
     Ok("ready\n")
 }
 
+/// Prometheus text: jobs by state, job durations, requests by route and
+/// status.
+#[utoipa::path(get, path = "/metrics", operation_id = "metrics", tag = "operations",
+    responses(
+        (status = 200, description = "Prometheus text format 0.0.4", content_type = "text/plain", body = String),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    ))]
 pub(super) async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
     let mut out = String::new();
     out.push_str("# HELP nvector_jobs Jobs by state.\n# TYPE nvector_jobs gauge\n");

@@ -1,8 +1,11 @@
 //! Missions: `POST /api/v1/missions` (JSON body or multipart `file`),
 //! `GET /api/v1/missions` (paged), `GET` and `DELETE /api/v1/missions/{id}`.
+//! The mission itself is read and validated by core (`Mission::from_value`);
+//! its document schema is `formats::Mission`.
 
 use super::config::Config;
 use super::error::{parse_json, ApiResult, AppError};
+use super::formats::{self, ErrorBody};
 use super::state::{owner, AppState};
 use super::store;
 use super::worker::now_ms;
@@ -12,7 +15,9 @@ use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use nvector_core::slam::mission::Mission;
-use serde_json::{json, Value};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use utoipa::{IntoParams, ToSchema};
 
 /// The mission JSON of a request: a JSON body, or the `file` field of a
 /// multipart form.
@@ -64,9 +69,14 @@ async fn mission_body(req: Request, state: &AppState) -> ApiResult<Vec<u8>> {
     Ok(bytes.to_vec())
 }
 
-pub(super) fn check_mission(v: &Value, config: &Config) -> ApiResult<Mission> {
+/// Validates a mission: this service's limits on steps and (for an upload)
+/// detections first, then core's parser.
+pub(super) fn check_mission(v: &Value, config: &Config, uploaded: bool) -> ApiResult<Mission> {
     // Cheap limits first, before building the model.
-    if let Some(n) = v.get("steps").and_then(Value::as_u64) {
+    if let Some(n) = v
+        .get("steps")
+        .and_then(|s| nvector_core::json::integer(s, "steps", u64::MAX).ok())
+    {
         if n as usize > config.max_steps {
             return Err(AppError::new(
                 StatusCode::PAYLOAD_TOO_LARGE,
@@ -79,7 +89,11 @@ pub(super) fn check_mission(v: &Value, config: &Config) -> ApiResult<Mission> {
             .at("steps"));
         }
     }
-    if let Some(d) = v.get("detections").and_then(Value::as_array) {
+    if let Some(d) = v
+        .get("detections")
+        .and_then(Value::as_array)
+        .filter(|_| uploaded)
+    {
         if d.len() > config.max_detections {
             return Err(AppError::new(
                 StatusCode::PAYLOAD_TOO_LARGE,
@@ -96,16 +110,71 @@ pub(super) fn check_mission(v: &Value, config: &Config) -> ApiResult<Mission> {
     Mission::from_value(v).map_err(|e| AppError::bad("invalid_mission", e))
 }
 
-pub(super) fn mission_summary(id: &str, m: &Mission) -> Value {
-    json!({"id": id, "name": m.name, "steps": m.steps, "detections": m.detections.len()})
+/// A stored mission, as `POST /missions` and `POST /simulate` answer.
+#[derive(Serialize, ToSchema)]
+pub struct MissionSummary {
+    /// The mission's id (`m-...`).
+    pub id: String,
+    /// Its name.
+    pub name: String,
+    /// N, its steps.
+    pub steps: u64,
+    /// Its number of detections.
+    pub detections: u64,
 }
 
+/// One mission of a list.
+#[derive(Serialize, ToSchema)]
+pub struct MissionItem {
+    /// The mission's id.
+    pub id: String,
+    /// Its name.
+    pub name: String,
+    /// N, its steps.
+    pub steps: i64,
+    /// Its number of detections.
+    pub detections: i64,
+    /// When it was stored (ms since the Unix epoch).
+    pub created_ms: i64,
+}
+
+/// A page of missions, oldest first.
+#[derive(Serialize, ToSchema)]
+pub struct MissionList {
+    /// The missions of this page.
+    pub missions: Vec<MissionItem>,
+    /// The `after` of the next page; null on the last page.
+    pub next: Option<String>,
+}
+
+/// A multipart upload of a mission.
+#[derive(ToSchema)]
+#[allow(dead_code)] // Described, not built.
+pub struct MissionUpload {
+    /// The mission JSON.
+    #[schema(value_type = formats::Mission)]
+    pub file: Value,
+}
+
+pub(super) fn mission_summary(id: &str, m: &Mission) -> MissionSummary {
+    MissionSummary {
+        id: id.to_string(),
+        name: m.name.clone(),
+        steps: m.steps as u64,
+        detections: m.detections.len() as u64,
+    }
+}
+
+/// Validates and stores a mission. A simulated one (`uploaded` false) is
+/// not held to the upload limit on detections: its size is bounded by the
+/// simulation's own limits (steps, false detections).
 pub(super) async fn store_mission(
     state: &AppState,
     owner: &str,
     v: &Value,
+    uploaded: bool,
 ) -> ApiResult<(String, Mission)> {
-    let m = check_mission(v, &state.config)?;
+    let m = check_mission(v, &state.config, uploaded)?;
     let id = format!("m-{}", uuid::Uuid::new_v4().simple());
     let row = store::mission_row(id.clone(), &m, now_ms());
     let body = v.to_string();
@@ -116,28 +185,78 @@ pub(super) async fn store_mission(
     Ok((id, m))
 }
 
+/// Store a mission: a JSON body, or a multipart form with a `file` field.
+#[utoipa::path(
+    post,
+    path = "/missions",
+    operation_id = "createMission",
+    tag = "missions",
+    request_body(
+        description = "The mission (spec/formats.md), as JSON or as the `file` field of a form",
+        content(
+            (formats::Mission = "application/json"),
+            (MissionUpload = "multipart/form-data")
+        )
+    ),
+    responses(
+        (status = 201, description = "Stored", body = MissionSummary,
+            links(
+                ("getMission" = (operation_id = "getMission", parameters(("id" = "$response.body#/id")),
+                    description = "The stored mission")),
+                ("createJob" = (operation_id = "createJob", request_body = json!({"mission": "$response.body#/id"}),
+                    description = "A SLAM job on it")),
+                ("deleteMission" = (operation_id = "deleteMission", parameters(("id" = "$response.body#/id")),
+                    description = "Delete it and its jobs"))
+            )),
+        (status = 400, description = "Malformed JSON or form", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 413, description = "Body, steps or detections above this service's limits", body = ErrorBody),
+        (status = 415, description = "Neither JSON nor a form", body = ErrorBody),
+        (status = 422, description = "Invalid mission, with the JSON path", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn post_mission(
     State(state): State<AppState>,
     req: Request,
-) -> ApiResult<(StatusCode, Json<Value>)> {
+) -> ApiResult<(StatusCode, Json<MissionSummary>)> {
     let owner = owner(&state, req.headers())?;
     let bytes = mission_body(req, &state).await?;
     let v = parse_json(&bytes)?;
-    let (id, m) = store_mission(&state, &owner, &v).await?;
+    let (id, m) = store_mission(&state, &owner, &v, true).await?;
     Ok((StatusCode::CREATED, Json(mission_summary(&id, &m))))
 }
 
-#[derive(serde::Deserialize)]
+/// The page of `GET /missions`.
+#[derive(Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub(super) struct Page {
+    /// Most missions in the page (default 100).
+    #[param(minimum = 1, maximum = 1000)]
     limit: Option<i64>,
+    /// The `next` of the previous page: list the missions after this id.
     after: Option<String>,
 }
 
+/// List missions, oldest first, a page at a time.
+#[utoipa::path(
+    get,
+    path = "/missions",
+    operation_id = "listMissions",
+    tag = "missions",
+    params(Page),
+    responses(
+        (status = 200, description = "A page of missions", body = MissionList),
+        (status = 400, description = "Bad `limit`", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn list_missions(
     State(state): State<AppState>,
     headers: HeaderMap,
     page: Result<Query<Page>, axum::extract::rejection::QueryRejection>,
-) -> ApiResult<Json<Value>> {
+) -> ApiResult<Json<MissionList>> {
     let owner = owner(&state, &headers)?;
     let Query(page) =
         page.map_err(|e| AppError::new(StatusCode::BAD_REQUEST, "invalid_query", e.body_text()))?;
@@ -159,13 +278,33 @@ pub(super) async fn list_missions(
     } else {
         None
     };
-    let items: Vec<Value> = rows
-        .iter()
-        .map(|r| json!({"id": r.id, "name": r.name, "steps": r.steps, "detections": r.detections, "created_ms": r.created}))
+    let missions = rows
+        .into_iter()
+        .map(|r| MissionItem {
+            id: r.id,
+            name: r.name,
+            steps: r.steps,
+            detections: r.detections,
+            created_ms: r.created,
+        })
         .collect();
-    Ok(Json(json!({"missions": items, "next": next})))
+    Ok(Json(MissionList { missions, next }))
 }
 
+/// The mission as stored.
+#[utoipa::path(
+    get,
+    path = "/missions/{id}",
+    operation_id = "getMission",
+    tag = "missions",
+    params(("id" = String, Path, description = "The mission's id")),
+    responses(
+        (status = 200, description = "The mission, as uploaded", body = formats::Mission),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 404, description = "No such mission", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn get_mission(
     State(state): State<AppState>,
     headers: HeaderMap,
@@ -179,6 +318,20 @@ pub(super) async fn get_mission(
     Ok(([(header::CONTENT_TYPE, "application/json")], body).into_response())
 }
 
+/// Delete a mission and its jobs.
+#[utoipa::path(
+    delete,
+    path = "/missions/{id}",
+    operation_id = "deleteMission",
+    tag = "missions",
+    params(("id" = String, Path, description = "The mission's id")),
+    responses(
+        (status = 204, description = "Deleted"),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 404, description = "No such mission", body = ErrorBody),
+        (status = 503, description = "Storage unavailable", body = ErrorBody),
+    )
+)]
 pub(super) async fn delete_mission(
     State(state): State<AppState>,
     headers: HeaderMap,

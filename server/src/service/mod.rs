@@ -5,12 +5,13 @@
 //! One file per resource: `missions`, `jobs` (HTTP side; the workers are in
 //! `worker`), `contract`, `simulate`; `error` (the one `AppError`),
 //! `config` (`Config`), `state` (`AppState`, API keys), `metrics` (health,
-//! readiness, Prometheus text), `openapi` (the document), `store`
-//! (storage).
+//! readiness, Prometheus text), `formats` (the spec's JSON formats as types
+//! for the document), `openapi` (the document), `store` (storage).
 
 mod config;
 mod contract;
 mod error;
+mod formats;
 mod jobs;
 mod metrics;
 mod missions;
@@ -27,11 +28,14 @@ pub use state::AppState;
 use axum::extract::DefaultBodyLimit;
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::middleware;
-use axum::routing::{get, post};
-use axum::{Json, Router};
+use axum::routing::get;
+use axum::{Extension, Router};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use store::Store;
+use utoipa::OpenApi;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
 use worker::Workers;
 
 const BUILTIN_PAGE: &str = "<!doctype html><meta charset=utf-8><title>nvector</title><h1>nvector</h1><p>The web UI is not built: run <code>make run</code> (it builds web/www). The API is at <code>/api/v1</code>.</p>";
@@ -40,30 +44,39 @@ async fn api_not_found() -> AppError {
     AppError::new(StatusCode::NOT_FOUND, "not_found", "no such endpoint")
 }
 
+/// The routes of the API and of the operations endpoints, each with its
+/// OpenAPI path (the document is built from the same registrations).
+fn routes() -> OpenApiRouter<AppState> {
+    let api = OpenApiRouter::new()
+        .routes(routes!(missions::post_mission, missions::list_missions))
+        .routes(routes!(missions::get_mission, missions::delete_mission))
+        .routes(routes!(jobs::post_job))
+        .routes(routes!(jobs::get_job, jobs::delete_job))
+        .routes(routes!(jobs::job_events))
+        .routes(routes!(jobs::job_result))
+        .routes(routes!(contract::post_contract))
+        .routes(routes!(simulate::post_simulate))
+        .routes(routes!(openapi::openapi_json))
+        .fallback(api_not_found);
+    OpenApiRouter::with_openapi(openapi::ApiDoc::openapi())
+        .nest("/api/v1", api)
+        .routes(routes!(metrics::healthz))
+        .routes(routes!(metrics::readyz))
+        .routes(routes!(metrics::metrics))
+}
+
+/// The OpenAPI document of a service with this configuration.
+#[cfg(test)]
+pub fn document(config: &Config) -> serde_json::Value {
+    openapi::finish(routes().into_openapi(), config)
+}
+
 /// The router of the whole service.
 pub fn app(state: AppState) -> Router {
-    let api = Router::new()
-        .route(
-            "/missions",
-            post(missions::post_mission).get(missions::list_missions),
-        )
-        .route(
-            "/missions/{id}",
-            get(missions::get_mission).delete(missions::delete_mission),
-        )
-        .route("/jobs", post(jobs::post_job))
-        .route("/jobs/{id}", get(jobs::get_job).delete(jobs::delete_job))
-        .route("/jobs/{id}/events", get(jobs::job_events))
-        .route("/jobs/{id}/result", get(jobs::job_result))
-        .route("/contract", post(contract::post_contract))
-        .route("/simulate", post(simulate::post_simulate))
-        .route("/openapi.json", get(|| async { Json(openapi::document()) }))
-        .fallback(api_not_found);
-    let mut router = Router::new()
-        .nest("/api/v1", api)
-        .route("/healthz", get(metrics::healthz))
-        .route("/readyz", get(metrics::readyz))
-        .route("/metrics", get(metrics::metrics))
+    let (router, api) = routes().split_for_parts();
+    let doc = Arc::new(openapi::finish(api, &state.config));
+    let mut router = router
+        .layer(Extension(doc))
         .layer(DefaultBodyLimit::max(state.config.max_body));
     let dir = state.config.static_dir.clone();
     if dir.join("index.html").exists() {
@@ -192,5 +205,16 @@ async fn shutdown_signal() {
     tokio::select! {
         _ = ctrl_c => {},
         _ = term => {},
+    }
+}
+
+/// A small configuration for the unit tests.
+#[cfg(test)]
+pub(crate) fn test_state() -> Config {
+    Config {
+        max_steps: 1000,
+        max_detections: 50,
+        job_time_limit_s: 7.5,
+        ..Config::default()
     }
 }
