@@ -2,7 +2,7 @@
 SHELL := /bin/bash
 .SHELLFLAGS := -euo pipefail -c
 
-.PHONY: run test setup lint web test-rust test-web test-inari test-python
+.PHONY: run test setup lint web test-rust test-web test-inari test-python test-fuzz
 
 setup:
 	@scripts/setup.sh
@@ -32,4 +32,9 @@ test-inari: setup
 test-python: setup
 	scripts/python.sh
 
-test: setup lint test-rust test-web test-inari test-python
+# The OpenAPI document validated, and the live service fuzzed from it for
+# 60 s (schemathesis in the project's venv; scripts/fuzz/ has the rules).
+test-fuzz: setup
+	scripts/fuzz.sh 60
+
+test: setup lint test-rust test-web test-inari test-python test-fuzz

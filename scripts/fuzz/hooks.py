@@ -1,0 +1,246 @@
+"""Schemathesis hooks for the fuzz run of `make test` (scripts/fuzz.sh).
+
+JSON Schema cannot say every rule of the spec's formats: an interval's
+bounds in order, one dimension for every box, per-step arrays of `steps`
+entries, and so on. The OpenAPI document lists those rules in the
+descriptions of the schemas they constrain; this module implements them a
+second time, in Python, from spec/formats.md (not from the Rust code), and
+the check `rules_oracle` holds the service to them for every request the
+fuzzer generates as schema-valid on POST /api/v1/missions and
+POST /api/v1/contract:
+
+- schema-valid and within the rules -> must be accepted (201 / 200);
+- schema-valid but breaking a rule  -> must be refused with 422 naming a
+  JSON path.
+
+Schemathesis's own `positive_data_acceptance` is off for these two
+operations (it would count the second case as a wrongful refusal); every
+other check stays on, `negative_data_rejection` included (schema-invalid
+requests must be refused everywhere).
+
+The one refusal of valid work is a resource limit: the `exact` contractor's
+work budget and the contract endpoint's time limit answer 422 with code
+`work_limit`; the check accepts it and counts it (printed at the end).
+"""
+
+import atexit
+import json
+import math
+import sys
+
+import schemathesis
+
+INF = math.inf
+DIMENSIONS = {"unicycle2d": 2, "auv3d": 3}
+CHANNELS = {
+    "unicycle2d": ["speed", "heading"],
+    "auv3d": ["roll", "pitch", "yaw", "vx", "vy", "vz"],
+}
+STATS = {"valid": 0, "rule_broken": 0, "work_limit": 0}
+
+
+class Broken(Exception):
+    """A rule of the spec is broken (the message says which)."""
+
+
+def is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def absent(obj, key):
+    """An optional field: absent or null."""
+    return obj.get(key) is None
+
+
+def bound(v, path):
+    if is_number(v):
+        return float(v)
+    if v in ("inf", "+inf"):
+        return INF
+    if v == "-inf":
+        return -INF
+    raise Broken(f"{path}: not a bound")
+
+
+def interval(v, path):
+    """An interval [lo, hi] with lo <= hi holding a real number, or x."""
+    if is_number(v):
+        return (float(v), float(v))
+    if not isinstance(v, list) or len(v) != 2:
+        raise Broken(f"{path}: not an interval")
+    lo, hi = bound(v[0], path), bound(v[1], path)
+    if lo > hi:
+        raise Broken(f"{path}: lower bound above upper bound")
+    if lo == hi and math.isinf(lo):
+        raise Broken(f"{path}: holds no real number")
+    return (lo, hi)
+
+
+def box(v, path, dim=None):
+    if not isinstance(v, list) or not v:
+        raise Broken(f"{path}: not a box")
+    if dim is not None and len(v) != dim:
+        raise Broken(f"{path}: dimension {len(v)}, expected {dim}")
+    for i, x in enumerate(v):
+        interval(x, f"{path}[{i}]")
+    return len(v)
+
+
+def per_step(v, path, steps):
+    if isinstance(v, list) and len(v) != steps:
+        raise Broken(f"{path}: {len(v)} entries, expected {steps}")
+
+
+def channel(v, path, steps):
+    if "value" in v:
+        per_step(v["value"], f"{path}.value", steps)
+        if not isinstance(v["value"], list):
+            raise Broken(f"{path}.value: not an array")
+        per_step(v["error"], f"{path}.error", steps)
+    else:
+        lo, hi = v["lo"], v["hi"]
+        per_step(lo, f"{path}.lo", steps)
+        per_step(hi, f"{path}.hi", steps)
+        for i, (a, b) in enumerate(zip(lo, hi)):
+            if a > b:
+                raise Broken(f"{path}.lo[{i}]: above hi")
+
+
+def mission_rules(m):
+    """Raises Broken when a schema-valid mission breaks a rule of
+    spec/formats.md that the schema cannot state."""
+    model = m["model"]
+    dim = DIMENSIONS[model]
+    steps = m["steps"]
+    box(m["initial_position"], "initial_position", dim)
+    for key in ("final_position", "landmark_region"):
+        if not absent(m, key):
+            box(m[key], key, dim)
+    inputs = m["inputs"]
+    for name in inputs:
+        if name not in CHANNELS[model]:
+            raise Broken(f"inputs.{name}: not a channel of {model}")
+    for name in CHANNELS[model]:
+        if name not in inputs:
+            raise Broken(f"inputs.{name}: missing")
+        channel(inputs[name], f"inputs.{name}", steps)
+    if not absent(m, "motion_error"):
+        per_step(m["motion_error"], "motion_error", steps)
+    n = m.get("landmark_count")
+    for i, d in enumerate(m["detections"]):
+        p = f"detections[{i}]"
+        if d["step"] > steps:
+            raise Broken(f"{p}.step: above steps")
+        interval(d["range"], f"{p}.range")
+        if not absent(d, "bearing"):
+            interval(d["bearing"], f"{p}.bearing")
+        if not absent(d, "region"):
+            box(d["region"], f"{p}.region", dim)
+        if not absent(d, "depth"):
+            if model != "auv3d":
+                raise Broken(f"{p}.depth: auv3d only")
+            interval(d["depth"], f"{p}.depth")
+        if not absent(d, "landmark") and n is not None and d["landmark"] >= n:
+            raise Broken(f"{p}.landmark: not below landmark_count")
+    truth = m.get("truth")
+    if truth is not None:
+        if len(truth["positions"]) != steps + 1:
+            raise Broken("truth.positions: not steps + 1 points")
+        for key in ("positions", "landmarks"):
+            for i, point in enumerate(truth[key]):
+                if len(point) != dim:
+                    raise Broken(f"truth.{key}[{i}]: dimension")
+        if len(truth["matching"]) != len(m["detections"]):
+            raise Broken("truth.matching: not one per detection")
+        for i, x in enumerate(truth["matching"]):
+            if x is not None and x >= len(truth["landmarks"]):
+                raise Broken(f"truth.matching[{i}]: no such landmark")
+
+
+def contract_rules(r):
+    boxes = r["boxes"]
+    dim = box(boxes[0], "boxes[0]")
+    for i, b in enumerate(boxes[1:], 1):
+        box(b, f"boxes[{i}]", dim)
+    if r.get("contractor") == "exact" and len(boxes) > 40:
+        raise Broken("boxes: exact takes at most 40 boxes")
+
+
+def mission_of(case):
+    body = case.body
+    if isinstance(body, (bytes, str)):
+        try:
+            body = json.loads(body)
+        except ValueError:
+            return None
+    if case.media_type and case.media_type.startswith("multipart/"):
+        body = body.get("file") if isinstance(body, dict) else None
+        if isinstance(body, (bytes, str)):
+            try:
+                body = json.loads(body)
+            except ValueError:
+                return None
+    return body if isinstance(body, dict) else None
+
+
+RULES = {
+    ("POST", "/api/v1/missions"): (mission_rules, 201),
+    ("POST", "/api/v1/contract"): (contract_rules, 200),
+}
+
+
+@schemathesis.check
+def rules_oracle(ctx, response, case):
+    """Schema-valid requests: accepted when they keep the spec's rules,
+    refused with 422 and a JSON path when they break one."""
+    key = (case.operation.method.upper(), case.operation.path)
+    if key not in RULES:
+        return None
+    meta = case.meta
+    if meta is None or not meta.generation.mode.is_positive:
+        return None
+    body = mission_of(case)
+    if body is None:
+        return None
+    rules, success = RULES[key]
+    try:
+        rules(body)
+    except Broken as broken:
+        STATS["rule_broken"] += 1
+        if response.status_code != 422:
+            raise AssertionError(
+                f"a request breaking a rule ({broken}) was answered "
+                f"{response.status_code}, expected 422"
+            )
+        err = response.json().get("error", {})
+        if not err.get("path"):
+            raise AssertionError(f"422 without a JSON path: {err}")
+        return None
+    except (KeyError, TypeError, IndexError) as e:
+        # The body does not have the schema's shape: not a positive case
+        # this oracle can judge (schemathesis checks the schema itself).
+        print(f"rules_oracle: skipped a body it cannot read ({e!r})", file=sys.stderr)
+        return None
+    if response.status_code == 422:
+        err = response.json().get("error", {})
+        if err.get("code") == "work_limit":
+            STATS["work_limit"] += 1
+            return None
+        raise AssertionError(
+            f"a request valid by the schema and the spec's rules was refused: {err}"
+        )
+    if response.status_code not in (success, 401, 429):
+        raise AssertionError(
+            f"a valid request was answered {response.status_code}, expected {success}"
+        )
+    STATS["valid"] += 1
+    return None
+
+
+@atexit.register
+def _report():
+    print(
+        "rules_oracle: {valid} valid bodies accepted, {rule_broken} rule-breaking "
+        "bodies refused with 422, {work_limit} work_limit answers".format(**STATS),
+        file=sys.stderr,
+    )
