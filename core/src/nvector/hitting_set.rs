@@ -62,9 +62,9 @@ pub const MAX_K: usize = 40;
 /// The default [`Limits::node_budget`]: 16 million nodes, 1.3 to 3 s of
 /// search on the worst cases measured (40 boxes in 8-D, n = 6, which
 /// would otherwise run for minutes; release build, docs/contract.md), while
-/// the paper-like instances of `nvector bench --only exact` (k = 40 in
-/// 2-D) need a few thousand nodes and 40 boxes in 4-D with n = 8 about 15
-/// million.
+/// the paper-like instances of `nvector bench --only exact` need a few
+/// hundred nodes (350 at k = 40 in 2-D) and 40 boxes in 4-D with n = 8
+/// about 15 million.
 pub const DEFAULT_NODE_BUDGET: u64 = 16_000_000;
 
 /// How many nodes pass between two reads of the cancellation flag.
