@@ -70,6 +70,7 @@ use super::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
 use super::result::{result_json, Solution, SolveStatus};
 use crate::interval::Interval;
 use crate::nvector::{atmost_nvector, Mode, Status};
+use crate::shapes::{Chain, Domains, ShapesState};
 use serde_json::Value;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -239,6 +240,8 @@ struct Propagation<'a> {
     units_done: f64,
     units_round: f64,
     units_left: f64,
+    /// Detection shapes (modes `shapes` and `best`).
+    shapes: Option<ShapesState>,
 }
 
 impl<'a> Propagation<'a> {
@@ -304,6 +307,11 @@ impl<'a> Propagation<'a> {
             // Before the first round ends, as pessimistic as later rounds
             // can be (the ratio capped at 0.9).
             units_left: 10.0 * k as f64,
+            shapes: matches!(
+                options.association,
+                Association::NVector(Mode::Best | Mode::Shapes)
+            )
+            .then(|| ShapesState::new(k)),
         }
     }
 
@@ -557,6 +565,60 @@ impl<'a> Propagation<'a> {
                 self.moving[j] = true;
             }
         }
+        self.shapes_step(nl)
+    }
+
+    /// Detection shapes ([`crate::shapes`]): landmark regions of the
+    /// groups, distinct pairs, witnesses and branch contraction. A position
+    /// it shrinks is flagged for the next passes' sweeps.
+    fn shapes_step(&mut self, n: usize) -> Result<(), Halt> {
+        let Some(state) = self.shapes.as_mut() else {
+            return Ok(());
+        };
+        let groups = self.matching.groups();
+        let Model {
+            dim,
+            pos,
+            det,
+            disp,
+            heading_at,
+            ..
+        } = &mut self.model;
+        let mut chain = ShapesChain {
+            disp,
+            dim: *dim,
+            tol: self.tol,
+            steps: &self.steps,
+            unswept: &mut self.unswept,
+            swept: 0,
+        };
+        let domains = Domains {
+            dim: *dim,
+            pos,
+            det,
+            heading_at,
+            disp,
+        };
+        let q = self.mission.max_outliers;
+        let out = state.contract(
+            self.mission,
+            domains,
+            &groups,
+            Some(n),
+            q,
+            self.tol,
+            &mut chain,
+        );
+        self.contractions += out.contractions + chain.swept;
+        if let Some(reason) = out.infeasible {
+            return Err(Halt::Infeasible(reason));
+        }
+        for &(a, b) in &out.unions {
+            self.matching.union(a, b);
+        }
+        for &j in &out.moved_detections {
+            self.moving[j] = true;
+        }
         Ok(())
     }
 
@@ -679,12 +741,59 @@ pub fn propagate(
         Err(Halt::Infeasible(reason)) => SolveStatus::Infeasible(reason),
         Err(Halt::Stopped) => SolveStatus::Stopped,
     };
+    let matching = p.matching.groups();
+    if let Some(state) = &p.shapes {
+        let mut regions = vec![None; mission.detections.len()];
+        for g in &matching {
+            regions[g[0]] = state.region_of(g).map(|r| r.boxes().to_vec());
+        }
+        p.model.landmark_regions = regions;
+    }
     Solution {
         status,
-        matching: p.matching.groups(),
+        matching,
         rounds: p.round,
         contractions: p.contractions,
         model: p.model,
+    }
+}
+
+/// The motion chain as the shapes contractor sees it: forward sweeps on
+/// request, changed positions flagged for the next passes.
+struct ShapesChain<'a> {
+    disp: &'a [Interval],
+    dim: usize,
+    tol: f64,
+    steps: &'a [usize],
+    unswept: &'a mut [Vec<bool>; 2],
+    swept: u64,
+}
+
+impl Chain for ShapesChain<'_> {
+    fn sweep_forward(
+        &mut self,
+        pos: &mut [Interval],
+        from: usize,
+        to: usize,
+    ) -> Result<bool, String> {
+        let dim = self.dim;
+        let end = &mut pos[..(to + 1) * dim];
+        match sweep_forward(end, &self.disp[..to * dim], dim, from, self.tol) {
+            Sweep::Done(visited) => {
+                self.swept += visited as u64;
+                Ok(visited == to - from)
+            }
+            Sweep::Empty(s) => Err(format!(
+                "motion chain: the position of step {s} is empty (propagating a landmark region from step {from})"
+            )),
+        }
+    }
+
+    fn changed(&mut self, step: usize) {
+        if let Ok(s) = self.steps.binary_search(&step) {
+            self.unswept[0][s] = true;
+            self.unswept[1][s] = true;
+        }
     }
 }
 
