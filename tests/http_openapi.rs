@@ -448,3 +448,37 @@ fn issue_13_nulls_whole_floats_and_unknown_fields_agree() {
     m["detections"][0]["range"] = json!([-1, 2]);
     agree("Mission", "/api/v1/missions", m, 422);
 }
+
+/// Issue 11: the `shapes` contractor is a job contractor, in the document
+/// and in the service, and the refusal of an unknown one lists it.
+#[test]
+fn issue_11_shapes_is_a_job_contractor() {
+    let s = Server::start(&["--workers", "1"]);
+    let (_, doc) = s.get("/api/v1/openapi.json");
+    let names = &doc["components"]["schemas"]["JobContractor"]["enum"];
+    assert!(
+        names.as_array().unwrap().contains(&json!("shapes")),
+        "{names}"
+    );
+    let (st, m) = s.post("/api/v1/missions", &small_mission(4, 800));
+    assert_eq!(st, 201, "{m}");
+    let (st, j) = s.post(
+        "/api/v1/jobs",
+        &json!({"mission": m["id"], "contractor": "shapes"}),
+    );
+    assert_eq!(st, 202, "{j}");
+    let done = s.wait_job(j["id"].as_str().unwrap(), Duration::from_secs(60));
+    assert_eq!(
+        (&done["state"], &done["contractor"]),
+        (&json!("done"), &json!("shapes")),
+        "{done}"
+    );
+    let (st, e) = s.post(
+        "/api/v1/jobs",
+        &json!({"mission": m["id"], "contractor": "fastest"}),
+    );
+    assert_eq!(st, 422);
+    let msg = e["error"]["message"].as_str().unwrap();
+    assert!(msg.contains("shapes or best"), "{msg}");
+    assert!(!msg.contains("exact"), "{msg}");
+}

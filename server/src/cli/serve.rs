@@ -45,6 +45,10 @@ pub struct Args {
     /// another process (or the next start) re-queues it.
     #[arg(long, default_value_t = 10.0)]
     job_lease: f64,
+    /// Time limit in seconds of one POST /api/v1/contract (the exact
+    /// contractor is stopped there: 422 work_limit).
+    #[arg(long, default_value_t = 10.0)]
+    contract_time_limit: f64,
 }
 
 /// Runs the subcommand.
@@ -73,6 +77,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "--job-lease must be between 0.1 and 86400 s".into(),
         ));
     }
+    if !(a.contract_time_limit > 0.0 && a.contract_time_limit <= 86_400.0) {
+        return Err(CliError(
+            "--contract-time-limit must be in (0, 86400] s".into(),
+        ));
+    }
     let config = Config {
         max_body: a.max_body,
         max_steps: a.max_steps,
@@ -83,6 +92,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         api_keys,
         cors_origins: a.cors_origins,
         job_lease: std::time::Duration::from_secs_f64(a.job_lease),
+        contract_time_limit: std::time::Duration::from_secs_f64(a.contract_time_limit),
     };
     let workers = a
         .workers

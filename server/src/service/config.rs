@@ -25,6 +25,10 @@ pub struct Config {
     /// How long a running job may go without its process's heartbeat
     /// before it is re-queued.
     pub job_lease: std::time::Duration,
+    /// Time limit of one `POST /api/v1/contract`: the exact contractor is
+    /// cancelled at this deadline and the request answered 422
+    /// (`work_limit`).
+    pub contract_time_limit: std::time::Duration,
 }
 
 impl Default for Config {
@@ -39,6 +43,7 @@ impl Default for Config {
             api_keys: HashSet::new(),
             cors_origins: Vec::new(),
             job_lease: std::time::Duration::from_secs(10),
+            contract_time_limit: std::time::Duration::from_secs(10),
         }
     }
 }

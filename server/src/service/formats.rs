@@ -556,6 +556,10 @@ pub struct ContractStats {
     pub rounds: u64,
     /// Wall time (µs).
     pub elapsed_us: u64,
+    /// Present (true) when the fixpoint's round cap stopped it with work
+    /// pending: the boxes are sound, another contraction may shrink them.
+    #[schema(nullable = false)]
+    pub stopped: Option<bool>,
 }
 
 /// The status of a contraction.

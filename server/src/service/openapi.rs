@@ -102,6 +102,23 @@ fn camel_case_links(paths: &mut Value) {
     }
 }
 
+/// utoipa names the unsigned formats `u-int32` / `u-int64`: write them as
+/// they are usually spelt.
+fn unsigned_formats(v: &mut Value) {
+    match v {
+        Value::Object(o) => {
+            if let Some(Value::String(f)) = o.get_mut("format") {
+                if let Some(bits) = f.strip_prefix("u-int") {
+                    *f = format!("uint{bits}");
+                }
+            }
+            o.values_mut().for_each(unsigned_formats);
+        }
+        Value::Array(a) => a.iter_mut().for_each(unsigned_formats),
+        _ => {}
+    }
+}
+
 /// The generated document, fitted to this service (see the module
 /// comment).
 pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
@@ -162,6 +179,7 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
         e["enum"] = Value::Array(modes);
     }
     camel_case_links(&mut doc["paths"]);
+    unsigned_formats(&mut doc);
     // A form's part names travel in a header: header characters only.
     if let Some(upload) = doc.pointer_mut("/components/schemas/MissionUpload") {
         upload["propertyNames"] = json!({"pattern": "^[A-Za-z0-9_.-]+$"});
