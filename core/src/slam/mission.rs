@@ -81,7 +81,7 @@ impl Points {
     /// Points of dimension `dim` (>= 1) from their coordinates, point after
     /// point (`flat.len()` a multiple of `dim`).
     pub fn new(dim: usize, flat: Vec<f64>) -> Points {
-        debug_assert!(dim >= 1 && flat.len() % dim == 0);
+        debug_assert!(dim >= 1 && flat.len().is_multiple_of(dim));
         Points { dim, flat }
     }
 
