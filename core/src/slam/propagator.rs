@@ -13,7 +13,7 @@
 //!    see what earlier ones proved;
 //! 2. a **backward pass**, N down to 0, the same with `p(i) ∩= p(i+1) -
 //!    D(i)`;
-//! 3. the **association step** ([`Propagation::associate`]): detections
+//! 3. the **association step** (`Propagation::associate`): detections
 //!    proved to see one landmark (the operator's `landmark` fields, then
 //!    the groups atmost_nvector proves) share one variable (their boxes are
 //!    intersected), and atmost_nvector(n) contracts all detection boxes.
