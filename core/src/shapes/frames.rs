@@ -58,6 +58,8 @@ pub struct FrameOptions {
     pub max_boxes: usize,
     /// Members whose shapes cut the halves of a bisection (the thinnest).
     pub refine_shapes: usize,
+    /// Least steps between the frames of two pieces of one chunk.
+    pub anchor_gap: usize,
 }
 
 impl Default for FrameOptions {
@@ -67,6 +69,7 @@ impl Default for FrameOptions {
             max_gap: 600,
             max_boxes: 48,
             refine_shapes: 12,
+            anchor_gap: 150,
         }
     }
 }
@@ -228,34 +231,52 @@ fn build_pieces(
     if chunk.len() < 2 {
         return Ok(Vec::new());
     }
-    let mid = chunk[chunk.len() / 2];
-    let s = mission.detections[mid].step;
-    let shapes: Vec<Shape> = chunk
-        .iter()
-        .map(|&j| relative_shape(mission, sums, heading_at, dim, s, j))
-        .collect();
-    let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
-    by_thickness.sort_by(|a, b| a.thickness().total_cmp(&b.thickness()));
-    let mut region = Paving::from_box(&by_thickness[0].hull());
-    for sh in &by_thickness[1..] {
-        region.cut(sh);
+    let dets = &mission.detections;
+    // Anchors: members at least `anchor_gap` steps apart (the middle one
+    // when the chunk is shorter), each the frame of one piece.
+    let mut anchors: Vec<usize> = Vec::new();
+    for &j in chunk {
+        let far = anchors
+            .last()
+            .is_none_or(|&a| dets[j].step >= dets[a].step + opts.anchor_gap.max(1));
+        if far {
+            anchors.push(j);
+        }
     }
-    by_thickness.truncate(opts.refine_shapes);
-    region.refine(&by_thickness, 0.0, opts.max_boxes);
-    for sh in &shapes {
-        region.cut(sh);
+    if anchors.len() == 1 {
+        anchors[0] = chunk[chunk.len() / 2];
     }
-    *work += (region.boxes().len() * shapes.len()) as u64;
-    if region.is_empty() {
-        return Err(format!(
+    let mut pieces = Vec::with_capacity(anchors.len());
+    for anchor in anchors {
+        let s = dets[anchor].step;
+        let shapes: Vec<Shape> = chunk
+            .iter()
+            .map(|&j| relative_shape(mission, sums, heading_at, dim, s, j))
+            .collect();
+        let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
+        by_thickness.sort_by(|a, b| a.thickness().total_cmp(&b.thickness()));
+        let mut region = Paving::from_box(&by_thickness[0].hull());
+        for sh in &by_thickness[1..] {
+            region.cut(sh);
+        }
+        by_thickness.truncate(opts.refine_shapes);
+        region.refine(&by_thickness, 0.0, opts.max_boxes);
+        for sh in &shapes {
+            region.cut(sh);
+        }
+        *work += (region.boxes().len() * shapes.len()) as u64;
+        if region.is_empty() {
+            return Err(format!(
                 "landmark of detections {chunk:?}: their shapes, taken relative to the position of step {s}, have no common point"
             ));
+        }
+        pieces.push(Piece {
+            step: s,
+            member: anchor,
+            region,
+        });
     }
-    Ok(vec![Piece {
-        step: s,
-        member: mid,
-        region,
-    }])
+    Ok(pieces)
 }
 
 /// Whether `a` may meet `b` translated by `delta` (`false` is a proof).

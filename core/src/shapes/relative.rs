@@ -40,7 +40,7 @@ use crate::interval::Interval;
 use crate::slam::mission::Mission;
 
 /// Pieces allowed to the bisection test when a bearing is known.
-const PAVED_BUDGET: usize = 24;
+const PAVED_BUDGET: usize = 8;
 
 /// Appends to `out` the pairs (i, j), i < j in input order, proved to see
 /// distinct landmarks by their shapes in the frame of the earlier step
@@ -68,12 +68,15 @@ pub fn relative_pairs(
         for a in 0..dim {
             cut_i[a] = det[i][a] - origin[a];
         }
-        let shape_i = Shape::new(
+        let mut shape_i = Shape::new(
             IntervalBox::new(&[Interval::ZERO; MAX_DIM][..dim]),
             dets[i].range,
             dets[i].bearing.map(|b| (heading_at[i], b)),
             IntervalBox::new(&cut_i[..dim]),
         );
+        // The cut may shrink to the shape's contracted hull (it holds the
+        // shape): the tests below then start from it.
+        shape_i.cut = shape_i.hull();
         if shape_i.is_empty() {
             continue;
         }
@@ -86,12 +89,13 @@ pub fn relative_pairs(
                 delta[a] = delta[a].intersect(target[a] - origin[a]);
                 cut_j[a] = det[j][a] - origin[a];
             }
-            let shape_j = Shape::new(
+            let mut shape_j = Shape::new(
                 IntervalBox::new(&delta[..dim]),
                 dets[j].range,
                 dets[j].bearing.map(|b| (heading_at[j], b)),
                 IntervalBox::new(&cut_j[..dim]),
             );
+            shape_j.cut = shape_j.hull();
             let apart = shape_i.disjoint(&shape_j)
                 || ((shape_i.bearing.is_some() || shape_j.bearing.is_some())
                     && disjoint_paved(&shape_i, &shape_j, PAVED_BUDGET));

@@ -177,6 +177,9 @@ pub struct ShapesState {
     distinct: Distinct,
     /// Group regions in local frames.
     frames: Frames,
+    /// Whether the relative pairs were computed (once: they rest on the
+    /// displacement boxes and the measurements, which do not change).
+    relative_done: bool,
 }
 
 fn shape_of(mission: &Mission, dom: &Domains, j: usize) -> Shape {
@@ -214,6 +217,7 @@ impl ShapesState {
             witnesses: Vec::new(),
             distinct: Distinct::default(),
             frames: Frames::default(),
+            relative_done: false,
         }
     }
 
@@ -266,20 +270,23 @@ impl ShapesState {
         let mut order: Vec<usize> = (0..k).collect();
         order.sort_by_key(|&j| (mission.detections[j].step, j));
         let sums = ChainSums::new(dom.disp, dom.dim);
-        let mut pairs = Vec::new();
-        relative_pairs(
-            mission,
-            &order,
-            dom.dim,
-            &sums,
-            dom.pos,
-            dom.det,
-            dom.heading_at,
-            self.options.max_ahead,
-            &mut pairs,
-        );
-        out.contractions += pairs.len() as u64;
-        self.distinct.add(pairs);
+        if !self.relative_done {
+            self.relative_done = true;
+            let mut pairs = Vec::new();
+            relative_pairs(
+                mission,
+                &order,
+                dom.dim,
+                &sums,
+                dom.pos,
+                dom.det,
+                dom.heading_at,
+                self.options.max_ahead,
+                &mut pairs,
+            );
+            out.contractions += pairs.len() as u64;
+            self.distinct.add(pairs);
+        }
         for pass in 0..self.options.frame_passes.max(1) {
             if pass > 0 {
                 let mut pairs = Vec::new();
