@@ -240,10 +240,13 @@ fn fmt_bound(x: f64) -> String {
     }
 }
 
-/// A bound as JSON: a number, or `"inf"` / `"-inf"`.
+/// A bound as JSON: a number, or `"inf"` / `"-inf"`. A zero is written
+/// `0.0` whatever its sign (`x + 0.0`): `f64::min`/`max` may give either
+/// sign of zero depending on the platform, and the output must be the same
+/// bits native and in wasm (signed zeros are one value in core).
 pub fn bound_to_json(x: f64) -> Value {
     if x.is_finite() {
-        Value::from(x)
+        Value::from(x + 0.0)
     } else if x > 0.0 {
         Value::from("inf")
     } else {
@@ -481,6 +484,20 @@ impl Shape for Rows {
 mod tests {
     use super::*;
     use serde_json::json;
+
+    /// A negative zero bound (from `f64::min`/`max`, whose zero sign is
+    /// platform-dependent) was written `-0.0`: native and wasm outputs could
+    /// differ in their bits.
+    #[test]
+    fn signed_zero_bounds_are_written_as_one_zero() {
+        let x = Interval::new(-0.0, -0.0);
+        assert_eq!(
+            serde_json::to_string(&interval_to_json(x)).unwrap(),
+            "[0.0,0.0]"
+        );
+        assert_eq!(bound_to_json(-0.0).to_string(), "0.0");
+        assert_eq!(bound_to_json(-1.5).to_string(), "-1.5");
+    }
 
     #[test]
     fn interval_errors_name_the_path() {

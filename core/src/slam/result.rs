@@ -170,7 +170,8 @@ struct Bound(f64);
 impl Serialize for Bound {
     fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
         if self.0.is_finite() {
-            ser.serialize_f64(self.0)
+            // One zero, as in `bound_to_json`.
+            ser.serialize_f64(self.0 + 0.0)
         } else if self.0 > 0.0 {
             ser.serialize_str("inf")
         } else {
@@ -526,5 +527,23 @@ mod tests {
             Some((false, 1, 0.5))
         );
         assert_eq!(score(&m, &solution(&m, vec![])), Some((true, 0, 0.0)));
+    }
+
+    /// A negative zero in a domain was written `-0.0` in the streamed
+    /// result (platform-dependent sign from `f64::min`/`max`).
+    #[test]
+    fn signed_zero_bounds_stream_as_one_zero() {
+        let m = mission();
+        let mut s = solution(&m, vec![]);
+        s.model.pos[0] = Interval::new(-0.0, -0.0);
+        let mut out = Vec::new();
+        write_result(&mut out, &m, &SolveOptions::default(), &s, 0.0).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(
+            text.contains("\"trajectory\":[[[0.0,0.0]"),
+            "{}",
+            &text[..200.min(text.len())]
+        );
+        assert!(!text.contains("-0.0"), "{text}");
     }
 }
