@@ -8,7 +8,8 @@
 
 use super::store::{JobRow, Store};
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
+use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
+use nvector_core::slam::result::write_result;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
@@ -175,7 +176,10 @@ fn run_job(store: &dyn Store, workers: &Workers, job: JobRow) {
         }
     };
     let mission = match Mission::from_json(&body) {
-        Ok(m) => m,
+        Ok(m) => {
+            drop(body);
+            m
+        }
         Err(e) => {
             let _ = store.finish_job(&job.id, "failed", None, Some(&e.to_string()), now_ms());
             return;
@@ -216,8 +220,8 @@ fn run_job(store: &dyn Store, workers: &Workers, job: JobRow) {
             cancel.store(true, Ordering::SeqCst);
         }
     };
-    let mut result = solve(&mission, &options, &mut progress, &cancel);
-    result["metrics"]["elapsed_ms"] = serde_json::json!(start.elapsed().as_secs_f64() * 1e3);
+    let solution = solve_model(&mission, &options, &mut progress, &cancel);
+    let elapsed_ms = start.elapsed().as_secs_f64() * 1e3;
     if workers.stopping.load(Ordering::SeqCst) && !timed_out {
         // Shutting down mid-job: put it back for the next start.
         let _ = store.requeue_one(&job.id);
@@ -226,7 +230,21 @@ fn run_job(store: &dyn Store, workers: &Workers, job: JobRow) {
     if matches!(store.job_state(&job.id), Ok(Some(s)) if s == "cancelled") {
         return;
     }
-    let text = result.to_string();
+    // Streamed into the text (no JSON value of the whole result: a 10^6-step
+    // result is 82 MB of text, several times that as a value tree).
+    let mut text = Vec::new();
+    if let Err(e) = write_result(&mut text, &mission, &options, &solution, elapsed_ms) {
+        let _ = store.finish_job(
+            &job.id,
+            "failed",
+            None,
+            Some(&format!("writing the result: {e}")),
+            now_ms(),
+        );
+        return;
+    }
+    drop(solution);
+    let text = String::from_utf8(text).expect("serde_json writes UTF-8");
     let error = timed_out.then(|| {
         format!(
             "time limit of {} s reached (partial, sound result kept)",
