@@ -6,6 +6,9 @@
 //!
 //! `NVECTOR_PROPTEST_CASES` scales the number of cases.
 
+// Axes and detections index several parallel arrays at once.
+#![allow(clippy::needless_range_loop)]
+
 use nvector_core::shapes::branch::branch;
 use nvector_core::shapes::chain_sums::ChainSums;
 use nvector_core::shapes::distinct::{Distinct, Uf};

@@ -451,12 +451,10 @@ impl ShapesState {
             size[r] += 1;
         }
         let mut singles: Vec<Shape> = Vec::new();
-        let mut single_of: Vec<usize> = Vec::new();
-        for j in 0..k {
+        for (j, &count) in size.iter().enumerate() {
             if uf.find(j) == j {
                 roots.push(j);
-                if size[j] == 1 {
-                    single_of.push(j);
+                if count == 1 {
                     singles.push(shape_of(mission, dom, j));
                 }
             }

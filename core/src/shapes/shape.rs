@@ -122,9 +122,9 @@ impl Shape {
             p: [Interval::ZERO; MAX_DIM],
             d: [Interval::ZERO; MAX_DIM],
         };
-        for a in 0..dim {
+        for (a, x) in b.iter().enumerate().take(dim) {
             piece.p[a] = self.centre[a];
-            piece.d[a] = b[a].intersect(self.cut[a]);
+            piece.d[a] = x.intersect(self.cut[a]);
             if piece.d[a].is_empty() || piece.p[a].is_empty() {
                 return None;
             }
@@ -207,9 +207,9 @@ pub fn disjoint_paved(a: &Shape, b: &Shape, budget: usize) -> bool {
         // Both shapes meet x: continue on the part both contractions keep.
         let dim = a.dim();
         let mut axes = [Interval::ZERO; MAX_DIM];
-        for i in 0..dim {
-            axes[i] = pa.d[i].intersect(pb.d[i]);
-            if axes[i].is_empty() {
+        for (i, x) in axes.iter_mut().enumerate().take(dim) {
+            *x = pa.d[i].intersect(pb.d[i]);
+            if x.is_empty() {
                 break;
             }
         }
