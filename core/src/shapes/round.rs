@@ -101,7 +101,7 @@ pub struct ShapesOptions {
 impl Default for ShapesOptions {
     fn default() -> Self {
         ShapesOptions {
-            max_boxes: 256,
+            max_boxes: 64,
             resolution: 0.0,
             refine_shapes: 16,
             node_budget: 20_000,
@@ -112,6 +112,9 @@ impl Default for ShapesOptions {
         }
     }
 }
+
+/// A member's position box, detection box, its region's hull and box count.
+type BranchKey = (IntervalBox, IntervalBox, IntervalBox, usize);
 
 /// The domains a round reads and contracts.
 #[derive(Debug)]
@@ -171,6 +174,11 @@ pub struct ShapesState {
     /// The centre box with which each detection last cut its group's
     /// region (`None`: never).
     cut_with: Vec<Option<IntervalBox>>,
+    /// What each group member's last branch against its region read: its
+    /// position box, its detection box, the region's hull and box count
+    /// (the branch is skipped while they stay the same: it would give the
+    /// same pieces).
+    branched: Vec<Option<BranchKey>>,
     /// One detection of each of the last witnesses.
     witnesses: Vec<usize>,
     /// Detection pairs proved distinct.
@@ -214,6 +222,7 @@ impl ShapesState {
             options: ShapesOptions::default(),
             regions: vec![None; k],
             cut_with: vec![None; k],
+            branched: vec![None; k],
             witnesses: Vec::new(),
             distinct: Distinct::default(),
             frames: Frames::default(),
@@ -400,10 +409,29 @@ impl ShapesState {
                     "landmark of detections {g:?}: their shapes (ranges and bearings around their positions) have no common point"
                 ));
             }
+            let hull = region.hull();
             for (s, &j) in shapes.iter().zip(&g) {
+                let key = (
+                    s.centre.clone(),
+                    s.cut.clone(),
+                    hull.clone(),
+                    region.boxes().len(),
+                );
+                if self.branched[j].as_ref() == Some(&key) {
+                    continue;
+                }
                 let br = branch(s, &[&region]);
                 out.contractions += region.boxes().len() as u64;
                 apply(mission, dom, j, &br, tol, chain, out)?;
+                // The key of what the next round will read.
+                let t = mission.detections[j].step;
+                let dim = dom.dim;
+                self.branched[j] = Some((
+                    IntervalBox::new(&dom.pos[t * dim..(t + 1) * dim]),
+                    dom.det[j].clone(),
+                    key.2,
+                    key.3,
+                ));
             }
             self.regions[root] = Some(region);
         }
