@@ -336,7 +336,7 @@ fn layout(i: u8) -> Layout {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(1000), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: cases(600), failure_persistence: None, ..ProptestConfig::default() })]
 
     /// The shapes round, iterated with the detections' own constraints as
     /// a propagator would: the truth stays inside, groups are true, no
