@@ -158,14 +158,51 @@ function legend(id, redraw) {
   return () => Object.fromEntries([...box.querySelectorAll('input[data-layer]')].map((i) => [i.dataset.layer, i.checked]));
 }
 
+// ---- redraws ----------------------------------------------------------
+// Pan, zoom and sliders redraw at most once a frame; during a pan or zoom
+// the shapes of the previous view are moved (redraw(true)), and drawn again
+// for the new view once the movement stops.
+function scheduler(redraw) {
+  let frame = 0, full = false, settle = 0;
+  const request = (moving) => {
+    if (!moving) full = true;
+    if (!frame) frame = requestAnimationFrame(() => { frame = 0; const f = full; full = false; redraw(!f); });
+    if (moving) { clearTimeout(settle); settle = setTimeout(() => request(false), 150); }
+  };
+  return request;
+}
+
 // ---- SLAM demo --------------------------------------------------------
 ['steps', 'noise', 'landmarks'].forEach((k) => $(`sl-${k}`).addEventListener('input', () => { $(`sl-${k}-v`).textContent = $(`sl-${k}`).value; }));
 const sl = { shown: [] }; // [{id, result, view}] of the last run, redrawn on legend changes
-function slamRedraw() {
+function slamRedraw(moving = false) {
   const layers = slLayers();
-  sl.shown.forEach((s) => drawResult($(s.id), s.view, s.result, sl.mission, undefined, layers));
+  sl.shown.forEach((s) => drawResult($(s.id), s.view, s.result, sl.mission, undefined, layers, moving === true));
 }
-const slLayers = legend('sl-legend', slamRedraw);
+const slLayers = legend('sl-legend', () => slamRedraw());
+const requestSlam = scheduler(slamRedraw);
+// Both views pan and zoom together (drag, wheel).
+['sl-basic', 'sl-nv'].forEach((id) => {
+  const c = $(id);
+  let drag = null;
+  const at = (ev) => { const r = c.getBoundingClientRect(); return [(ev.clientX - r.left) * c.width / r.width, (ev.clientY - r.top) * c.height / r.height]; };
+  c.addEventListener('pointerdown', (ev) => { drag = at(ev); c.setPointerCapture(ev.pointerId); });
+  c.addEventListener('pointerup', () => { drag = null; });
+  c.addEventListener('pointermove', (ev) => {
+    if (!drag) return;
+    const p = at(ev);
+    sl.shown.forEach((s) => s.view.pan(p[0] - drag[0], p[1] - drag[1]));
+    drag = p;
+    requestSlam(true);
+  });
+  c.addEventListener('wheel', (ev) => {
+    if (!sl.shown.length) return;
+    ev.preventDefault();
+    const [px, py] = at(ev);
+    sl.shown.forEach((s) => s.view.zoom(ev.deltaY < 0 ? 1.1 : 1 / 1.1, px, py));
+    requestSlam(true);
+  });
+});
 function slamDemo() {
   if (!nv) return;
   const mode = $('sl-mode').value;
@@ -378,14 +415,7 @@ function redrawResults(moving = false) {
     $('rv-cap-1').textContent = '';
   }
 }
-// Pan, zoom and the time slider redraw at most once a frame; after a pan or
-// zoom, the shapes are redrawn for the new view once the movement stops.
-let rvFrame = 0, rvFull = false, rvSettle = 0;
-function requestResults(moving) {
-  if (!moving) rvFull = true;
-  if (!rvFrame) rvFrame = requestAnimationFrame(() => { rvFrame = 0; const full = rvFull; rvFull = false; redrawResults(!full); });
-  if (moving) { clearTimeout(rvSettle); rvSettle = setTimeout(() => requestResults(false), 150); }
-}
+const requestResults = scheduler(redrawResults);
 $('rv-time').addEventListener('input', () => requestResults(false));
 const rvLayers = legend('rv-legend', () => redrawResults());
 [0, 1].forEach((k) => {
