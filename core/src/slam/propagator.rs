@@ -85,7 +85,7 @@ pub enum Association {
 
 impl Association {
     /// Parses `--contractor`: `none`, `nvalue`, `projection`, `independent`,
-    /// `best` (`exact` is refused: it is exponential).
+    /// `shapes`, `best` (`exact` is refused: it is exponential).
     pub fn parse(s: &str) -> Option<Association> {
         match s {
             "none" => Some(Association::None),
