@@ -38,6 +38,10 @@ pub struct ChainSums<'a> {
     /// lo_u and Σ hi_u.
     lo: Vec<Interval>,
     hi: Vec<Interval>,
+    /// Steps whose prefix sums are kept too (sorted), and those sums.
+    marks: Vec<usize>,
+    mark_lo: Vec<Interval>,
+    mark_hi: Vec<Interval>,
 }
 
 impl<'a> ChainSums<'a> {
@@ -62,11 +66,48 @@ impl<'a> ChainSums<'a> {
                 }
             }
         }
-        ChainSums { dim, disp, lo, hi }
+        ChainSums {
+            dim,
+            disp,
+            lo,
+            hi,
+            marks: Vec::new(),
+            mark_lo: Vec::new(),
+            mark_hi: Vec::new(),
+        }
+    }
+
+    /// Also keeps the prefix sums at `steps` (the detection steps), so that
+    /// a query between two of them costs O(d). O(|steps| · BLOCK · d).
+    pub fn with_steps(mut self, steps: &[usize]) -> ChainSums<'a> {
+        let mut marks = steps.to_vec();
+        marks.sort_unstable();
+        marks.dedup();
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        for &t in &marks {
+            for a in 0..self.dim {
+                let (l, h) = self.walk(t, a);
+                lo.push(l);
+                hi.push(h);
+            }
+        }
+        self.marks = marks;
+        self.mark_lo = lo;
+        self.mark_hi = hi;
+        self
     }
 
     /// Enclosures of Σ_{u<t} lo_u and Σ_{u<t} hi_u on axis `a`.
     fn prefix(&self, t: usize, a: usize) -> (Interval, Interval) {
+        if let Ok(i) = self.marks.binary_search(&t) {
+            let x = i * self.dim + a;
+            return (self.mark_lo[x], self.mark_hi[x]);
+        }
+        self.walk(t, a)
+    }
+
+    /// [`ChainSums::prefix`] from the block boundary below `t`.
+    fn walk(&self, t: usize, a: usize) -> (Interval, Interval) {
         let dim = self.dim;
         let b = t / BLOCK;
         let (mut l, mut h) = (self.lo[b * dim + a], self.hi[b * dim + a]);

@@ -94,6 +94,9 @@ impl Uf {
 pub struct Distinct {
     pairs: Vec<(u32, u32)>,
     sorted: usize,
+    /// (pairs, groups) when the last inference changed nothing: the same
+    /// facts give the same (empty) answer, so it is not run again.
+    settled: Option<(usize, usize)>,
 }
 
 /// Most passes of [`Distinct::infer`].
@@ -178,6 +181,14 @@ impl Distinct {
         if k == 0 || n == 0 {
             return Ok(unions);
         }
+        self.normalize();
+        let key = (
+            self.pairs.len(),
+            (0..k).filter(|&i| uf.find(i) == i).count(),
+        );
+        if self.settled == Some(key) {
+            return Ok(unions);
+        }
         if n == 1 {
             for j in 1..k {
                 if uf.find(j) != uf.find(0) {
@@ -195,8 +206,9 @@ impl Distinct {
                 depth: n - 1,
                 nodes: 0,
                 budget: node_budget,
-                merges: Vec::new(),
+                merged: Uf::new(k),
                 infeasible: None,
+                common: Vec::new(),
                 scratch: Vec::new(),
             };
             let roots: Vec<u32> = (0..k as u32)
@@ -208,13 +220,12 @@ impl Distinct {
                 return Err(reason);
             }
             let mut changed = false;
-            for group in e.merges {
-                for &x in &group[1..] {
-                    if uf.find(x as usize) != uf.find(group[0] as usize) {
-                        uf.union(group[0] as usize, x as usize);
-                        unions.push((group[0] as usize, x as usize));
-                        changed = true;
-                    }
+            for &r in &roots {
+                let m = e.merged.find(r as usize);
+                if m != r as usize && uf.find(m) != uf.find(r as usize) {
+                    uf.union(m, r as usize);
+                    unions.push((m, r as usize));
+                    changed = true;
                 }
             }
             if !changed {
@@ -222,6 +233,9 @@ impl Distinct {
             }
         }
         self.graph(uf)?;
+        if unions.is_empty() {
+            self.settled = Some(key);
+        }
         Ok(unions)
     }
 }
@@ -232,8 +246,11 @@ struct Enum<'a> {
     depth: usize,
     nodes: usize,
     budget: usize,
-    merges: Vec<Vec<u32>>,
+    /// The merges found so far, over the roots (a union-find: O(k) memory
+    /// however many cliques close).
+    merged: Uf,
     infeasible: Option<String>,
+    common: Vec<u32>,
     scratch: Vec<u32>,
 }
 
@@ -266,12 +283,19 @@ impl Enum<'_> {
 
     /// Common neighbours of a full (n-1)-clique: one landmark.
     fn close(&mut self, clique: &[u32]) {
-        let mut common = self.adj[clique[0] as usize].clone();
+        let mut common = std::mem::take(&mut self.common);
+        common.clear();
+        common.extend_from_slice(&self.adj[clique[0] as usize]);
         for &c in &clique[1..] {
             let mut out = std::mem::take(&mut self.scratch);
             intersect_sorted(&common, &self.adj[c as usize], &mut out);
             self.scratch = std::mem::replace(&mut common, out);
         }
+        self.close_common(clique, &common);
+        self.common = common;
+    }
+
+    fn close_common(&mut self, clique: &[u32], common: &[u32]) {
         if common.len() < 2 {
             return;
         }
@@ -289,7 +313,9 @@ impl Enum<'_> {
                 return;
             }
         }
-        self.merges.push(common);
+        for &x in &common[1..] {
+            self.merged.union(common[0] as usize, x as usize);
+        }
     }
 }
 

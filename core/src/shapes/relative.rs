@@ -96,8 +96,13 @@ pub fn relative_pairs(
                 IntervalBox::new(&cut_j[..dim]),
             );
             shape_j.cut = shape_j.hull();
+            // Sectors: bisection, only while the relative position is known
+            // better than the ranges (else the cones overlap anyway).
+            let known =
+                (0..dim).all(|a| delta[a].width() < shape_i.range.hi().min(shape_j.range.hi()));
             let apart = shape_i.disjoint(&shape_j)
                 || ((shape_i.bearing.is_some() || shape_j.bearing.is_some())
+                    && known
                     && disjoint_paved(&shape_i, &shape_j, PAVED_BUDGET));
             if apart {
                 out.push((i.min(j) as u32, i.max(j) as u32));

@@ -106,7 +106,7 @@ impl Default for ShapesOptions {
             refine_shapes: 16,
             node_budget: 20_000,
             max_ahead: 64,
-            clique_budget: 2_000_000,
+            clique_budget: 200_000,
             frames: FrameOptions::default(),
             frame_passes: 3,
         }
@@ -278,7 +278,8 @@ impl ShapesState {
         };
         let mut order: Vec<usize> = (0..k).collect();
         order.sort_by_key(|&j| (mission.detections[j].step, j));
-        let sums = ChainSums::new(dom.disp, dom.dim);
+        let steps: Vec<usize> = mission.detections.iter().map(|d| d.step).collect();
+        let sums = ChainSums::new(dom.disp, dom.dim).with_steps(&steps);
         if !self.relative_done {
             self.relative_done = true;
             let mut pairs = Vec::new();
