@@ -1,9 +1,12 @@
 //! The page in a real headless Chromium driven through chromedriver
 //! (WebDriver over HTTP on loopback), against the real `nvector serve` on a
 //! fresh SQLite database: the playground's Figure 8 preset, the offline SLAM
-//! demo, a mission uploaded through the page and drawn, and the browser's
-//! results compared bit for bit with the native binary. Screenshots go to
-//! target/screenshots/. Under CI (CI=true) a missing browser is a failure;
+//! demo (range + bearing, and the range-only preset with the `shapes`
+//! contractor), the detection shapes' polygons checked against planted
+//! points, the legend's toggles, a mission uploaded through the page and
+//! drawn, the CMU Plaza 1 result drawn and its redraw timed, and the
+//! browser's results compared bit for bit with the native binary.
+//! Screenshots go to target/screenshots/. Under CI (CI=true) a missing browser is a failure;
 //! elsewhere the test is skipped, saying so loudly.
 
 use nvector_tests as common;
@@ -131,6 +134,16 @@ impl Driver {
         self.cmd(
             "POST",
             "/execute/sync",
+            Some(json!({"script": script, "args": []})),
+        )
+    }
+
+    /// Runs an asynchronous script: it calls its last argument with the
+    /// result.
+    fn js_async(&self, script: &str) -> Value {
+        self.cmd(
+            "POST",
+            "/execute/async",
             Some(json!({"script": script, "args": []})),
         )
     }
@@ -294,6 +307,20 @@ fn the_page_in_headless_chromium() {
         "true"
     );
     d.screenshot("slam-demo");
+    // The demo with bearings draws sectors, one shape per detection.
+    let (shapes, sectors, detections) = (
+        canvas_data(&d, "sl-nv", "shapes"),
+        canvas_data(&d, "sl-nv", "sectors"),
+        d.js("return Number(document.getElementById('sl-summary').dataset.detections)"),
+    );
+    assert!(
+        shapes > 0.0 && sectors == shapes,
+        "shapes {shapes}, sectors {sectors}"
+    );
+    assert_eq!(Some(shapes), detections.as_f64());
+
+    shape_polygons_hold_the_truth(&d);
+    range_only_preset(&d, &base);
 
     // Same bits as native: the paper scenario simulated and run in WASM
     // equals the native binary's output.
@@ -431,14 +458,16 @@ fn the_page_in_headless_chromium() {
         .contains("best"));
     d.screenshot("missions-side-by-side");
 
+    cmu_plaza_drawn(&d, &s);
+
     // A reload still lists both jobs (remembered by the browser) and shows
     // the older one again on request.
     d.goto(&format!("{base}/?tab=missions"));
     let states = d.wait(
-        "const l = [...document.querySelectorAll('#ms-jobs li')].map(li => li.dataset.state); return l.length === 2 && l.join(',')",
+        "const l = [...document.querySelectorAll('#ms-jobs li')].map(li => li.dataset.state); return l.length === 3 && l.join(',')",
         Duration::from_secs(30),
     );
-    assert_eq!(states, "done,done");
+    assert_eq!(states, "done,done,done");
     d.click("#ms-jobs li:last-child button.show");
     let shown = d.wait(
         "const s = document.getElementById('rv-summary').dataset; return s.state === 'drawn' && s.contractors",
@@ -475,4 +504,217 @@ fn the_page_in_headless_chromium() {
         );
         d.screenshot(&format!("narrow-{tab}"));
     }
+}
+
+/// A number from a canvas's dataset (what `drawResult` drew).
+fn canvas_data(d: &Driver, canvas: &str, key: &str) -> f64 {
+    d.js(&format!(
+        "return Number(document.getElementById('{canvas}').dataset.{key})"
+    ))
+    .as_f64()
+    .unwrap_or_else(|| panic!("no number in {canvas}.dataset.{key}"))
+}
+
+/// Painted pixels (alpha > 0) of a canvas.
+fn painted(d: &Driver, canvas: &str) -> f64 {
+    d.js(&format!(
+        "const c = document.getElementById('{canvas}'); const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; \
+         let n = 0; for (let i = 3; i < px.length; i += 4) if (px[i] > 0) n++; return n;"
+    ))
+    .as_f64()
+    .unwrap()
+}
+
+/// The page's shape polygons (web/www/shapes.js), filled as the page fills
+/// them (a Path2D, nonzero rule), hold every point of the true set: random
+/// boxes, ranges, sectors and cuts, with points p + r u(phi) planted from
+/// the box, the range and the sector. They also leave out what must be out:
+/// the box's centre when the annulus has a hole, and a point behind the box
+/// opposite a sector.
+fn shape_polygons_hold_the_truth(d: &Driver) {
+    let out = d.js_async(
+        "const done = arguments[arguments.length - 1]; \
+         import('/shapes.js').then((m) => { \
+           const ctx = document.createElement('canvas').getContext('2d'); \
+           let seed = 11; const rnd = () => (seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648; \
+           const r = { points: 0, missed: [], holes: 0, holeFilled: 0, cones: 0, coneFilled: 0 }; \
+           for (let c = 0; c < 4000; c++) { \
+             const x0 = rnd() * 20 - 10, y0 = rnd() * 20 - 10; \
+             const P = { x0, x1: x0 + rnd() * rnd() * 8, y0, y1: y0 + rnd() * rnd() * 8 }; \
+             const lo = rnd() * 15, hi = lo + rnd() * 3; \
+             const a = rnd() * 12 - 6, sector = rnd() < 0.5 ? null : [a, a + rnd() * 3.3]; \
+             const cx0 = rnd() * 30 - 20, cy0 = rnd() * 30 - 20; \
+             const cut = rnd() < 0.5 ? null : { x0: cx0, x1: cx0 + rnd() * 25, y0: cy0, y1: cy0 + rnd() * 25 }; \
+             const poly = m.shapePolygons(P, [lo, hi], cut, sector); \
+             const parts = []; if (poly) { m.addPolygon(parts, poly.outer); if (poly.hole) m.addPolygon(parts, poly.hole); } \
+             const path = new Path2D(parts.join('')); \
+             const filled = (x, y) => ctx.isPointInPath(path, x, y, 'nonzero'); \
+             for (let k = 0; k < 30; k++) { \
+               const px = P.x0 + rnd() * (P.x1 - P.x0), py = P.y0 + rnd() * (P.y1 - P.y0), rr = lo + rnd() * (hi - lo); \
+               const phi = sector ? sector[0] + rnd() * (sector[1] - sector[0]) : rnd() * 2 * Math.PI; \
+               const x = px + rr * Math.cos(phi), y = py + rr * Math.sin(phi); \
+               if (cut && !(x >= cut.x0 && x <= cut.x1 && y >= cut.y0 && y <= cut.y1)) continue; \
+               r.points++; if (!filled(x, y)) r.missed.push([c, x, y]); \
+             } \
+             const mx = (P.x0 + P.x1) / 2, my = (P.y0 + P.y1) / 2; \
+             const inCut = (x, y) => !cut || (x >= cut.x0 && x <= cut.x1 && y >= cut.y0 && y <= cut.y1); \
+             if (poly && poly.hole && inCut(mx, my)) { r.holes++; if (filled(mx, my)) r.holeFilled++; } \
+             if (poly && sector && sector[1] - sector[0] < 3) { \
+               const back = (sector[0] + sector[1]) / 2 + Math.PI, dist = Math.hypot(P.x1 - P.x0, P.y1 - P.y0) / 2 + 1; \
+               const bx = mx + dist * Math.cos(back), by = my + dist * Math.sin(back); \
+               if (inCut(bx, by)) { r.cones++; if (filled(bx, by)) r.coneFilled++; } \
+             } \
+           } \
+           r.missed = r.missed.slice(0, 5); done(r); \
+         }, (e) => done({ error: String(e) }));",
+    );
+    assert!(out.get("error").is_none(), "{out}");
+    assert!(out["points"].as_u64().unwrap() > 20_000, "{out}");
+    assert_eq!(
+        out["missed"],
+        json!([]),
+        "true points outside their drawn shape"
+    );
+    assert!(out["holes"].as_u64().unwrap() > 100, "{out}");
+    assert_eq!(out["holeFilled"], 0, "a hole drawn filled: {out}");
+    assert!(out["cones"].as_u64().unwrap() > 100, "{out}");
+    assert_eq!(out["coneFilled"], 0, "a sector drawn behind its box: {out}");
+}
+
+/// The SLAM demo's range-only preset (the paper's P'': ranges and a rough
+/// region, no bearing) runs basic against `shapes` in WASM and proves
+/// groups; the legend's boxes hide and show the layers.
+fn range_only_preset(d: &Driver, base: &str) {
+    d.goto(&format!("{base}/?tab=slam&demo=range-only"));
+    let summary = d.wait(
+        "const s = document.getElementById('sl-summary'); return (s.dataset.recall || s.dataset.error) && s.textContent",
+        Duration::from_secs(180),
+    );
+    let data = d.js("return {...document.getElementById('sl-summary').dataset}");
+    assert_eq!(data["error"], "", "{summary}");
+    assert_eq!(data["contractor"], "shapes", "{summary}");
+    assert_eq!(data["rangeOnly"], "true", "{summary}");
+    assert_eq!(data["truthInside"], "true", "{summary}");
+    assert_eq!(data["errors"], "0", "{summary}");
+    let recall: f64 = data["recall"].as_str().unwrap().parse().unwrap();
+    assert!(recall > 0.0, "no proved group: {summary}");
+    let basic: f64 = data["basicDiameter"].as_str().unwrap().parse().unwrap();
+    let shapes_d: f64 = data["nvectorDiameter"].as_str().unwrap().parse().unwrap();
+    assert!(shapes_d < basic, "{summary}");
+    eprintln!("BROWSER range-only preset: {summary}");
+    // What the page writes matches the figures: the summary shows the recall.
+    assert!(
+        summary
+            .as_str()
+            .unwrap()
+            .contains(&format!("recall {recall:.2}")),
+        "{summary}"
+    );
+    // Range only: annuli, no sectors, one per detection.
+    let n = data["detections"].as_str().unwrap().parse::<f64>().unwrap();
+    assert_eq!(canvas_data(d, "sl-nv", "shapes"), n);
+    assert_eq!(canvas_data(d, "sl-nv", "sectors"), 0.0);
+    let regions = canvas_data(d, "sl-nv", "regions");
+    d.screenshot("slam-range-only-shapes");
+
+    // The toggles: each hides its layer (the canvas says what it drew, and
+    // fewer pixels are painted), ticking them again restores the picture.
+    let layer = |k: &str| format!("#sl-legend input[data-layer='{k}']");
+    let all = painted(d, "sl-nv");
+    let boxes = canvas_data(d, "sl-nv", "boxes");
+    assert!(boxes > 0.0);
+    d.click(&layer("shapes"));
+    assert_eq!(canvas_data(d, "sl-nv", "shapes"), 0.0);
+    let without_shapes = painted(d, "sl-nv");
+    assert!(
+        without_shapes < all,
+        "hiding the shapes painted {without_shapes} pixels, {all} with them"
+    );
+    d.screenshot("slam-range-only-no-shapes");
+    d.click(&layer("boxes"));
+    assert_eq!(canvas_data(d, "sl-nv", "boxes"), 0.0);
+    assert!(painted(d, "sl-nv") < without_shapes);
+    if regions > 0.0 {
+        d.click(&layer("regions"));
+        assert_eq!(canvas_data(d, "sl-nv", "regions"), 0.0);
+        d.click(&layer("regions"));
+        assert_eq!(canvas_data(d, "sl-nv", "regions"), regions);
+    }
+    d.click(&layer("shapes"));
+    d.click(&layer("boxes"));
+    assert_eq!(canvas_data(d, "sl-nv", "shapes"), n);
+    assert_eq!(canvas_data(d, "sl-nv", "boxes"), boxes);
+    assert_eq!(painted(d, "sl-nv"), all, "the picture is back");
+    // Only the shapes, to see them alone.
+    d.click(&layer("boxes"));
+    d.screenshot("slam-range-only-shapes-alone");
+    d.click(&layer("boxes"));
+}
+
+/// CMU Plaza 1 (3529 ranges, ids hidden) uploaded through the page, run
+/// with `shapes` by the service and drawn with its shapes; the redraw is
+/// timed in the page (median of 7 batch means of 5 redraws, each drawing
+/// read back so that the time includes the rasterisation): a full redraw
+/// (the view moved: everything drawn again), a frame while panning (the
+/// previous picture moved), a step of the time slider, and the full
+/// redraw without shapes.
+fn cmu_plaza_drawn(d: &Driver, s: &Server) {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
+    assert!(
+        data.join("Plaza1_DR.txt").exists(),
+        "the CMU Plaza 1 data must be at {} (../shared beside the repository)",
+        data.display()
+    );
+    let cmu = s.dir.join("cmu.json");
+    let st = common::nvector()
+        .args(["import", "--cmu-plaza"])
+        .arg(&data)
+        .arg("--out")
+        .arg(&cmu)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    d.js("const s = document.getElementById('ms-mode'); s.value = 'shapes'; return s.value");
+    let file = d.element("#ms-file");
+    d.cmd(
+        "POST",
+        &format!("/element/{file}/value"),
+        Some(json!({"text": cmu.to_str().unwrap()})),
+    );
+    d.click("#ms-submit");
+    let shown = d.wait(
+        "const s = document.getElementById('rv-summary').dataset; return s.state === 'error' || s.state === 'failed' || (s.state === 'drawn' && s.detections === '3529' && s.contractors)",
+        Duration::from_secs(180),
+    );
+    assert_eq!(
+        shown,
+        "shapes,none",
+        "{}",
+        d.js("return document.getElementById('ms-state').textContent")
+    );
+    assert_eq!(canvas_data(d, "rv-0", "shapes"), 3529.0);
+    assert_eq!(
+        d.js("return document.getElementById('rv-summary').dataset.truthInside"),
+        "true"
+    );
+    d.screenshot("missions-cmu-plaza-shapes");
+    let t = d.js(
+        "const p = window.nvectorPage, s = p.shown[0], c = document.getElementById('rv-0'), ctx = c.getContext('2d'); \
+         const batch = (f) => { const means = []; for (let b = 0; b < 7; b++) { const t = performance.now(); \
+           for (let r = 0; r < 5; r++) { f(); ctx.getImageData(0, 0, 1, 1); } means.push((performance.now() - t) / 5); } \
+           means.sort((x, y) => x - y); return means[3]; }; \
+         const full = batch(() => { s.view.pan(1, 0); p.redrawResults(false); }); \
+         const moving = batch(() => { s.view.pan(1, 0); p.redrawResults(true); }); \
+         const time = document.getElementById('rv-time'); let step = Number(time.max); \
+         const slider = batch(() => { time.value = String(step -= 7); p.redrawResults(false); }); time.value = time.max; \
+         const box = document.querySelector(\"#rv-legend input[data-layer='shapes']\"); box.click(); \
+         const bare = batch(() => { s.view.pan(1, 0); p.redrawResults(false); }); box.click(); \
+         p.redrawResults(false); \
+         return { full, moving, slider, bare, shapes: Number(c.dataset.shapes), regions: Number(c.dataset.regions) };",
+    );
+    assert_eq!(t["shapes"], 3529, "{t}");
+    eprintln!(
+        "BENCH browser cmu_plaza_redraw_ms full {} moving {} time_slider {} without_shapes {} (shapes {}, region boxes {})",
+        t["full"], t["moving"], t["slider"], t["bare"], t["shapes"], t["regions"]
+    );
 }

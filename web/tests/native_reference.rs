@@ -7,7 +7,7 @@ use nvector_web::{contract_with_kernels, run_mission, simulate_json};
 use serde_json::{json, Value};
 
 /// The contractor of the page's range-only preset.
-const PRESET_CONTRACTOR: &str = "best";
+const PRESET_CONTRACTOR: &str = "shapes";
 
 #[test]
 fn bad_simulation_options_name_the_field() {
@@ -60,6 +60,14 @@ fn native_reference() {
     for contractor in ["none", PRESET_CONTRACTOR] {
         let out = run_mission(&range_only, contractor, &mut |_| {}).unwrap();
         assert_eq!(out["score"]["truth_inside"], true);
+        if contractor == PRESET_CONTRACTOR {
+            // What the page draws: proved groups and a landmark region
+            // (a paving) per landmark.
+            assert!(out["score"]["matching_recall"].as_f64().unwrap() > 0.0);
+            let regions = out["landmark_regions"].as_array().unwrap();
+            assert_eq!(regions.len(), out["landmarks"].as_array().unwrap().len());
+            assert!(regions.iter().all(|p| !p.as_array().unwrap().is_empty()));
+        }
         cases.push(json!({"kind": "run", "contractor": contractor, "input": range_only.to_string(), "output": out.to_string()}));
     }
     let path =
