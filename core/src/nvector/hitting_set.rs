@@ -223,7 +223,7 @@ fn axis_bounds(boxes: &[IntervalBox], axis: usize, lower_only: bool) -> Vec<f64>
             v.push(x.hi());
         }
     }
-    v.sort_by(f64::total_cmp);
+    v.sort_unstable_by(f64::total_cmp);
     v.dedup();
     if v.is_empty() {
         // Every box is unbounded on this axis both ways... or only above:
@@ -323,7 +323,7 @@ impl<'a> HittingSet<'a> {
         masks.dedup();
         // Keep maximal masks only.
         let mut cliques: Vec<u64> = Vec::new();
-        masks.sort_by_key(|m| std::cmp::Reverse(m.count_ones()));
+        masks.sort_unstable_by_key(|&m| (std::cmp::Reverse(m.count_ones()), m));
         for m in masks {
             work.charge(1 + cliques.len() as u64 / OPS_PER_NODE)?;
             if !cliques.iter().any(|&c| c & m == m) {
@@ -436,7 +436,7 @@ impl<'a> HittingSet<'a> {
         })?;
         masks.sort_unstable();
         masks.dedup();
-        masks.sort_by_key(|m| std::cmp::Reverse(m.count_ones()));
+        masks.sort_unstable_by_key(|&m| (std::cmp::Reverse(m.count_ones()), m));
         for m in masks {
             if self.min_cover(all & !m)? < n {
                 return Ok(true);

@@ -73,7 +73,7 @@ pub fn find_independent(
     } = scratch;
     by_size.clear();
     by_size.extend(0..k as u32);
-    by_size.sort_by(|&a, &b| {
+    by_size.sort_unstable_by(|&a, &b| {
         boxes[a as usize]
             .diameter()
             .total_cmp(&boxes[b as usize].diameter())

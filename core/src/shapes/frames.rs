@@ -153,7 +153,7 @@ impl Frames {
                 Some((_, p)) => p,
                 None => {
                     let mut members = g.clone();
-                    members.sort_by_key(|&j| (dets[j].step, j));
+                    members.sort_unstable_by_key(|&j| (dets[j].step, j));
                     let mut pieces = Vec::new();
                     for chunk in
                         members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
@@ -254,7 +254,13 @@ fn build_pieces(
             .map(|&j| relative_shape(mission, sums, heading_at, dim, s, j))
             .collect();
         let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
-        by_thickness.sort_by(|a, b| a.thickness().total_cmp(&b.thickness()));
+        // Ties in slice order (the references point into one slice, so their
+        // addresses follow the indices): the order of a stable sort.
+        by_thickness.sort_unstable_by(|a, b| {
+            a.thickness()
+                .total_cmp(&b.thickness())
+                .then_with(|| std::ptr::from_ref::<Shape>(*a).cmp(&std::ptr::from_ref::<Shape>(*b)))
+        });
         let mut region = Paving::from_box(&by_thickness[0].hull());
         for sh in &by_thickness[1..] {
             region.cut(sh);

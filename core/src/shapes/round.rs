@@ -277,7 +277,7 @@ impl ShapesState {
             return out;
         };
         let mut order: Vec<usize> = (0..k).collect();
-        order.sort_by_key(|&j| (mission.detections[j].step, j));
+        order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
         let steps: Vec<usize> = mission.detections.iter().map(|d| d.step).collect();
         let sums = ChainSums::new(dom.disp, dom.dim).with_steps(&steps);
         if !self.relative_done {
@@ -402,7 +402,13 @@ impl ShapesState {
                 }
             }
             let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
-            by_thickness.sort_by(|a, b| a.thickness().total_cmp(&b.thickness()));
+            // Ties in slice order (the references point into one slice, so their
+            // addresses follow the indices): the order of a stable sort.
+            by_thickness.sort_unstable_by(|a, b| {
+                a.thickness().total_cmp(&b.thickness()).then_with(|| {
+                    std::ptr::from_ref::<Shape>(*a).cmp(&std::ptr::from_ref::<Shape>(*b))
+                })
+            });
             by_thickness.truncate(opts.refine_shapes);
             region.refine(&by_thickness, opts.resolution, opts.max_boxes);
             if region.is_empty() {

@@ -91,7 +91,7 @@ pub fn find_witnesses(
         return Vec::new();
     }
     let mut order: Vec<usize> = (0..k).collect();
-    order.sort_by(|&a, &b| {
+    order.sort_unstable_by(|&a, &b| {
         (sizes[a].0.cmp(&sizes[b].0))
             .then(sizes[a].1.total_cmp(&sizes[b].1))
             .then(a.cmp(&b))

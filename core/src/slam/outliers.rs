@@ -590,7 +590,7 @@ pub fn solve_robust(
     }
     matching.sort_unstable();
     let mut order: Vec<usize> = (0..k).collect();
-    order.sort_by_key(|&j| (mission.detections[j].step, j));
+    order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
     let mut ev = Evidence {
         proved_false: vec![false; k],
         boxes: vec![IntervalBox::empty(dim); k],

@@ -270,7 +270,7 @@ impl<'a> Propagation<'a> {
             }
         }
         let mut order: Vec<usize> = (0..k).collect();
-        order.sort_by_key(|&j| (mission.detections[j].step, j));
+        order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
         let mut steps = Vec::new();
         let mut starts = Vec::new();
         for (x, &j) in order.iter().enumerate() {

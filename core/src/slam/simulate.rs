@@ -390,7 +390,19 @@ fn paper(o: &SimulateOptions) -> Value {
     ));
     // By step, true detections by landmark, false ones after them (in the
     // order drawn): a stable sort keeps the true ones as they were.
-    seen.sort_by_key(|d| (d.step, d.landmark.unwrap_or(usize::MAX)));
+    // (Ties broken by the drawn order: the order of a stable sort, without
+    // the stable sort's code in the page's wasm.)
+    let mut keyed: Vec<(usize, usize, usize)> = seen
+        .iter()
+        .enumerate()
+        .map(|(i, d)| (d.step, d.landmark.unwrap_or(usize::MAX), i))
+        .collect();
+    keyed.sort_unstable();
+    let mut slots: Vec<Option<Seen>> = seen.into_iter().map(Some).collect();
+    let seen: Vec<Seen> = keyed
+        .iter()
+        .filter_map(|&(_, _, i)| slots[i].take())
+        .collect();
     let mut det_json = Vec::new();
     let mut matching = Vec::new();
     for d in &seen {
