@@ -448,3 +448,33 @@ fn static_files_cannot_escape_their_directory() {
         );
     }
 }
+
+/// Regression (found by the fuzzer): POST /simulate with `false_detections`
+/// at the service's detection limit stored and returned a mission with more
+/// detections than the limit (the true ones on top), which the document's
+/// Mission schema (maxItems) and GET /missions/{id} then contradicted.
+#[test]
+fn issue_13_simulated_missions_fit_the_detection_limit() {
+    let s = nvector_tests::Server::start(&["--max-detections", "60"]);
+    let (status, body) = s.post(
+        "/api/v1/simulate",
+        &serde_json::json!({"scenario": "paper", "seed": 3, "steps": 4000, "false_detections": 60}),
+    );
+    assert_eq!(status, 201, "{body}");
+    let dets = body["mission"]["detections"].as_array().unwrap().len();
+    assert_eq!(dets, 60, "true detections plus as many false ones as fit");
+    let falses = body["mission"]["truth"]["matching"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m.is_null())
+        .count();
+    assert!(falses > 0 && falses < 60);
+    assert_eq!(body["mission"]["max_outliers"], falses);
+    let (status, stored) = s.get(&format!(
+        "/api/v1/missions/{}",
+        body["id"].as_str().unwrap()
+    ));
+    assert_eq!(status, 200);
+    assert_eq!(stored["detections"].as_array().unwrap().len(), 60);
+}

@@ -86,7 +86,9 @@ pub struct PaperSimulation {
     pub range_only: Option<bool>,
     /// Extra detections of no landmark (`null` in truth.matching,
     /// `max_outliers` set; default 0; at most this service's limit on
-    /// detections).
+    /// detections). Fewer are drawn when the mission would hold more
+    /// detections in all than that limit: the mission's `max_outliers` says
+    /// how many.
     #[serde(default)]
     #[schema(minimum = 0, maximum = 100000)]
     pub false_detections: Option<u64>,
@@ -312,15 +314,41 @@ pub(super) async fn post_simulate(
         state.config.max_steps as u64,
         state.config.max_detections as u64,
     )?;
-    let mission = tokio::task::spawn_blocking(move || simulate(&o))
-        .await
-        .map_err(|_| {
-            AppError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "internal",
-                "simulation task failed",
-            )
-        })?;
+    let max_detections = state.config.max_detections;
+    let mission = tokio::task::spawn_blocking(move || {
+        let mission = simulate(&o);
+        let count = mission["detections"].as_array().map_or(0, Vec::len);
+        if count > max_detections && o.false_detections > 0 {
+            // The true detections do not depend on the false ones (drawn
+            // from a second stream): fewer false ones fit the limit.
+            let fewer = SimulateOptions {
+                false_detections: o.false_detections.saturating_sub(count - max_detections),
+                ..o
+            };
+            simulate(&fewer)
+        } else {
+            mission
+        }
+    })
+    .await
+    .map_err(|_| {
+        AppError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "internal",
+            "simulation task failed",
+        )
+    })?;
+    let count = mission["detections"].as_array().map_or(0, Vec::len);
+    if count > max_detections {
+        return Err(AppError::new(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            "too_large",
+            format!(
+                "the simulated mission has {count} detections, above this service's limit of {max_detections}"
+            ),
+        )
+        .at("landmarks"));
+    }
     let (id, m) = store_mission(&state, &owner, &mission, false).await?;
     Ok((
         StatusCode::CREATED,
