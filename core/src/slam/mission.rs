@@ -372,25 +372,27 @@ fn entries<'de, A: MapAccess<'de>>(
     Ok(())
 }
 
+/// Every entry of an object, by key.
+fn keyed<'de, A: MapAccess<'de>, V: Deserialize<'de>>(
+    map: A,
+) -> Result<BTreeMap<String, V>, A::Error> {
+    let mut out = BTreeMap::new();
+    entries(map, |m, k| {
+        out.insert(k, m.next_value()?);
+        Ok(())
+    })?;
+    Ok(out)
+}
+
 impl Shape for Channel {
     fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
-        let mut out = BTreeMap::new();
-        entries(map, |m, k| {
-            out.insert(k, m.next_value()?);
-            Ok(())
-        })?;
-        Ok(Lean::Parsed(Channel(out)))
+        Ok(Lean::Parsed(Channel(keyed(map)?)))
     }
 }
 
 impl Shape for Inputs {
     fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
-        let mut out = BTreeMap::new();
-        entries(map, |m, k| {
-            out.insert(k, m.next_value()?);
-            Ok(())
-        })?;
-        Ok(Lean::Parsed(Inputs(out)))
+        Ok(Lean::Parsed(Inputs(keyed(map)?)))
     }
 }
 
