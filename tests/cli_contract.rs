@@ -81,38 +81,13 @@ fn infeasible_is_a_result_not_an_error() {
     assert_eq!(v["status"], "infeasible");
 }
 
-/// The worst case of issue 12: 40 overlapping boxes in 8-D with integer
-/// bounds, n = 6 (exact would run for minutes without its work budget).
-fn worst_case_request() -> String {
-    let mut state: u64 = 12;
-    let mut unit = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let boxes: Vec<Vec<[f64; 2]>> = (0..40)
-        .map(|_| {
-            (0..8)
-                .map(|_| {
-                    let c = (unit() * 10.0).round();
-                    let a = (4.0 + unit() * 4.0).round();
-                    let b = (4.0 + unit() * 4.0).round();
-                    [c - a, c + b]
-                })
-                .collect()
-        })
-        .collect();
-    serde_json::json!({"format": "nvector-contract/1", "n": 6, "boxes": boxes}).to_string()
-}
-
 #[test]
 fn exact_out_of_its_work_budget_exits_1_naming_the_limit() {
     // A small budget keeps the test quick (the default, 16 million nodes,
     // answers in about 1.5 s on a release build).
     let out = contract(
         &["--contractor", "exact", "--node-budget", "100000"],
-        &worst_case_request(),
+        &nvector_tests::worst_case_contract(None).to_string(),
     );
     assert_eq!(out.status.code(), Some(1));
     assert!(out.stdout.is_empty());
@@ -124,7 +99,7 @@ fn exact_out_of_its_work_budget_exits_1_naming_the_limit() {
     // A polynomial contractor answers the same request.
     let out = contract(
         &["--contractor", "best", "--node-budget", "100000"],
-        &worst_case_request(),
+        &nvector_tests::worst_case_contract(None).to_string(),
     );
     assert!(
         out.status.success(),

@@ -6,7 +6,7 @@
 //! itself, with a grace second for the flag to be read and the answer
 //! written on a loaded machine.
 
-use nvector_tests::{small_mission, Server};
+use nvector_tests::{small_mission, worst_case_contract, Server};
 use serde_json::{json, Value};
 use std::time::{Duration, Instant};
 
@@ -14,30 +14,6 @@ use std::time::{Duration, Instant};
 const LIMIT_S: f64 = 3.0;
 /// Worst-case requests at once.
 const STORM: usize = 4;
-
-/// The worst case of issue 12: 40 overlapping boxes in 8-D, n = 6.
-fn worst_case(contractor: &str) -> Value {
-    let mut state: u64 = 12;
-    let mut unit = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let boxes: Vec<Vec<[f64; 2]>> = (0..40)
-        .map(|_| {
-            (0..8)
-                .map(|_| {
-                    let c = (unit() * 10.0).round();
-                    let a = (4.0 + unit() * 4.0).round();
-                    let b = (4.0 + unit() * 4.0).round();
-                    [c - a, c + b]
-                })
-                .collect()
-        })
-        .collect();
-    json!({"format": "nvector-contract/1", "n": 6, "boxes": boxes, "contractor": contractor})
-}
 
 #[test]
 fn worst_case_contractions_are_bounded_and_the_service_keeps_answering() {
@@ -52,7 +28,7 @@ fn worst_case_contractions_are_bounded_and_the_service_keeps_answering() {
                 let s = &s;
                 scope.spawn(move || {
                     let t = Instant::now();
-                    let (st, v) = s.post("/api/v1/contract", &worst_case("exact"));
+                    let (st, v) = s.post("/api/v1/contract", &worst_case_contract(Some("exact")));
                     (st, v, t.elapsed())
                 })
             })
@@ -70,7 +46,7 @@ fn worst_case_contractions_are_bounded_and_the_service_keeps_answering() {
             std::thread::sleep(Duration::from_millis(100));
         }
         let t = Instant::now();
-        let (st, v) = s.post("/api/v1/contract", &worst_case("best"));
+        let (st, v) = s.post("/api/v1/contract", &worst_case_contract(Some("best")));
         assert_eq!(st, 200, "{v}");
         let best = t.elapsed();
         let done = s.wait_job(job["id"].as_str().unwrap(), Duration::from_secs(120));

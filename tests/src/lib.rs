@@ -326,3 +326,33 @@ pub fn small_mission(seed: u64, steps: usize) -> Value {
     o.steps = Some(steps);
     nvector_core::slam::simulate::simulate(&o)
 }
+
+/// The worst case of issue 12 for `exact`: 40 overlapping boxes in 8-D
+/// with integer bounds, n = 6 (minutes of search without a work budget),
+/// as a contraction request, with `contractor` when given.
+pub fn worst_case_contract(contractor: Option<&str>) -> Value {
+    let mut state: u64 = 12;
+    let mut unit = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let boxes: Vec<Vec<[f64; 2]>> = (0..40)
+        .map(|_| {
+            (0..8)
+                .map(|_| {
+                    let c = (unit() * 10.0).round();
+                    let a = (4.0 + unit() * 4.0).round();
+                    let b = (4.0 + unit() * 4.0).round();
+                    [c - a, c + b]
+                })
+                .collect()
+        })
+        .collect();
+    let mut v = serde_json::json!({"format": "nvector-contract/1", "n": 6, "boxes": boxes});
+    if let Some(c) = contractor {
+        v["contractor"] = c.into();
+    }
+    v
+}
