@@ -120,6 +120,16 @@ impl Frames {
             .collect()
     }
 
+    /// Every cached piece: a member of its group, its step s and its paving
+    /// of `L - p(s)`.
+    pub fn every_piece(&self) -> Vec<(usize, usize, &Paving)> {
+        self.cache
+            .iter()
+            .flatten()
+            .flat_map(|(_, pieces)| pieces.iter().map(|p| (p.member, p.step, &p.region)))
+            .collect()
+    }
+
     /// Appends to `out` the distinct pairs the frames prove (module doc).
     /// `order`: detections by step. Returns the work done (pieces
     /// contracted); Err: a piece whose region is empty (infeasible).

@@ -11,13 +11,16 @@
 //! - [`branch`]: a detection whose landmark is one of n regions, contracted
 //!   once per region (the hull of the survivors kept; one survivor proves
 //!   the matching);
-//! - [`round`]: the three together, one SLAM round.
+//! - [`registration`]: the landmarks seen around one step, in its frame,
+//!   placed on the n witness regions (the robot position where they fit);
+//! - [`round`]: all of them, one SLAM round.
 
 pub mod branch;
 pub mod chain_sums;
 pub mod distinct;
 pub mod frames;
 pub mod region;
+pub mod registration;
 pub mod relative;
 pub mod round;
 pub mod shape;

@@ -37,6 +37,14 @@
 //!    region (a sequential filter). A region that does not survive is a
 //!    distinct pair.
 //!
+//! 5. **Registration** ([`register`]): at the steps of the groups' local
+//!    pieces (one every `register_every` steps), the pieces within
+//!    `register_gap` steps, moved to the frame of that step, must fit the
+//!    n witness regions under a map that gives distinct groups distinct
+//!    witnesses: p(step) shrinks to the positions where such a map exists,
+//!    and a group left with one witness over every registration joins it
+//!    (the others are distinct pairs).
+//!
 //! Whenever p(step) shrinks by more than the tolerance the caller's
 //! [`Chain`] is told (its own passes sweep the change along the motion
 //! chain in both directions later); in step 4, the change is also swept
@@ -61,13 +69,17 @@
 //! Per round: O(c · m d) for the region cuts (c changed members, m <=
 //! `max_boxes` boxes per region), O(k n m d) at most for the branches (a
 //! region whose hull the shape misses costs O(d)), O(k log k + 64^2 + k n)
-//! for the witness search. Memory O(k + g · m) for g groups.
+//! for the witness search, and for the registration O(a · G · n · c² · B · d)
+//! (a registration steps, at most G = `register_groups` groups each, pavings
+//! coarsened to c boxes, B paving boxes of p(step)). Memory O(k + g · m)
+//! for g groups.
 
 use super::branch::{branch, Branches};
 use super::chain_sums::ChainSums;
 use super::distinct::{Distinct, Uf};
 use super::frames::{FrameOptions, Frames};
 use super::region::Paving;
+use super::registration::{register, LocalGroup, RegisterOptions};
 use super::relative::relative_pairs;
 use super::shape::Shape;
 use super::witnesses::{find_witnesses, Item};
@@ -96,6 +108,14 @@ pub struct ShapesOptions {
     pub frames: FrameOptions,
     /// Most frame/inference passes in one round.
     pub frame_passes: usize,
+    /// Whether the local frames are registered on the witness regions.
+    pub registration: bool,
+    /// Steps around a registration step whose pieces are used.
+    pub register_gap: usize,
+    /// Least steps between two registration steps.
+    pub register_every: usize,
+    /// Most groups in one registration.
+    pub register_groups: usize,
 }
 
 impl Default for ShapesOptions {
@@ -109,6 +129,10 @@ impl Default for ShapesOptions {
             clique_budget: 200_000,
             frames: FrameOptions::default(),
             frame_passes: 3,
+            registration: true,
+            register_gap: 300,
+            register_every: 50,
+            register_groups: 8,
         }
     }
 }
@@ -666,11 +690,182 @@ impl ShapesState {
         if let Some(step) = alive {
             chain.changed(step);
         }
+        if result.is_ok() && opts.registration && n <= 64 {
+            result = self.register_anchors(
+                mission,
+                dom,
+                uf,
+                &mut wregions,
+                &mut slot_root,
+                tol,
+                chain,
+                out,
+                &mut pairs,
+            );
+        }
         for (p, r) in wregions.into_iter().zip(slot_root) {
             self.regions[r] = Some(p);
         }
         self.distinct.add(pairs);
         result
+    }
+}
+
+impl ShapesState {
+    /// Step 5: registration of the local frames on the witness regions
+    /// ([`super::registration`]) at the steps of the groups' pieces: p(s)
+    /// shrinks, and a group left with one witness joins it.
+    #[allow(clippy::too_many_arguments)]
+    fn register_anchors(
+        &mut self,
+        mission: &Mission,
+        dom: &mut Domains,
+        uf: &mut Uf,
+        wregions: &mut [Paving],
+        slot_root: &mut [usize],
+        tol: f64,
+        chain: &mut dyn Chain,
+        out: &mut ShapesOutcome,
+        pairs: &mut Vec<(u32, u32)>,
+    ) -> Result<(), String> {
+        let dim = dom.dim;
+        let n = wregions.len();
+        let steps: Vec<usize> = mission.detections.iter().map(|d| d.step).collect();
+        let sums = ChainSums::new(dom.disp, dim).with_steps(&steps);
+        let graph = self.distinct.graph(uf)?;
+        let witness_boxes: Vec<Vec<IntervalBox>> =
+            wregions.iter().map(|w| w.boxes().to_vec()).collect();
+        // Pieces by step: (step, root, paving).
+        let mut pieces: Vec<(usize, usize, &Paving)> = self
+            .frames
+            .every_piece()
+            .into_iter()
+            .map(|(member, step, region)| (step, uf.find(member), region))
+            .collect();
+        pieces.sort_unstable_by_key(|&(step, root, _)| (step, root));
+        let gap = self.options.register_gap;
+        let mut reach: Vec<u64> = vec![u64::MAX; mission.detections.len()];
+        let mut last_anchor: Option<usize> = None;
+        let mut lo = 0;
+        for a in 0..pieces.len() {
+            let s = pieces[a].0;
+            if last_anchor.is_some_and(|l| s < l + self.options.register_every) {
+                continue;
+            }
+            last_anchor = Some(s);
+            while pieces[lo].0 + gap < s {
+                lo += 1;
+            }
+            // Local groups around s, in the frame of s.
+            let mut roots: Vec<usize> = Vec::new();
+            let mut groups: Vec<LocalGroup> = Vec::new();
+            for &(t, root, region) in pieces[lo..].iter().take_while(|e| e.0 <= s + gap) {
+                let delta = sums.delta(s, t);
+                let boxes: Vec<IntervalBox> = region
+                    .boxes()
+                    .iter()
+                    .map(|b| {
+                        let axes: Vec<Interval> = (0..dim).map(|x| b[x] + delta[x]).collect();
+                        IntervalBox::new(&axes)
+                    })
+                    .collect();
+                let gi = match roots.iter().position(|&r| r == root) {
+                    Some(gi) => gi,
+                    None => {
+                        roots.push(root);
+                        groups.push(LocalGroup {
+                            pieces: Vec::new(),
+                            fixed: slot_root.iter().position(|&w| uf.find(w) == root),
+                        });
+                        roots.len() - 1
+                    }
+                };
+                groups[gi].pieces.push(boxes);
+            }
+            if groups.len() > self.options.register_groups {
+                // The witness groups first, then the most pieces.
+                let mut idx: Vec<usize> = (0..groups.len()).collect();
+                idx.sort_by_key(|&i| {
+                    (
+                        groups[i].fixed.is_none(),
+                        usize::MAX - groups[i].pieces.len(),
+                        roots[i],
+                    )
+                });
+                idx.truncate(self.options.register_groups);
+                idx.sort_unstable();
+                roots = idx.iter().map(|&i| roots[i]).collect();
+                groups = idx.iter().map(|&i| groups[i].clone()).collect();
+            }
+            let distinct =
+                |g: usize, h: usize| graph[roots[g]].binary_search(&(roots[h] as u32)).is_ok();
+            let p = IntervalBox::new(&dom.pos[s * dim..(s + 1) * dim]);
+            let reg = register(
+                &p,
+                &witness_boxes,
+                &groups,
+                &distinct,
+                &RegisterOptions::default(),
+            );
+            out.contractions += reg.work;
+            if reg.p.is_empty() {
+                return Err(format!(
+                    "step {s}: the landmarks of groups {roots:?}, seen from p({s}), fit no placement on the {n} landmark regions"
+                ));
+            }
+            let mut moved = 0.0f64;
+            for x in 0..dim {
+                let before = dom.pos[s * dim + x];
+                let after = before.intersect(reg.p[x]);
+                moved = moved.max(shrinkage(before, after));
+                dom.pos[s * dim + x] = after;
+            }
+            if moved > tol {
+                out.moved = true;
+                chain.changed(s);
+            }
+            for (&root, &r) in roots.iter().zip(&reg.reach) {
+                reach[root] &= r;
+            }
+        }
+        // Groups left with one witness join it; the others are distinct
+        // from the witnesses they cannot be.
+        for root in 0..reach.len() {
+            let r = reach[root];
+            if r == u64::MAX || uf.find(root) != root {
+                continue;
+            }
+            if slot_root.iter().any(|&w| uf.find(w) == root) {
+                continue;
+            }
+            if r == 0 {
+                return Err(format!(
+                    "landmark of group {root}: seen from the steps around it, it fits none of the {n} landmark regions"
+                ));
+            }
+            for (i, &w) in slot_root.iter().enumerate() {
+                if r & (1 << i) == 0 {
+                    pairs.push((root as u32, w as u32));
+                }
+            }
+            if r.count_ones() == 1 {
+                let i = r.trailing_zeros() as usize;
+                if let Some(p) = self.regions[root].take() {
+                    wregions[i].intersect(&p, self.options.max_boxes);
+                }
+                out.unions.push((slot_root[i], root));
+                out.moved = true;
+                out.moved_detections.push(root);
+                slot_root[i] = uf.union(slot_root[i], root);
+                if wregions[i].is_empty() {
+                    return Err(format!(
+                        "landmark of group {root} and witness group {}: no common point",
+                        slot_root[i]
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 }
 

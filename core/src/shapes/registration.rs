@@ -1,0 +1,435 @@
+//! Registration of a local map on the landmark regions: the robot position
+//! at one step is where the landmarks seen around it, in its own frame, fit
+//! the n landmark regions (DESIGN.md, "Detection shapes"; docs/shapes.md).
+//!
+//! # Constraint
+//!
+//! At most n landmarks and n pairwise-distinct witness groups with regions
+//! W(1..n) (so every landmark is one witness's, [`super::witnesses`]); for
+//! groups g near a step s, their landmark in the frame of s,
+//! `L(g) - p(s) ∈ R(g)` (the local-frame pavings of [`super::frames`],
+//! moved to the frame of s with the displacement sums, [`ChainSums`]);
+//! pairs of groups proved distinct ([`super::distinct`]).
+//!
+//! # Math
+//!
+//! Each group's landmark is one witness's, and groups proved distinct are
+//! different witnesses', so for some map a from the groups to 1..n that is
+//! injective on distinct pairs (and fixed for the witness groups),
+//! `p(s) ∈ ∩_g (W(a(g)) - R(g))`, with `W - R` the set of differences
+//! `w - r` (for paved W and R: the union of the boxes `B_w - B_r`). The set
+//! of such p(s) within P(s) is paved ([`register`]): a box S of p(s) is
+//! dropped when no admissible map a has S meeting `W(a(g)) - R(g)` for
+//! every g; the others are bisected (widest axis, breadth first) down to a
+//! width or a box count. P(s) becomes the hull of the boxes kept, and each
+//! group's candidates are the witnesses some admissible map of some kept
+//! box gives it. This uses what a single range cannot: the shape of the
+//! local constellation (where the landmarks are relative to each other
+//! and to the robot), matched against the global one.
+//!
+//! # Soundness
+//!
+//! The true p(s) lies in P(s) and the true map (each group to the witness
+//! of its landmark) is admissible: distinct groups see distinct landmarks,
+//! and a witness group sees its own. For each g the true landmark lies in
+//! W(a(g)) and `L - p(s)` in R(g), so p(s) is the difference of a point of
+//! a box of W(a(g)) and a point of a box of R(g), which lies in that pair's
+//! difference box (outward-rounded interval subtraction). So the box
+//! holding the true p(s) meets every set of the true map and is kept, and
+//! the true witness is among each group's candidates. Coarsening a paving
+//! (replacing boxes by their hulls) only adds points.
+//!
+//! # Complexity
+//!
+//! O(g · n · m_W · m_R · d) to build the difference boxes (pavings coarsened
+//! to m boxes), then for each of at most `max_boxes` paving boxes
+//! O(g · n · m_W · m_R · d) tests and a search over the admissible maps
+//! bounded by `map_budget` nodes (beyond it, every test-passing witness
+//! stays a candidate).
+
+use super::shape::MAX_DIM;
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+
+/// A group near the registration step: its local pieces (boxes of
+/// `L - p(s)`, each piece a paving in the frame of s) and its witness when
+/// it is one of the witness groups.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LocalGroup {
+    /// Pieces, each a list of boxes in the frame of s.
+    pub pieces: Vec<Vec<IntervalBox>>,
+    /// The witness index when the group is a witness group.
+    pub fixed: Option<usize>,
+}
+
+/// What a registration found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Registration {
+    /// Hull of the kept boxes of p(s) (empty: no admissible position).
+    pub p: IntervalBox,
+    /// Per group: bit i set when witness i may be its landmark.
+    pub reach: Vec<u64>,
+    /// Box tests done.
+    pub work: u64,
+}
+
+/// Tuning of [`register`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegisterOptions {
+    /// Most boxes of p(s) in the paving.
+    pub max_boxes: usize,
+    /// Boxes this narrow (on every axis) are not bisected.
+    pub min_width: f64,
+    /// Most boxes kept of each coarsened paving.
+    pub coarse: usize,
+    /// Node budget of the map search in one box.
+    pub map_budget: usize,
+}
+
+impl Default for RegisterOptions {
+    fn default() -> Self {
+        RegisterOptions {
+            max_boxes: 256,
+            min_width: 0.5,
+            coarse: 12,
+            map_budget: 2_000,
+        }
+    }
+}
+
+type Axes = [Interval; MAX_DIM];
+
+fn to_axes(b: &IntervalBox) -> Axes {
+    let mut a = [Interval::ZERO; MAX_DIM];
+    a[..b.dim()].copy_from_slice(b.axes());
+    a
+}
+
+fn meets(a: &Axes, b: &Axes, dim: usize) -> bool {
+    (0..dim).all(|x| a[x].meets(b[x]))
+}
+
+/// Pavings of the p(s) the constraint of the module doc allows within `p`
+/// (`witnesses`: the boxes of W(1..n), at most 64; `distinct(g, h)`: groups
+/// g and h are proved to see distinct landmarks).
+pub fn register(
+    p: &IntervalBox,
+    witnesses: &[Vec<IntervalBox>],
+    groups: &[LocalGroup],
+    distinct: &dyn Fn(usize, usize) -> bool,
+    opts: &RegisterOptions,
+) -> Registration {
+    let dim = p.dim();
+    let n = witnesses.len().min(64);
+    let mut out = Registration {
+        p: IntervalBox::empty(dim),
+        reach: vec![0; groups.len()],
+        work: 0,
+    };
+    if p.is_empty() {
+        return out;
+    }
+    // Difference boxes W(i) - R(g, piece), coarsened.
+    let w: Vec<Vec<Axes>> = witnesses[..n]
+        .iter()
+        .map(|b| coarsen(b.iter().map(to_axes).collect(), dim, opts.coarse))
+        .collect();
+    // diff[g][piece][i]: boxes of W(i) - R.
+    let diff: Vec<Vec<Vec<Vec<Axes>>>> = groups
+        .iter()
+        .map(|g| {
+            g.pieces
+                .iter()
+                .map(|piece| {
+                    let r = coarsen(piece.iter().map(to_axes).collect(), dim, opts.coarse);
+                    (0..n)
+                        .map(|i| {
+                            if g.fixed.is_some_and(|f| f != i) {
+                                return Vec::new();
+                            }
+                            let mut boxes = Vec::with_capacity(w[i].len() * r.len());
+                            for wb in &w[i] {
+                                for rb in &r {
+                                    let mut d = [Interval::ZERO; MAX_DIM];
+                                    for x in 0..dim {
+                                        d[x] = wb[x].sub(rb[x]);
+                                    }
+                                    boxes.push(d);
+                                }
+                            }
+                            boxes
+                        })
+                        .collect()
+                })
+                .collect()
+        })
+        .collect();
+    let all = if n >= 64 { u64::MAX } else { (1u64 << n) - 1 };
+    // Candidate masks of one box S of p(s); None when some group has none.
+    let masks = |s: &Axes, work: &mut u64| -> Option<Vec<u64>> {
+        let mut m = Vec::with_capacity(groups.len());
+        for g in &diff {
+            let mut mask = all;
+            for piece in g {
+                let mut pm = 0u64;
+                for (i, boxes) in piece.iter().enumerate() {
+                    if mask & (1 << i) == 0 {
+                        continue;
+                    }
+                    *work += boxes.len() as u64;
+                    if boxes.iter().any(|b| meets(s, b, dim)) {
+                        pm |= 1 << i;
+                    }
+                }
+                mask &= pm;
+                if mask == 0 {
+                    return None;
+                }
+            }
+            m.push(mask);
+        }
+        Some(m)
+    };
+    let mut queue = std::collections::VecDeque::new();
+    queue.push_back(to_axes(p));
+    let mut kept: usize = 0;
+    let mut assign = vec![usize::MAX; groups.len()];
+    while let Some(s) = queue.pop_front() {
+        let Some(m) = masks(&s, &mut out.work) else {
+            continue;
+        };
+        let mut reach = vec![0u64; groups.len()];
+        let mut nodes = 0usize;
+        let complete = maps(
+            &m,
+            distinct,
+            0,
+            &mut assign,
+            &mut reach,
+            &mut nodes,
+            opts.map_budget,
+        );
+        if !complete {
+            reach.clone_from(&m);
+        } else if reach.iter().any(|&r| r == 0) && !groups.is_empty() {
+            // No admissible map: the box holds no admissible p(s).
+            continue;
+        }
+        let widest = (0..dim)
+            .max_by(|&a, &b| s[a].width().total_cmp(&s[b].width()))
+            .unwrap_or(0);
+        let w = s[widest].width();
+        if w > opts.min_width && kept + queue.len() + 2 <= opts.max_boxes && w.is_finite() {
+            let mid = s[widest].mid();
+            let (mut a, mut b) = (s, s);
+            a[widest] = Interval::new(s[widest].lo(), mid);
+            b[widest] = Interval::new(mid, s[widest].hi());
+            queue.push_back(a);
+            queue.push_back(b);
+            continue;
+        }
+        kept += 1;
+        let sb = IntervalBox::new(&s[..dim]);
+        out.p = if out.p.is_empty() {
+            sb
+        } else {
+            out.p.hull(&sb)
+        };
+        for (r, x) in out.reach.iter_mut().zip(&reach) {
+            *r |= x;
+        }
+    }
+    out
+}
+
+/// Depth-first search of the admissible maps (module doc) given each
+/// group's candidate mask; ORs every complete map into `reach`. Returns
+/// false when the node budget ran out (then `reach` is partial).
+fn maps(
+    masks: &[u64],
+    distinct: &dyn Fn(usize, usize) -> bool,
+    g: usize,
+    assign: &mut [usize],
+    reach: &mut [u64],
+    nodes: &mut usize,
+    budget: usize,
+) -> bool {
+    if g == masks.len() {
+        for (r, &a) in reach.iter_mut().zip(assign.iter()) {
+            *r |= 1 << a;
+        }
+        return true;
+    }
+    let mut m = masks[g];
+    while m != 0 {
+        let i = m.trailing_zeros() as usize;
+        m &= m - 1;
+        *nodes += 1;
+        if *nodes > budget {
+            return false;
+        }
+        if (0..g).any(|h| assign[h] == i && distinct(g, h)) {
+            continue;
+        }
+        assign[g] = i;
+        if !maps(masks, distinct, g + 1, assign, reach, nodes, budget) {
+            return false;
+        }
+    }
+    assign[g] = usize::MAX;
+    true
+}
+
+/// Half-perimeter of a box (its first `dim` axes).
+fn size(h: &Axes, dim: usize) -> f64 {
+    h[..dim].iter().map(|x| x.width()).sum()
+}
+
+fn hull2(a: &Axes, b: &Axes, dim: usize) -> Axes {
+    let mut h = *a;
+    for x in 0..dim {
+        h[x] = a[x].hull(b[x]);
+    }
+    h
+}
+
+/// `set` reduced to at most `max` boxes whose union holds the union of
+/// `set` (boxes inside another dropped, then neighbours along the widest
+/// axis replaced by their hulls, cheapest first).
+fn coarsen(mut set: Vec<Axes>, dim: usize, max: usize) -> Vec<Axes> {
+    merge(&mut set, dim, max);
+    set
+}
+
+/// Reduces `set` to at most `max` boxes keeping their union's points.
+fn merge(set: &mut Vec<Axes>, dim: usize, max: usize) {
+    let max = max.max(1);
+    if set.len() <= max {
+        return;
+    }
+    // Drop boxes inside another (the first of two equal ones is kept).
+    let inside = |a: &Axes, b: &Axes| (0..dim).all(|x| a[x].is_subset(b[x]));
+    let mut keep = vec![true; set.len()];
+    for i in 0..set.len() {
+        for j in 0..set.len() {
+            if i != j && keep[j] && inside(&set[i], &set[j]) && (j < i || !inside(&set[j], &set[i]))
+            {
+                keep[i] = false;
+                break;
+            }
+        }
+    }
+    let mut i = 0;
+    set.retain(|_| {
+        i += 1;
+        keep[i - 1]
+    });
+    if set.len() <= max {
+        return;
+    }
+    // Order along the widest axis of the whole union, then merge the
+    // cheapest neighbours.
+    let all = set.iter().skip(1).fold(set[0], |a, b| hull2(&a, b, dim));
+    let axis = (0..dim)
+        .max_by(|&a, &b| all[a].width().total_cmp(&all[b].width()))
+        .unwrap_or(0);
+    set.sort_unstable_by(|a, b| {
+        a[axis]
+            .mid()
+            .total_cmp(&b[axis].mid())
+            .then_with(|| a[axis].lo().total_cmp(&b[axis].lo()))
+            .then_with(|| a[axis].hi().total_cmp(&b[axis].hi()))
+    });
+    while set.len() > max {
+        let mut best = (f64::INFINITY, 0);
+        for i in 0..set.len() - 1 {
+            let h = hull2(&set[i], &set[i + 1], dim);
+            let cost = size(&h, dim) - size(&set[i], dim).max(size(&set[i + 1], dim));
+            if cost < best.0 {
+                best = (cost, i);
+            }
+        }
+        let i = best.1;
+        set[i] = hull2(&set[i], &set[i + 1], dim);
+        set.remove(i + 1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn b2(x: (f64, f64), y: (f64, f64)) -> IntervalBox {
+        IntervalBox::new(&[Interval::new(x.0, x.1), Interval::new(y.0, y.1)])
+    }
+
+    /// Two landmarks at (0, 0) and (10, 0); the robot at (5, 5) sees them
+    /// at (-5, -5) and (5, -5) in its frame (two groups proved distinct).
+    /// Placing the local pair on the regions leaves p within a bisection
+    /// width of [4, 6]², and the swapped map (p near (15, 5) for one group,
+    /// near (-5, 5) for the other) has no common point: each group gets its
+    /// own witness.
+    #[test]
+    fn a_local_pair_places_the_robot_and_names_the_landmarks() {
+        let witnesses = vec![
+            vec![b2((-0.5, 0.5), (-0.5, 0.5))],
+            vec![b2((9.5, 10.5), (-0.5, 0.5))],
+        ];
+        let groups = vec![
+            LocalGroup {
+                pieces: vec![vec![b2((-5.5, -4.5), (-5.5, -4.5))]],
+                fixed: None,
+            },
+            LocalGroup {
+                pieces: vec![vec![b2((4.5, 5.5), (-5.5, -4.5))]],
+                fixed: None,
+            },
+        ];
+        let p = b2((-20.0, 20.0), (-20.0, 20.0));
+        let opts = RegisterOptions::default();
+        let reg = register(&p, &witnesses, &groups, &|_, _| true, &opts);
+        assert_eq!(reg.reach, vec![0b01, 0b10]);
+        for a in 0..2 {
+            assert!(reg.p[a].lo() >= 4.0 - opts.min_width && reg.p[a].hi() <= 6.0 + opts.min_width);
+            assert!(reg.p[a].contains(5.0));
+        }
+        // Without the distinct pair the maps sending both groups to one
+        // landmark are tried too: each needs p near two different points
+        // ((5, 5) and (-5, 5), or (15, 5) and (5, 5)), so the answer is the
+        // same.
+        let reg = register(&p, &witnesses, &groups, &|_, _| false, &opts);
+        assert_eq!(reg.reach, vec![0b01, 0b10]);
+        assert!(reg.p[0].contains(5.0) && reg.p[1].contains(5.0));
+    }
+
+    /// A group that is a witness group keeps its witness; a position box
+    /// the constellation cannot fit is emptied.
+    #[test]
+    fn no_placement_empties_the_position() {
+        let witnesses = vec![vec![b2((-0.5, 0.5), (-0.5, 0.5))]];
+        let groups = vec![LocalGroup {
+            pieces: vec![vec![b2((-5.5, -4.5), (-5.5, -4.5))]],
+            fixed: Some(0),
+        }];
+        // p would have to be within [4, 6]².
+        let p = b2((10.0, 20.0), (10.0, 20.0));
+        let reg = register(
+            &p,
+            &witnesses,
+            &groups,
+            &|_, _| true,
+            &RegisterOptions::default(),
+        );
+        assert!(reg.p.is_empty());
+        let p = b2((0.0, 20.0), (0.0, 20.0));
+        let reg = register(
+            &p,
+            &witnesses,
+            &groups,
+            &|_, _| true,
+            &RegisterOptions::default(),
+        );
+        assert!(!reg.p.is_empty() && reg.p[0].contains(5.0));
+        assert_eq!(reg.reach, vec![1]);
+    }
+}
