@@ -211,7 +211,7 @@ pub fn register(
         );
         if !complete {
             reach.clone_from(&m);
-        } else if reach.iter().any(|&r| r == 0) && !groups.is_empty() {
+        } else if reach.contains(&0) {
             // No admissible map: the box holds no admissible p(s).
             continue;
         }

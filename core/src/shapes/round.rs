@@ -830,8 +830,7 @@ impl ShapesState {
         }
         // Groups left with one witness join it; the others are distinct
         // from the witnesses they cannot be.
-        for root in 0..reach.len() {
-            let r = reach[root];
+        for (root, &r) in reach.iter().enumerate() {
             if r == u64::MAX || uf.find(root) != root {
                 continue;
             }

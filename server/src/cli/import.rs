@@ -383,6 +383,13 @@ pub mod cmu {
     pub const FLAG_ABOVE: f64 = 0.02;
     /// Margin added to every bound derived from the data.
     pub const MARGIN: f64 = 0.05;
+    /// Below this delta_distance (m per step) the odometry says the robot
+    /// stands still (a zero-velocity step).
+    pub const STILL_BELOW: f64 = 0.01;
+    /// Margin added to the largest residual of the zero-velocity steps.
+    pub const STILL_MARGIN: f64 = 0.001;
+    /// Margin added to the largest residual of the other ordinary steps.
+    pub const ORDINARY_MARGIN: f64 = 0.005;
 }
 
 /// The CMU Plaza 1 dataset as a mission (beacon ids hidden unless
@@ -452,18 +459,29 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
         let ey = (by.0 - dy).max(dy - by.1).max(0.0);
         residual.push(ex.max(ey));
     }
-    let ordinary: f64 = residual
-        .iter()
-        .copied()
-        .filter(|&r| r <= FLAG_ABOVE)
-        .fold(0.0, f64::max);
-    let motion_error: Vec<f64> = residual
-        .iter()
-        .map(|&r| {
-            if r <= FLAG_ABOVE {
-                ordinary + 0.005
-            } else {
+    // Two classes of ordinary steps: zero-velocity steps (the odometry
+    // reports under STILL_BELOW) and moving ones, each bounded by its own
+    // largest residual plus a margin.
+    let still = |i: usize| dr[i][1] < STILL_BELOW;
+    let class_max = |moving: bool| {
+        (0..n)
+            .filter(|&i| residual[i] <= FLAG_ABOVE && still(i) != moving)
+            .map(|i| residual[i])
+            .fold(0.0, f64::max)
+    };
+    let (ordinary, stationary) = (
+        class_max(true) + ORDINARY_MARGIN,
+        class_max(false) + STILL_MARGIN,
+    );
+    let motion_error: Vec<f64> = (0..n)
+        .map(|i| {
+            let r = residual[i];
+            if r > FLAG_ABOVE {
                 r * 1.5 + MARGIN
+            } else if still(i) {
+                stationary
+            } else {
+                ordinary
             }
         })
         .collect();
@@ -543,7 +561,9 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
         "meta": {
             "source": "CMU Plaza 1 (Djugash and Singh), via GTSAM's examples",
             "range_error_bounds": [emin, emax],
-            "ordinary_motion_error": ordinary + 0.005,
+            "ordinary_motion_error": ordinary,
+            "stationary_motion_error": stationary,
+            "stationary_steps": (0..n).filter(|&i| still(i) && residual[i] <= FLAG_ABOVE).count(),
             "anomalous_steps": residual.iter().filter(|&&r| r > FLAG_ABOVE).count(),
             "dt_note": "one step per odometry row; speed is metres per step",
         },
