@@ -53,7 +53,7 @@ pub fn branch(shape: &Shape, regions: &[&Paving]) -> Branches {
         surviving: Vec::new(),
     };
     for (i, r) in regions.iter().enumerate() {
-        let h = r.hull();
+        let h = r.hull_ref();
         if h.is_empty() || !shape.meets_box(h.axes()) {
             continue;
         }

@@ -37,7 +37,8 @@
 //!
 //! Pieces are cached by group and rebuilt when the group changes:
 //! O(m · members · d) each (m <= `max_boxes`). Tests: O(m d) per detection
-//! and nearby piece, O(m^2 d) per pair of nearby pieces.
+//! and nearby piece, O(m^2 d) per pair of nearby pieces, each done once
+//! (the answers depend on the pieces and the measurements alone).
 
 use super::chain_sums::ChainSums;
 use super::distinct::Uf;
@@ -80,6 +81,10 @@ struct Piece {
     step: usize,
     member: usize,
     region: Paving,
+    /// Whether its pairs were found already (a piece depends on its
+    /// group's members and the displacement sums alone, and so do the
+    /// relative shapes it is tested against: the answers do not change).
+    tested: bool,
 }
 
 /// Pieces of the groups, cached across rounds.
@@ -201,6 +206,9 @@ impl Frames {
                     continue;
                 }
                 let p = &self.cache[root].as_ref().expect("cached").1[i];
+                if p.tested {
+                    continue;
+                }
                 let shape = relative_shape(mission, sums, heading_at, dim, s, x);
                 work += p.region.boxes().len() as u64;
                 if !p.region.meets_shape(&shape) {
@@ -216,11 +224,19 @@ impl Frames {
                 }
                 let pa = &self.cache[ra].as_ref().expect("cached").1[ia];
                 let pb = &self.cache[rb].as_ref().expect("cached").1[ib];
+                if pa.tested && pb.tested {
+                    continue;
+                }
                 let delta = sums.delta(s, s2);
                 work += (pa.region.boxes().len() * pb.region.boxes().len()) as u64;
                 if !meets_translated(&pa.region, &pb.region, &delta[..dim]) {
                     out.push((pa.member as u32, pb.member as u32));
                 }
+            }
+        }
+        for (_, pieces) in self.cache.iter_mut().flatten() {
+            for p in pieces {
+                p.tested = true;
             }
         }
         Ok(work)
@@ -290,6 +306,7 @@ fn build_pieces(
             step: s,
             member: anchor,
             region,
+            tested: false,
         });
     }
     Ok(pieces)

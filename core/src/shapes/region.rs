@@ -40,27 +40,43 @@ use crate::interval::Interval;
 pub struct Paving {
     dim: usize,
     boxes: Vec<IntervalBox>,
+    /// The hull of `boxes`, kept by every method that changes them.
+    hull: IntervalBox,
 }
 
 impl Paving {
     /// The paving of one box (empty when the box is).
     pub fn from_box(b: &IntervalBox) -> Paving {
-        Paving {
+        let mut p = Paving {
             dim: b.dim(),
             boxes: if b.is_empty() {
                 Vec::new()
             } else {
                 vec![b.clone()]
             },
-        }
+            hull: IntervalBox::empty(b.dim()),
+        };
+        p.rehull();
+        p
     }
 
     /// A paving from boxes (empty ones are dropped).
     pub fn from_boxes(dim: usize, boxes: Vec<IntervalBox>) -> Paving {
-        Paving {
+        let mut p = Paving {
             dim,
             boxes: boxes.into_iter().filter(|b| !b.is_empty()).collect(),
+            hull: IntervalBox::empty(dim),
+        };
+        p.rehull();
+        p
+    }
+
+    fn rehull(&mut self) {
+        let mut h = IntervalBox::empty(self.dim);
+        for b in &self.boxes {
+            h = h.hull(b);
         }
+        self.hull = h;
     }
 
     /// Number of axes.
@@ -81,11 +97,12 @@ impl Paving {
 
     /// The hull of the boxes (the empty box when there are none).
     pub fn hull(&self) -> IntervalBox {
-        let mut h = IntervalBox::empty(self.dim);
-        for b in &self.boxes {
-            h = h.hull(b);
-        }
-        h
+        self.hull.clone()
+    }
+
+    /// The hull, borrowed. O(1).
+    pub fn hull_ref(&self) -> &IntervalBox {
+        &self.hull
     }
 
     /// Widest box's diameter (0 when empty).
@@ -114,6 +131,9 @@ impl Paving {
                     true
                 }
             });
+        if changed {
+            self.rehull();
+        }
         changed
     }
 
@@ -125,6 +145,9 @@ impl Paving {
             changed |= x.intersect_with(b);
             !x.is_empty()
         });
+        if changed {
+            self.rehull();
+        }
         changed
     }
 
@@ -147,6 +170,7 @@ impl Paving {
         }
         out.retain(|b| !b.is_empty());
         self.boxes = out;
+        self.rehull();
     }
 
     /// Bisects boxes wider than `resolution`, widest first, while the count
@@ -154,6 +178,14 @@ impl Paving {
     /// (dropped when one excludes it). Returns whether anything changed.
     /// O(new boxes · shapes · d).
     pub fn refine(&mut self, shapes: &[&Shape], resolution: f64, max_boxes: usize) -> bool {
+        let changed = self.split(shapes, resolution, max_boxes);
+        if changed {
+            self.rehull();
+        }
+        changed
+    }
+
+    fn split(&mut self, shapes: &[&Shape], resolution: f64, max_boxes: usize) -> bool {
         let mut changed = false;
         // Each pass splits at least one box; passes are capped so that an
         // unbounded box (whose halves stay unbounded) cannot loop forever.
@@ -202,7 +234,7 @@ impl Paving {
     /// Whether the shape may meet the paving (`false` proves it misses
     /// every box). O(m d).
     pub fn meets_shape(&self, shape: &Shape) -> bool {
-        let h = self.hull();
+        let h = &self.hull;
         if h.is_empty() || !shape.meets_box(h.axes()) {
             return false;
         }
@@ -212,7 +244,7 @@ impl Paving {
     /// Whether the two pavings may share a point (`false` proves they do
     /// not). O(m m').
     pub fn meets(&self, other: &Paving) -> bool {
-        if !self.hull().meets(&other.hull()) {
+        if !self.hull.meets(&other.hull) {
             return false;
         }
         self.boxes

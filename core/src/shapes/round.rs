@@ -86,6 +86,7 @@ use super::witnesses::{find_witnesses, Item};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::slam::mission::Mission;
+use std::collections::BTreeMap;
 
 /// Tuning of the shapes round.
 #[derive(Debug, Clone, PartialEq)]
@@ -116,6 +117,12 @@ pub struct ShapesOptions {
     pub register_every: usize,
     /// Most groups in one registration.
     pub register_groups: usize,
+    /// A registration step is done again when its position box or a
+    /// witness region shrank by more than this fraction of its width since
+    /// the last time (or the groups around it changed).
+    pub register_slack: f64,
+    /// Tuning of each registration.
+    pub register: RegisterOptions,
 }
 
 impl Default for ShapesOptions {
@@ -133,6 +140,8 @@ impl Default for ShapesOptions {
             register_gap: 300,
             register_every: 50,
             register_groups: 8,
+            register_slack: 0.02,
+            register: RegisterOptions::default(),
         }
     }
 }
@@ -212,6 +221,46 @@ pub struct ShapesState {
     /// Whether the relative pairs were computed (once: they rest on the
     /// displacement boxes and the measurements, which do not change).
     relative_done: bool,
+    /// What each registration step last read, and the candidates it gave.
+    registered: BTreeMap<usize, (RegKey, Vec<u64>)>,
+}
+
+/// The inputs of one registration (see [`RegKey::close`]).
+#[derive(Debug, Clone)]
+struct RegKey {
+    p: IntervalBox,
+    roots: Vec<usize>,
+    fixed: Vec<Option<usize>>,
+    pieces: usize,
+    witnesses: Vec<IntervalBox>,
+}
+
+impl RegKey {
+    /// Whether a registration that read `self` can stand for one reading
+    /// `new`: the same groups and pieces, and the position box and the
+    /// witness regions' hulls shrunk by at most the fraction `slack` of
+    /// their widths on every axis since. Its answer holds (it was sound for
+    /// larger boxes); a registration on the smaller boxes could only be
+    /// tighter, by little.
+    fn close(&self, new: &RegKey, slack: f64) -> bool {
+        let near = |a: &IntervalBox, b: &IntervalBox| {
+            a.dim() == b.dim()
+                && (0..a.dim()).all(|x| {
+                    let (wa, wb) = (a[x].width(), b[x].width());
+                    wb >= wa * (1.0 - slack) && b[x].is_subset(a[x])
+                })
+        };
+        self.roots == new.roots
+            && self.fixed == new.fixed
+            && self.pieces == new.pieces
+            && self.witnesses.len() == new.witnesses.len()
+            && near(&self.p, &new.p)
+            && self
+                .witnesses
+                .iter()
+                .zip(&new.witnesses)
+                .all(|(a, b)| near(a, b))
+    }
 }
 
 fn shape_of(mission: &Mission, dom: &Domains, j: usize) -> Shape {
@@ -251,6 +300,7 @@ impl ShapesState {
             distinct: Distinct::default(),
             frames: Frames::default(),
             relative_done: false,
+            registered: BTreeMap::new(),
         }
     }
 
@@ -800,12 +850,27 @@ impl ShapesState {
             let distinct =
                 |g: usize, h: usize| graph[roots[g]].binary_search(&(roots[h] as u32)).is_ok();
             let p = IntervalBox::new(&dom.pos[s * dim..(s + 1) * dim]);
+            let key = RegKey {
+                p: p.clone(),
+                roots: roots.clone(),
+                fixed: groups.iter().map(|g| g.fixed).collect(),
+                pieces: groups.iter().map(|g| g.pieces.len()).sum(),
+                witnesses: wregions.iter().map(|w| w.hull()).collect(),
+            };
+            if let Some((old, old_reach)) = self.registered.get(&s) {
+                if old.close(&key, self.options.register_slack) {
+                    for (&root, &r) in roots.iter().zip(old_reach) {
+                        reach[root] &= r;
+                    }
+                    continue;
+                }
+            }
             let reg = register(
                 &p,
                 &witness_boxes,
                 &groups,
                 &distinct,
-                &RegisterOptions::default(),
+                &self.options.register,
             );
             out.contractions += reg.work;
             if reg.p.is_empty() {
@@ -827,6 +892,11 @@ impl ShapesState {
             for (&root, &r) in roots.iter().zip(&reg.reach) {
                 reach[root] &= r;
             }
+            let key = RegKey {
+                p: IntervalBox::new(&dom.pos[s * dim..(s + 1) * dim]),
+                ..key
+            };
+            self.registered.insert(s, (key, reg.reach));
         }
         // Groups left with one witness join it; the others are distinct
         // from the witnesses they cannot be.
