@@ -223,6 +223,14 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
     );
     assert!(still < 0.002 && still * 10.0 < moving, "{still} {moving}");
     assert!(meta["stationary_steps"].as_u64().unwrap() > 900);
+    // The range band around a line in the measured range is narrower than
+    // the constant band (slope 0 is one of the lines it was chosen from);
+    // the loop below checks that it holds every true distance.
+    let model = &meta["range_error_model"];
+    let band = model["offset"][1].as_f64().unwrap() - model["offset"][0].as_f64().unwrap();
+    let constant = meta["range_error_bounds"][1].as_f64().unwrap()
+        - meta["range_error_bounds"][0].as_f64().unwrap();
+    assert!(band < constant, "{band} {constant}");
     // Every range holds the true distance to the true beacon.
     for (j, d) in m.detections.iter().enumerate() {
         let p = &t.positions[d.step];

@@ -519,6 +519,35 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
         dets.push((step, range, li));
         matching.push(li);
     }
+    // Range error model: error = measured - true distance lies in
+    // [a_lo + b·measured, a_hi + b·measured] (a scale error of the ranging,
+    // as UWB clocks give, plus an offset), with the slope b that makes the
+    // band narrowest over all ranges: the width max(e - b·r) - min(e - b·r)
+    // is convex in b (a maximum of linear functions minus a minimum of
+    // linear functions), so a ternary search finds it.
+    let band = |b: f64| {
+        dets.iter()
+            .zip(&errs)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, (d, &e)| {
+                let x = e - b * d.1;
+                (a.0.min(x), a.1.max(x))
+            })
+    };
+    let width = |b: f64| {
+        let (lo, hi) = band(b);
+        hi - lo
+    };
+    let (mut b_lo, mut b_hi) = (-1.0f64, 1.0f64);
+    for _ in 0..200 {
+        let (m1, m2) = (b_lo + (b_hi - b_lo) / 3.0, b_hi - (b_hi - b_lo) / 3.0);
+        if width(m1) <= width(m2) {
+            b_hi = m2;
+        } else {
+            b_lo = m1;
+        }
+    }
+    let slope = (b_lo + b_hi) / 2.0;
+    let (alo, ahi) = band(slope);
     let (emin, emax) = errs
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &e| {
@@ -527,9 +556,10 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
     let detections: Vec<Value> = dets
         .iter()
         .map(|&(step, range, li)| {
-            // true = measured - error, error in [emin, emax] (+ margin).
-            let lo = (range - emax - MARGIN).max(0.0);
-            let hi = range - emin + MARGIN;
+            // true = measured - error, error in [alo, ahi] + slope·measured
+            // (+ margin).
+            let lo = (range - (ahi + slope * range) - MARGIN).max(0.0);
+            let hi = range - (alo + slope * range) + MARGIN;
             let mut d = json!({"step": step, "range": [lo, hi]});
             if operator {
                 d["landmark"] = json!(li);
@@ -561,6 +591,7 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
         "meta": {
             "source": "CMU Plaza 1 (Djugash and Singh), via GTSAM's examples",
             "range_error_bounds": [emin, emax],
+            "range_error_model": {"slope": slope, "offset": [alo, ahi], "margin": MARGIN},
             "ordinary_motion_error": ordinary,
             "stationary_motion_error": stationary,
             "stationary_steps": (0..n).filter(|&i| still(i) && residual[i] <= FLAG_ABOVE).count(),
