@@ -247,7 +247,8 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
 #[test]
 fn cmu_plaza_runs_end_to_end() {
     let dir = cmu_dir();
-    for (operator, contractor) in [(false, "best"), (true, "none")] {
+    let mut max_diameter = Vec::new();
+    for (operator, contractor) in [(false, "best"), (true, "none"), (true, "best")] {
         let m = tmp(&format!("cmu-{operator}.json"));
         let mut args = vec![
             "import",
@@ -280,8 +281,23 @@ fn cmu_plaza_runs_end_to_end() {
         assert_eq!(result["score"]["matching_errors"], 0);
         if operator {
             assert_eq!(result["score"]["matching_recall"], 1.0);
+        } else {
+            // Issue 11's goal: at least 30 % of the ranges matched with the
+            // beacon ids hidden.
+            let recall = result["score"]["matching_recall"].as_f64().unwrap();
+            assert!(recall >= 0.30, "recall {recall}");
         }
+        max_diameter.push(
+            result["metrics"]["max_trajectory_diameter"]
+                .as_f64()
+                .unwrap(),
+        );
     }
+    // Issue 11's goals: the hidden-id box within twice the operator's (with
+    // the same contractor), and the operator run tightened by the landmark
+    // regions.
+    assert!(max_diameter[0] <= 2.0 * max_diameter[2], "{max_diameter:?}");
+    assert!(max_diameter[2] < max_diameter[1], "{max_diameter:?}");
 }
 
 #[test]
