@@ -11,33 +11,14 @@ use nvector_core::shapes::registration::{register, LocalGroup, RegisterOptions};
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 
+mod common;
+use common::Rng;
+
 fn cases() -> u32 {
     std::env::var("NVECTOR_PROPTEST_CASES")
         .ok()
         .and_then(|s| s.parse::<u32>().ok())
         .unwrap_or(2000)
-}
-
-/// splitmix64 (proptest draws the seed).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.unit()
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
 }
 
 /// A box holding point `x` (or, when `x` is None, anywhere near `centre`),

@@ -411,24 +411,18 @@ mod tests {
             pieces: vec![vec![b2((-5.5, -4.5), (-5.5, -4.5))]],
             fixed: Some(0),
         }];
+        let at = |p: IntervalBox| {
+            register(
+                &p,
+                &witnesses,
+                &groups,
+                &|_, _| true,
+                &RegisterOptions::default(),
+            )
+        };
         // p would have to be within [4, 6]².
-        let p = b2((10.0, 20.0), (10.0, 20.0));
-        let reg = register(
-            &p,
-            &witnesses,
-            &groups,
-            &|_, _| true,
-            &RegisterOptions::default(),
-        );
-        assert!(reg.p.is_empty());
-        let p = b2((0.0, 20.0), (0.0, 20.0));
-        let reg = register(
-            &p,
-            &witnesses,
-            &groups,
-            &|_, _| true,
-            &RegisterOptions::default(),
-        );
+        assert!(at(b2((10.0, 20.0), (10.0, 20.0))).p.is_empty());
+        let reg = at(b2((0.0, 20.0), (0.0, 20.0)));
         assert!(!reg.p.is_empty() && reg.p[0].contains(5.0));
         assert_eq!(reg.reach, vec![1]);
     }

@@ -654,18 +654,17 @@ impl ShapesState {
                     ));
                 }
                 [i] => {
-                    let region = self.regions[r].take().expect("checked");
-                    wregions[i].intersect(&region, opts.max_boxes);
-                    out.unions.push((slot_root[i], r));
-                    out.moved = true;
-                    out.moved_detections.push(r);
-                    slot_root[i] = uf.union(slot_root[i], r);
-                    if wregions[i].is_empty() {
-                        return Err(format!(
-                            "landmark of groups {} and {r}: their regions have no common point",
-                            slot_root[i]
-                        ));
-                    }
+                    let region = self.regions[r].take();
+                    join_witness(
+                        wregions.as_mut_slice(),
+                        &mut slot_root,
+                        i,
+                        r,
+                        region,
+                        uf,
+                        out,
+                        opts.max_boxes,
+                    )?;
                 }
                 _ => {}
             }
@@ -918,24 +917,52 @@ impl ShapesState {
                 }
             }
             if r.count_ones() == 1 {
+                let region = self.regions[root].take();
                 let i = r.trailing_zeros() as usize;
-                if let Some(p) = self.regions[root].take() {
-                    wregions[i].intersect(&p, self.options.max_boxes);
-                }
-                out.unions.push((slot_root[i], root));
-                out.moved = true;
-                out.moved_detections.push(root);
-                slot_root[i] = uf.union(slot_root[i], root);
-                if wregions[i].is_empty() {
-                    return Err(format!(
-                        "landmark of group {root} and witness group {}: no common point",
-                        slot_root[i]
-                    ));
-                }
+                join_witness(
+                    wregions,
+                    slot_root,
+                    i,
+                    root,
+                    region,
+                    uf,
+                    out,
+                    self.options.max_boxes,
+                )?;
             }
         }
         Ok(())
     }
+}
+
+/// Group `r` (with its region, when it has one) sees the landmark of
+/// witness `i`: the groups are united and the witness region intersected
+/// with the group's. Err: the two regions have no common point.
+#[allow(clippy::too_many_arguments)]
+fn join_witness(
+    wregions: &mut [Paving],
+    slot_root: &mut [usize],
+    i: usize,
+    r: usize,
+    region: Option<Paving>,
+    uf: &mut Uf,
+    out: &mut ShapesOutcome,
+    max_boxes: usize,
+) -> Result<(), String> {
+    if let Some(region) = region {
+        wregions[i].intersect(&region, max_boxes);
+    }
+    out.unions.push((slot_root[i], r));
+    out.moved = true;
+    out.moved_detections.push(r);
+    slot_root[i] = uf.union(slot_root[i], r);
+    if wregions[i].is_empty() {
+        return Err(format!(
+            "landmark of groups {} and {r}: their regions have no common point",
+            slot_root[i]
+        ));
+    }
+    Ok(())
 }
 
 /// Intersects p(step) and d(j) with a branch result; tells the chain of a
