@@ -339,6 +339,18 @@ fn merge(set: &mut Vec<Axes>, dim: usize, max: usize) {
             .total_cmp(&b[axis].mid())
             .then_with(|| a[axis].lo().total_cmp(&b[axis].lo()))
             .then_with(|| a[axis].hi().total_cmp(&b[axis].hi()))
+            .then_with(|| {
+                // Ties broken on every axis: the order, and so the merge,
+                // depends on the boxes alone.
+                (0..dim)
+                    .map(|x| {
+                        a[x].lo()
+                            .total_cmp(&b[x].lo())
+                            .then(a[x].hi().total_cmp(&b[x].hi()))
+                    })
+                    .find(|o| o.is_ne())
+                    .unwrap_or(std::cmp::Ordering::Equal)
+            })
     });
     while set.len() > max {
         let mut best = (f64::INFINITY, 0);
