@@ -128,3 +128,37 @@ fn max_rounds_stops_below_one() {
     assert!(last.moving > 0 && last.fraction < 1.0);
     assert!(score(&m, &s).unwrap().0);
 }
+
+/// With false detections allowed (the robust propagation), the reports
+/// follow the same rules: one per round, the fraction rising below 1 until
+/// the last round, where nothing moves any more and it is exactly 1.
+#[test]
+fn robust_propagation_reports_its_rounds() {
+    let mut o = SimulateOptions::new(Scenario::Paper, 4);
+    o.steps = Some(4000);
+    o.operator = true;
+    o.false_detections = 3;
+    let m = Mission::from_value(&simulate(&o)).expect("valid");
+    assert!(m.max_outliers > 0);
+    let mut reports: Vec<Progress> = Vec::new();
+    let s = propagate(
+        &m,
+        &SolveOptions::default(),
+        &mut |p| reports.push(p.clone()),
+        &AtomicBool::new(false),
+    );
+    assert_eq!(s.status, SolveStatus::Consistent);
+    assert_eq!(reports.len(), s.rounds as usize);
+    assert!(s.rounds >= 2, "{} rounds", s.rounds);
+    for (a, b) in reports.iter().zip(&reports[1..]) {
+        assert!(b.fraction >= a.fraction && a.fraction < 1.0, "{a:?} {b:?}");
+        assert!(a.moving > 0 && b.round == a.round + 1);
+    }
+    let last = reports.last().unwrap();
+    assert_eq!((last.fraction, last.moving, last.round), (1.0, 0, s.rounds));
+    assert_eq!(
+        last.max_trajectory_diameter,
+        s.model.trajectory_diameters().0
+    );
+    assert!(reports[0].initial_max_trajectory_diameter >= reports[0].max_trajectory_diameter);
+}

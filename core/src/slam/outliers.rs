@@ -76,7 +76,7 @@ use super::distance::contract_distance;
 use super::mission::Mission;
 use super::model::Model;
 use super::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
-use super::propagator::{Progress, SolveOptions};
+use super::propagator::{Progress, SolveOptions, WorkEstimate};
 use super::result::{Solution, SolveStatus};
 use crate::ibox::IntervalBox;
 use crate::interval::{pred, succ, Interval};
@@ -597,6 +597,8 @@ pub fn solve_robust(
     };
     let mut contractions: u64 = 0;
     let mut round = 0u32;
+    let mut work = WorkEstimate::new(k);
+    let mut fraction = 0.0f64;
     let end = |model: Model, status: SolveStatus, round: u32, contractions: u64| Solution {
         status,
         matching: matching.clone(),
@@ -618,6 +620,7 @@ pub fn solve_robust(
             return end(model, chain_empty(s), 0, 0);
         }
     }
+    let initial_max_trajectory_diameter = model.trajectory_diameters().0;
     loop {
         if round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
             return end(model, SolveStatus::Stopped, round, contractions);
@@ -651,22 +654,37 @@ pub fn solve_robust(
             }
             contractions += model.steps as u64;
         }
+        let mut moving = 0;
         for (a, b) in det_before.iter().zip(&model.det) {
             if b.is_empty() {
                 continue;
             }
+            let mut m = 0.0f64;
             for x in 0..dim {
                 if !a[x].is_empty() {
-                    moved = moved.max(shrinkage(a[x], b[x]));
+                    m = m.max(shrinkage(a[x], b[x]));
                 }
             }
+            moved = moved.max(m);
+            moving += usize::from(m > tol);
+        }
+        if moved > tol {
+            // A move of the chain alone still means another round.
+            moving = moving.max(1);
+        } else {
+            moving = 0;
         }
         let (max_d, _) = model.trajectory_diameters();
+        fraction = fraction.max(work.end_round(moving));
         progress(&Progress {
             round,
             max_trajectory_diameter: max_d,
-            fraction: if moved > tol { 0.5 } else { 1.0 },
-            ..Progress::default()
+            fraction,
+            pass: "round",
+            detections: k,
+            detections_done: k,
+            moving,
+            initial_max_trajectory_diameter,
         });
         if moved <= tol {
             break;

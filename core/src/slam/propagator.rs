@@ -234,12 +234,8 @@ struct Propagation<'a> {
     cancel: &'a AtomicBool,
     /// The last report (diameters, moving count, fraction so far).
     report: Progress,
-    /// The fraction's estimate, in detections to settle: done in the
-    /// finished rounds, to do in this one (those that moved in the last),
-    /// and left from the start of this one (see [`Propagation::end_round`]).
-    units_done: f64,
-    units_round: f64,
-    units_left: f64,
+    /// The fraction's estimate (see [`WorkEstimate`]).
+    work: WorkEstimate,
     /// Detection shapes (modes `shapes` and `best`).
     shapes: Option<ShapesState>,
 }
@@ -302,11 +298,7 @@ impl<'a> Propagation<'a> {
                 moving: k,
                 ..Progress::default()
             },
-            units_done: 0.0,
-            units_round: k as f64,
-            // Before the first round ends, as pessimistic as later rounds
-            // can be (the ratio capped at 0.9).
-            units_left: 10.0 * k as f64,
+            work: WorkEstimate::new(k),
             shapes: matches!(
                 options.association,
                 Association::NVector(Mode::Best | Mode::Shapes)
@@ -631,11 +623,7 @@ impl<'a> Propagation<'a> {
             "backward" => 0.5 + detections_done as f64 / (2.0 * k),
             _ => 1.0,
         };
-        let total = self.units_done + self.units_left;
-        if total > 0.0 {
-            let f = (self.units_done + self.units_round * share) / total;
-            self.report.fraction = self.report.fraction.max(f.min(0.99));
-        }
+        self.report.fraction = self.report.fraction.max(self.work.within(share));
         self.report.round = self.round;
         self.report.pass = pass;
         self.report.detections_done = detections_done;
@@ -647,37 +635,74 @@ impl<'a> Propagation<'a> {
     }
 
     /// Reports the end of a round: the new diameter, the detections still
-    /// moving, and a new estimate of the work left.
-    ///
-    /// The estimate: a round's work is taken as the count of detections
-    /// whose change it carries (those that moved in the round before; all
-    /// of them in the first), and the counts as falling geometrically, with
-    /// the last ratio r (capped at 0.9): what is left is m / (1 - r) for m
-    /// detections still moving. The fraction is the work done over done
-    /// plus left, never decreasing, 1 at the fixpoint.
+    /// moving, and a new estimate of the work left ([`WorkEstimate`]).
     fn end_round(&mut self, moving: usize) {
-        let m = moving as f64;
-        let r = if self.units_round > 0.0 {
-            (m / self.units_round).min(0.9)
-        } else {
-            0.0
-        };
-        self.units_done += self.units_round;
-        self.units_round = m;
-        self.units_left = m / (1.0 - r);
+        let f = self.work.end_round(moving);
         let max_d = self.model.max_trajectory_diameter();
         self.report.max_trajectory_diameter = max_d;
         self.report.moving = moving;
         self.report.detections_done = self.mission.detections.len();
         self.report.round = self.round;
         self.report.pass = "round";
-        let f = if moving == 0 {
-            1.0
-        } else {
-            (self.units_done / (self.units_done + self.units_left)).min(0.99)
-        };
         self.report.fraction = self.report.fraction.max(f);
         (self.progress)(&self.report);
+    }
+}
+
+/// The estimate behind [`Progress::fraction`], in detections to settle:
+/// a round's work is the count of detections whose change it carries
+/// (those that moved in the round before; all of them in the first), and
+/// the counts are taken to fall geometrically with the last ratio r (capped
+/// at 0.9): what is left is m / (1 - r) for m detections still moving. The
+/// fraction is the work done over done plus left, 1 at the fixpoint.
+#[derive(Debug, Clone)]
+pub(crate) struct WorkEstimate {
+    /// Done in the finished rounds.
+    done: f64,
+    /// To do in this round.
+    round: f64,
+    /// Left from the start of this round.
+    left: f64,
+}
+
+impl WorkEstimate {
+    /// Before the first round of k detections: as pessimistic as later
+    /// rounds can be.
+    pub(crate) fn new(k: usize) -> WorkEstimate {
+        WorkEstimate {
+            done: 0.0,
+            round: k as f64,
+            left: 10.0 * k as f64,
+        }
+    }
+
+    /// The fraction with `share` (0..=1) of this round done (below 1).
+    pub(crate) fn within(&self, share: f64) -> f64 {
+        let total = self.done + self.left;
+        if total > 0.0 {
+            ((self.done + self.round * share) / total).min(0.99)
+        } else {
+            0.0
+        }
+    }
+
+    /// Ends a round after which `moving` detections still move; returns
+    /// the fraction (1 when none moves).
+    pub(crate) fn end_round(&mut self, moving: usize) -> f64 {
+        let m = moving as f64;
+        let r = if self.round > 0.0 {
+            (m / self.round).min(0.9)
+        } else {
+            0.0
+        };
+        self.done += self.round;
+        self.round = m;
+        self.left = m / (1.0 - r);
+        if moving == 0 {
+            1.0
+        } else {
+            (self.done / (self.done + self.left)).min(0.99)
+        }
     }
 }
 
