@@ -190,11 +190,14 @@ pub fn register(
         }
         Some(m)
     };
-    let mut queue = std::collections::VecDeque::new();
-    queue.push_back(to_axes(p));
+    // Breadth first: a list read from `head` on, halves appended.
+    let mut queue = vec![to_axes(p)];
+    let mut head = 0;
     let mut kept: usize = 0;
     let mut assign = vec![usize::MAX; groups.len()];
-    while let Some(s) = queue.pop_front() {
+    while head < queue.len() {
+        let s = queue[head];
+        head += 1;
         let Some(m) = masks(&s, &mut out.work) else {
             continue;
         };
@@ -219,13 +222,14 @@ pub fn register(
             .max_by(|&a, &b| s[a].width().total_cmp(&s[b].width()))
             .unwrap_or(0);
         let w = s[widest].width();
-        if w > opts.min_width && kept + queue.len() + 2 <= opts.max_boxes && w.is_finite() {
+        if w > opts.min_width && kept + (queue.len() - head) + 2 <= opts.max_boxes && w.is_finite()
+        {
             let mid = s[widest].mid();
             let (mut a, mut b) = (s, s);
             a[widest] = Interval::new(s[widest].lo(), mid);
             b[widest] = Interval::new(mid, s[widest].hi());
-            queue.push_back(a);
-            queue.push_back(b);
+            queue.push(a);
+            queue.push(b);
             continue;
         }
         kept += 1;

@@ -86,7 +86,6 @@ use super::witnesses::{find_witnesses, Item};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::slam::mission::Mission;
-use std::collections::BTreeMap;
 
 /// Tuning of the shapes round.
 #[derive(Debug, Clone, PartialEq)]
@@ -222,7 +221,8 @@ pub struct ShapesState {
     /// displacement boxes and the measurements, which do not change).
     relative_done: bool,
     /// What each registration step last read, and the candidates it gave.
-    registered: BTreeMap<usize, (RegKey, Vec<u64>)>,
+    /// By step, in step order.
+    registered: Vec<(usize, RegKey, Vec<u64>)>,
 }
 
 /// The inputs of one registration (see [`RegKey::close`]).
@@ -300,7 +300,7 @@ impl ShapesState {
             distinct: Distinct::default(),
             frames: Frames::default(),
             relative_done: false,
-            registered: BTreeMap::new(),
+            registered: Vec::new(),
         }
     }
 
@@ -834,7 +834,7 @@ impl ShapesState {
             if groups.len() > self.options.register_groups {
                 // The witness groups first, then the most pieces.
                 let mut idx: Vec<usize> = (0..groups.len()).collect();
-                idx.sort_by_key(|&i| {
+                idx.sort_unstable_by_key(|&i| {
                     (
                         groups[i].fixed.is_none(),
                         usize::MAX - groups[i].pieces.len(),
@@ -856,7 +856,8 @@ impl ShapesState {
                 pieces: groups.iter().map(|g| g.pieces.len()).sum(),
                 witnesses: wregions.iter().map(|w| w.hull()).collect(),
             };
-            if let Some((old, old_reach)) = self.registered.get(&s) {
+            let slot = self.registered.binary_search_by_key(&s, |e| e.0);
+            if let Some((_, old, old_reach)) = slot.ok().map(|i| &self.registered[i]) {
                 if old.close(&key, self.options.register_slack) {
                     for (&root, &r) in roots.iter().zip(old_reach) {
                         reach[root] &= r;
@@ -895,7 +896,10 @@ impl ShapesState {
                 p: IntervalBox::new(&dom.pos[s * dim..(s + 1) * dim]),
                 ..key
             };
-            self.registered.insert(s, (key, reg.reach));
+            match slot {
+                Ok(i) => self.registered[i] = (s, key, reg.reach),
+                Err(i) => self.registered.insert(i, (s, key, reg.reach)),
+            }
         }
         // Groups left with one witness join it; the others are distinct
         // from the witnesses they cannot be.
