@@ -68,7 +68,7 @@ proptest! {
         min_width in 0.0..5.0f64,
     ) {
         let dim = if three { 3 } else { 2 };
-        let mut rng = Rng(seed);
+        let mut rng = Rng::new(seed);
         let point = |rng: &mut Rng| -> Vec<f64> { (0..dim).map(|_| rng.range(-scale, scale)).collect() };
         let landmarks: Vec<Vec<f64>> = (0..n).map(|_| point(&mut rng)).collect();
         let p_true = point(&mut rng);

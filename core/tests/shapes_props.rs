@@ -61,7 +61,7 @@ enum Layout {
 }
 
 fn planted(seed: u64, dim: usize, layout: Layout, bearings: bool) -> Planted {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let n = 1 + rng.below(5);
     let spread = rng.range(5.0, 40.0);
     let landmarks: Vec<Vec<f64>> = (0..n)
@@ -369,7 +369,7 @@ proptest! {
         let inst = planted(seed, dim, layout(lay), bearings);
         let k = inst.mission.detections.len();
         let shapes: Vec<Shape> = (0..k).map(|j| inst.shape(j)).collect();
-        let mut rng = Rng(seed ^ 0xABCD);
+        let mut rng = Rng::new(seed ^ 0xABCD);
         for j in 0..k {
             let l = &inst.landmarks[inst.matching[j]];
             let t = inst.mission.detections[j].step;
@@ -451,7 +451,7 @@ proptest! {
     /// and never calls them infeasible.
     #[test]
     fn the_clique_rule_keeps_the_truth(seed in any::<u64>(), n in 1usize..6, k in 1usize..60, density in 0.05..1.0f64) {
-        let mut rng = Rng(seed);
+        let mut rng = Rng::new(seed);
         let truth: Vec<usize> = (0..k).map(|_| rng.below(n)).collect();
         let mut d = Distinct::default();
         for a in 0..k {
