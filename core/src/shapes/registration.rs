@@ -109,9 +109,11 @@ fn meets(a: &Axes, b: &Axes, dim: usize) -> bool {
     (0..dim).all(|x| a[x].meets(b[x]))
 }
 
-/// Pavings of the p(s) the constraint of the module doc allows within `p`
-/// (`witnesses`: the boxes of W(1..n), at most 64; `distinct(g, h)`: groups
-/// g and h are proved to see distinct landmarks).
+/// The hull of the p(s) within `p` that the constraint of the module doc
+/// allows, and each group's candidate witnesses (`witnesses`: the boxes of
+/// W(1..n); `distinct(g, h)`: groups g and h are proved to see distinct
+/// landmarks; a group's `fixed` witness is below n). With more than 64
+/// witnesses (beyond the candidate masks) nothing is contracted.
 pub fn register(
     p: &IntervalBox,
     witnesses: &[Vec<IntervalBox>],
@@ -120,7 +122,15 @@ pub fn register(
     opts: &RegisterOptions,
 ) -> Registration {
     let dim = p.dim();
-    let n = witnesses.len().min(64);
+    let n = witnesses.len();
+    if n > 64 {
+        return Registration {
+            p: p.clone(),
+            reach: vec![u64::MAX; groups.len()],
+            work: 0,
+        };
+    }
+    debug_assert!(groups.iter().all(|g| g.fixed.is_none_or(|f| f < n)));
     let mut out = Registration {
         p: IntervalBox::empty(dim),
         reach: vec![0; groups.len()],
@@ -416,6 +426,28 @@ mod tests {
         let reg = register(&p, &witnesses, &groups, &|_, _| false, &opts);
         assert_eq!(reg.reach, vec![0b01, 0b10]);
         assert!(reg.p[0].contains(5.0) && reg.p[1].contains(5.0));
+    }
+
+    /// Beyond 64 witnesses (the width of the candidate masks) nothing is
+    /// contracted and every witness stays a candidate.
+    #[test]
+    fn more_than_64_witnesses_contract_nothing() {
+        let witnesses: Vec<Vec<IntervalBox>> = (0..65)
+            .map(|i| vec![b2((i as f64, i as f64 + 0.5), (0.0, 0.5))])
+            .collect();
+        let groups = vec![LocalGroup {
+            pieces: vec![vec![b2((-0.5, 0.5), (-0.5, 0.5))]],
+            fixed: None,
+        }];
+        let p = b2((-100.0, 100.0), (-100.0, 100.0));
+        let reg = register(
+            &p,
+            &witnesses,
+            &groups,
+            &|_, _| true,
+            &RegisterOptions::default(),
+        );
+        assert_eq!((reg.p, reg.reach), (p, vec![u64::MAX]));
     }
 
     /// A group that is a witness group keeps its witness; a position box
