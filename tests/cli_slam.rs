@@ -119,7 +119,7 @@ fn import_csv_pair() {
     let det = tmp("det.csv");
     std::fs::write(&det, "t,range_lo,range_hi,landmark\n1.0,4.0,4.5,0\n").unwrap();
     let out_path = tmp("imported.json");
-    let out = nvector(&[
+    let import = [
         "import",
         "--model",
         "unicycle2d",
@@ -131,11 +131,14 @@ fn import_csv_pair() {
         "speed=0.1",
         "--error",
         "heading=0.01",
-        "--landmark-count",
-        "1",
-        "--out",
-        out_path.to_str().unwrap(),
-    ]);
+    ];
+    let out = nvector(
+        &[
+            &import[..],
+            &["--landmark-count", "1", "--out", out_path.to_str().unwrap()],
+        ]
+        .concat(),
+    );
     assert!(
         out.status.success(),
         "{}",
@@ -148,19 +151,7 @@ fn import_csv_pair() {
     assert!(m.inputs[0][0].contains(0.9) && m.inputs[0][0].contains(1.1));
     // A bad cell is reported with its file, line and column.
     std::fs::write(&log, "t,speed,heading\n0.0,1.0,0.0\n0.5,fast,0.0\n").unwrap();
-    let out = nvector(&[
-        "import",
-        "--model",
-        "unicycle2d",
-        "--log",
-        log.to_str().unwrap(),
-        "--detections",
-        det.to_str().unwrap(),
-        "--error",
-        "speed=0.1",
-        "--error",
-        "heading=0.01",
-    ]);
+    let out = nvector(&import);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(

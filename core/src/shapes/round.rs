@@ -410,7 +410,7 @@ impl ShapesState {
             }
         }
         if let Err(reason) = self.witness_branches(
-            mission, &mut dom, &mut uf, n, &order, tolerance, chain, &mut out,
+            mission, &mut dom, &mut uf, n, &order, &sums, tolerance, chain, &mut out,
         ) {
             out.infeasible = Some(reason);
             return out;
@@ -545,6 +545,7 @@ impl ShapesState {
         uf: &mut Uf,
         n: usize,
         order: &[usize],
+        sums: &ChainSums,
         tol: f64,
         chain: &mut dyn Chain,
         out: &mut ShapesOutcome,
@@ -744,6 +745,7 @@ impl ShapesState {
                 mission,
                 dom,
                 uf,
+                sums,
                 &mut wregions,
                 &mut slot_root,
                 tol,
@@ -770,6 +772,7 @@ impl ShapesState {
         mission: &Mission,
         dom: &mut Domains,
         uf: &mut Uf,
+        sums: &ChainSums,
         wregions: &mut [Paving],
         slot_root: &mut [usize],
         tol: f64,
@@ -779,8 +782,6 @@ impl ShapesState {
     ) -> Result<(), String> {
         let dim = dom.dim;
         let n = wregions.len();
-        let steps: Vec<usize> = mission.detections.iter().map(|d| d.step).collect();
-        let sums = ChainSums::new(dom.disp, dim).with_steps(&steps);
         let graph = self.distinct.graph(uf)?;
         let witness_boxes: Vec<Vec<IntervalBox>> =
             wregions.iter().map(|w| w.boxes().to_vec()).collect();
