@@ -1,6 +1,6 @@
 //! `nvector serve`: the HTTP service and the web UI.
 
-use crate::service::{self, Config};
+use crate::service::{self, Config, PoolConfig};
 use crate::CliError;
 use std::path::PathBuf;
 
@@ -14,9 +14,31 @@ pub struct Args {
     /// postgres://USER[:PASSWORD]@HOST:PORT/DB (shared by several processes).
     #[arg(long, default_value = "sqlite://data/nvector.db")]
     database: String,
-    /// Job worker threads (default: the number of cores).
+    /// Job workers, each running one job at a time in a worker process of
+    /// its own (default: the number of cores; several services on one
+    /// host: share the cores, see docs/deploy.md).
     #[arg(long)]
     workers: Option<usize>,
+    /// Workers that run only short jobs, in addition to --workers.
+    #[arg(long, default_value_t = 1)]
+    short_lane_workers: usize,
+    /// Jobs whose mission has at most this many steps × detections are
+    /// short: they go ahead of long jobs and the short lane runs them.
+    #[arg(long, default_value_t = service::config::DEFAULT_SHORT_JOB_COST)]
+    short_job_cost: i64,
+    /// A long job is queued as if submitted this many seconds later (short
+    /// jobs submitted meanwhile go first; none waits longer behind them).
+    #[arg(long, default_value_t = 60.0)]
+    long_job_delay: f64,
+    /// Memory limit of each worker process (e.g. 512MiB, 2GiB; `none`: no
+    /// limit). Default: 7/8 of the machine's memory shared by the worker
+    /// processes (--workers + --short-lane-workers).
+    #[arg(long)]
+    job_memory_limit: Option<String>,
+    /// A job whose worker process dies (abort, killed) this many times
+    /// fails (`worker_crashed`); a job over the memory limit fails at once.
+    #[arg(long, default_value_t = 2)]
+    job_attempts: u32,
     /// Directory of the page.
     #[arg(long, default_value = "web/www")]
     static_dir: PathBuf,
@@ -82,6 +104,42 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "--contract-time-limit must be in (0, 86400] s".into(),
         ));
     }
+    if !(a.long_job_delay >= 0.0 && a.long_job_delay <= 86_400.0) {
+        return Err(CliError(
+            "--long-job-delay must be between 0 and 86400 s".into(),
+        ));
+    }
+    if a.short_job_cost < 0 {
+        return Err(CliError("--short-job-cost must be >= 0".into()));
+    }
+    if !(1..=100).contains(&a.job_attempts) {
+        return Err(CliError("--job-attempts must be between 1 and 100".into()));
+    }
+    let workers = a
+        .workers
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
+    let memory_limit = match a.job_memory_limit.as_deref() {
+        None => service::default_job_memory(workers + a.short_lane_workers),
+        Some("none" | "unlimited") => None,
+        Some(text) => {
+            let bytes = service::parse_size(text)
+                .map_err(|e| CliError(format!("--job-memory-limit: {e}")))?;
+            if bytes < service::MIN_JOB_MEMORY {
+                return Err(CliError(format!(
+                    "--job-memory-limit must be at least {}",
+                    service::format_size(service::MIN_JOB_MEMORY)
+                )));
+            }
+            Some(bytes)
+        }
+    };
+    let pool = PoolConfig {
+        workers,
+        short_lane_workers: a.short_lane_workers,
+        memory_limit,
+        attempts: a.job_attempts,
+        short_cost: a.short_job_cost,
+    };
     let config = Config {
         max_body: a.max_body,
         max_steps: a.max_steps,
@@ -93,15 +151,22 @@ pub fn run(a: Args) -> Result<(), CliError> {
         cors_origins: a.cors_origins,
         job_lease: std::time::Duration::from_secs_f64(a.job_lease),
         contract_time_limit: std::time::Duration::from_secs_f64(a.contract_time_limit),
+        short_job_cost: a.short_job_cost,
+        long_job_delay: std::time::Duration::from_secs_f64(a.long_job_delay),
     };
-    let workers = a
-        .workers
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
-    let store = service::open_store(&a.database, workers + 4).map_err(CliError)?;
+    tracing::info!(
+        "{} worker(s) and {} short-lane worker(s), job memory limit {}",
+        pool.workers,
+        pool.short_lane_workers,
+        pool.memory_limit
+            .map_or_else(|| "none".to_string(), service::format_size)
+    );
+    let store =
+        service::open_store(&a.database, workers + a.short_lane_workers + 4).map_err(CliError)?;
     let rt = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
         .map_err(|e| CliError(format!("starting the runtime: {e}")))?;
-    rt.block_on(service::serve(a.addr, store, config, workers))
+    rt.block_on(service::serve(a.addr, store, config, pool))
         .map_err(CliError)
 }

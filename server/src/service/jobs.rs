@@ -6,7 +6,7 @@
 use super::error::{parse_json, ApiResult, AppError};
 use super::formats::{ErrorBody, SlamResult};
 use super::state::{owner, AppState};
-use super::store::JobRow;
+use super::store::{JobRow, QueuePolicy, Queued};
 use super::worker::now_ms;
 use axum::body::Bytes;
 use axum::extract::{Path, Query, State};
@@ -145,10 +145,15 @@ pub struct Job {
     pub started_ms: Option<i64>,
     /// When it ended.
     pub finished_ms: Option<i64>,
-    /// Why it failed, or that a time limit cut it short.
+    /// Why it failed, or that a time limit cut it short, for a person
+    /// (a failure of its worker process names the limit or the signal).
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(nullable = false)]
     pub error: Option<String>,
+    /// The same as a word a client can test, with `error`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false, value_type = Option<JobErrorCode>)]
+    pub error_code: Option<String>,
     /// Times a worker claimed it (1 unless re-queued).
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(nullable = false)]
@@ -157,6 +162,33 @@ pub struct Job {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(nullable = false)]
     pub runner: Option<String>,
+    /// Times the worker process running it died (abort, killed); at the
+    /// service's `--job-attempts` it fails (`worker_crashed`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false, minimum = 1)]
+    pub worker_crashes: Option<i64>,
+}
+
+/// Why a job failed or was cut short, as a word.
+#[derive(ToSchema)]
+#[allow(dead_code)] // Described: the code is the stored string.
+#[schema(rename_all = "snake_case")]
+pub enum JobErrorCode {
+    /// The time limit stopped it: `done` with the partial, sound result, or
+    /// `failed` when it did not stop within the grace period.
+    TimeLimit,
+    /// It needs more memory than the service's limit per job (the message
+    /// names the limit); not retried.
+    MemoryLimit,
+    /// Its worker process died (abort, signal) as many times as the
+    /// service's `--job-attempts`.
+    WorkerCrashed,
+    /// The stored mission could not be read.
+    InvalidMission,
+    /// The mission was deleted before the job ran.
+    MissionDeleted,
+    /// The service's own failure (storage, a bug).
+    Internal,
 }
 
 impl From<&JobRow> for Job {
@@ -175,8 +207,10 @@ impl From<&JobRow> for Job {
             started_ms: j.started,
             finished_ms: j.finished,
             error: j.error.clone(),
+            error_code: j.error_code.clone(),
             attempts: (j.attempts > 0).then_some(j.attempts),
             runner: j.runner.clone(),
+            worker_crashes: (j.crashes > 0).then_some(j.crashes),
         }
     }
 }
@@ -323,15 +357,6 @@ pub(super) async fn post_job(
             t
         }
     };
-    if state.db(|st| st.queued_count()).await? >= state.config.max_queue {
-        let mut e = AppError::new(
-            StatusCode::TOO_MANY_REQUESTS,
-            "queue_full",
-            "too many queued jobs, retry later",
-        );
-        e.retry_after = Some(5);
-        return Err(e);
-    }
     let job = JobRow {
         id: format!("j-{}", uuid::Uuid::new_v4().simple()),
         mission,
@@ -346,11 +371,35 @@ pub(super) async fn post_job(
         created: now_ms(),
         started: None,
         finished: None,
+        error_code: None,
         attempts: 0,
         runner: None,
+        crashes: 0,
+        cost: 0,
     };
     let id = job.id.clone();
-    state.db(move |st| st.insert_job(&owner, &job)).await?;
+    let policy = QueuePolicy {
+        max_queue: state.config.max_queue,
+        short_cost: state.config.short_job_cost,
+        long_delay_ms: i64::try_from(state.config.long_job_delay.as_millis()).unwrap_or(i64::MAX),
+    };
+    // The queue limit is checked by the insert itself (one atomic step).
+    match state
+        .db(move |st| st.insert_job(&owner, &job, &policy))
+        .await?
+    {
+        Queued::Yes => {}
+        Queued::Full => {
+            let mut e = AppError::new(
+                StatusCode::TOO_MANY_REQUESTS,
+                "queue_full",
+                "too many queued jobs, retry later",
+            );
+            e.retry_after = Some(5);
+            return Err(e);
+        }
+        Queued::NoMission => return Err(AppError::not_found("mission").at("mission")),
+    }
     state.workers.notify();
     Ok((
         StatusCode::ACCEPTED,

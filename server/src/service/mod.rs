@@ -3,16 +3,21 @@
 //! `/`. `app(state)` builds the router; `serve(config)` runs it.
 //!
 //! One file per resource: `missions`, `jobs` (HTTP side; the workers are in
-//! `worker`), `contract`, `simulate`; `error` (the one `AppError`),
-//! `config` (`Config`), `state` (`AppState`, API keys), `metrics` (health,
-//! readiness, Prometheus text), `formats` (the spec's JSON formats as types
-//! for the document), `openapi` (the document), `store` (storage).
+//! `worker`, each running its jobs in a worker process: `worker_process`
+//! is the service's side of one, `job_runner` what runs inside it),
+//! `contract`, `simulate`; `error` (the one `AppError`), `config`
+//! (`Config`, sizes), `state` (`AppState`, API keys), `metrics` (health,
+//! readiness, the `/metrics` endpoint) and `meters` (the metric families),
+//! `formats` (the spec's JSON formats as types for the document), `openapi`
+//! (the document), `store` (storage).
 
-mod config;
+pub mod config;
 mod contract;
 mod error;
 mod formats;
+pub mod job_runner;
 mod jobs;
+mod meters;
 mod metrics;
 mod missions;
 pub mod openapi;
@@ -20,18 +25,19 @@ mod simulate;
 mod state;
 pub mod store;
 pub mod worker;
+mod worker_process;
 
-pub use config::Config;
+pub use config::{default_job_memory, format_size, parse_size, Config, MIN_JOB_MEMORY};
 pub use error::AppError;
 pub use state::AppState;
+pub use worker::PoolConfig;
 
 use axum::extract::DefaultBodyLimit;
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::middleware;
 use axum::routing::get;
 use axum::{Extension, Router};
-use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use store::Store;
 use utoipa::OpenApi;
 use utoipa_axum::router::OpenApiRouter;
@@ -133,15 +139,15 @@ pub fn open_store(url: &str, pool_size: usize) -> Result<Arc<dyn Store>, String>
 }
 
 /// Runs the service until SIGTERM or Ctrl-C. On shutdown the server stops
-/// accepting requests, running jobs are stopped at their next progress
-/// point and put back in the queue (another process, or the next start,
+/// accepting requests, running jobs are stopped (their worker processes
+/// killed) and put back in the queue (another process, or the next start,
 /// finishes them). Jobs left running by a process that died are re-queued
 /// once their lease expires.
 pub async fn serve(
     addr: std::net::SocketAddr,
     store: Arc<dyn Store>,
     config: Config,
-    workers_n: usize,
+    pool: PoolConfig,
 ) -> Result<(), String> {
     let lease_ms = config.job_lease.as_millis() as i64;
     let st = store.clone();
@@ -154,7 +160,7 @@ pub async fn serve(
         tracing::info!("re-queued {requeued} job(s) left running by a stopped process");
     }
     let workers = Workers::new();
-    let mut handles = worker::start(workers_n, store.clone(), workers.clone());
+    let mut handles = worker::start(&pool, store.clone(), workers.clone());
     handles.push(worker::start_lease_keeper(
         store.clone(),
         workers.clone(),
@@ -164,7 +170,6 @@ pub async fn serve(
         store,
         config: Arc::new(config),
         workers: workers.clone(),
-        requests: Arc::new(Mutex::new(BTreeMap::new())),
     };
     let listener = tokio::net::TcpListener::bind(addr)
         .await

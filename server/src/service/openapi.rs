@@ -37,7 +37,12 @@ use utoipa::OpenApi;
         (name = "contraction", description = "One atmost_nvector contraction"),
         (name = "operations", description = "Health, readiness, metrics"),
     ),
-    components(schemas(super::jobs::JobState, super::jobs::ResultFormat, super::jobs::JobEvent))
+    components(schemas(
+        super::jobs::JobState,
+        super::jobs::JobErrorCode,
+        super::jobs::ResultFormat,
+        super::jobs::JobEvent
+    ))
 )]
 pub struct ApiDoc;
 

@@ -6,8 +6,7 @@ use super::error::{ApiResult, AppError};
 use super::store::{self, Store};
 use super::worker::Workers;
 use axum::http::{header, HeaderMap, StatusCode};
-use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// Shared state of the handlers.
 #[derive(Clone)]
@@ -16,10 +15,8 @@ pub struct AppState {
     pub store: Arc<dyn Store>,
     /// Configuration.
     pub config: Arc<Config>,
-    /// Workers (wake-ups, metrics).
+    /// Workers (wake-ups, event streams, metrics).
     pub workers: Arc<Workers>,
-    /// Requests by (route, status).
-    pub requests: Arc<Mutex<BTreeMap<(String, u16), u64>>>,
 }
 
 impl AppState {

@@ -1,15 +1,27 @@
-//! The job workers: dedicated threads off the async runtime, one
-//! propagation each. A worker claims the oldest queued job from storage,
-//! runs it with a progress callback that persists progress regularly and
-//! checks for cancellation (DELETE) and the time limit, then stores the
-//! result. Idle workers wait on a condition variable, woken when a job is
-//! queued (and poll storage every second, for jobs queued by another
-//! process sharing the database).
+//! The job workers. Each is a dedicated thread of the service (off the
+//! async runtime) that owns one worker process (`worker_process`: this
+//! binary as `nvector worker`, under the job memory limit) and runs one job
+//! at a time in it: it claims the first queued job from storage, sends the
+//! mission to its process, stores the progress the process reports, checks
+//! for cancellation (DELETE: the process is killed), shutdown and the time
+//! limit, then stores the result. A job can therefore never take the
+//! service down: when its process dies (abort, out of memory, killed) the
+//! worker records the crash, and the job goes back to the queue or, after
+//! `--job-attempts` crashes (at once for `memory_limit`, which would come
+//! again), fails with an error saying what happened; the worker starts a
+//! new process for the next job.
+//!
+//! Lanes: the general workers take the first job in queue order (short
+//! jobs ahead of long ones submitted up to the long-job delay before
+//! them), the short lane's workers take only short jobs, so short work is
+//! never stuck behind long work. Idle workers wait on a condition
+//! variable, woken when a job is queued (and poll storage twice a second,
+//! for jobs queued by another process sharing the database).
 
-use super::store::{JobRow, Store};
-use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
-use nvector_core::slam::result::write_result;
+use super::job_runner::JobOrder;
+use super::meters::{self, Meters, ReasonLabel};
+use super::store::{JobError, JobRow, Store};
+use super::worker_process::{Message, WorkerProcess};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
@@ -27,8 +39,8 @@ pub struct Workers {
     cond: Condvar,
     /// Set on shutdown: workers finish nothing new.
     pub stopping: AtomicBool,
-    /// Job durations (ms) of finished jobs, for the histogram.
-    pub durations: Mutex<Vec<f64>>,
+    /// The metric families of this process.
+    pub meters: Arc<Meters>,
     /// Jobs currently running in this process.
     pub running: AtomicU64,
     /// Ids of the jobs whose stored state this process just changed (for
@@ -43,7 +55,7 @@ impl Workers {
             wake: Mutex::new(0),
             cond: Condvar::new(),
             stopping: AtomicBool::new(false),
-            durations: Mutex::new(Vec::new()),
+            meters: Arc::new(Meters::new()),
             running: AtomicU64::new(0),
             changes: tokio::sync::broadcast::channel(4096).0,
         })
@@ -108,37 +120,84 @@ pub fn start_lease_keeper(
         .expect("spawn lease thread")
 }
 
-/// Starts `n` worker threads.
+/// How the workers of this process run jobs (flags of `nvector serve`).
+#[derive(Debug, Clone)]
+pub struct PoolConfig {
+    /// General workers (any job, in queue order).
+    pub workers: usize,
+    /// Short-lane workers (short jobs only).
+    pub short_lane_workers: usize,
+    /// Memory limit of each worker process (bytes; None: none).
+    pub memory_limit: Option<u64>,
+    /// A job fails after its worker process died this many times.
+    pub attempts: u32,
+    /// Jobs of at most this cost are short.
+    pub short_cost: i64,
+}
+
+/// How long past its time limit a job may run before its worker process
+/// is killed: the process stops the propagation at the limit and still
+/// has to write the (partial) result.
+pub fn time_limit_grace(time_limit_s: f64) -> Duration {
+    Duration::from_secs_f64((time_limit_s * 0.1).clamp(5.0, 60.0))
+}
+
+/// Starts the worker threads: `workers` general ones, then
+/// `short_lane_workers` that take only short jobs.
 pub fn start(
-    n: usize,
+    config: &PoolConfig,
     store: Arc<dyn Store>,
     workers: Arc<Workers>,
 ) -> Vec<std::thread::JoinHandle<()>> {
-    (0..n.max(1))
-        .map(|i| {
-            let store = store.clone();
-            let workers = workers.clone();
+    let config = Arc::new(config.clone());
+    let general = (0..config.workers).map(|i| (format!("nvector-worker-{i}"), i64::MAX));
+    let short = (0..config.short_lane_workers)
+        .map(|i| (format!("nvector-short-worker-{i}"), config.short_cost));
+    general
+        .chain(short)
+        .map(|(name, max_cost)| {
+            let (store, workers, config) = (store.clone(), workers.clone(), config.clone());
             std::thread::Builder::new()
-                .name(format!("nvector-worker-{i}"))
-                .spawn(move || worker_loop(store, workers))
+                .name(name)
+                .spawn(move || worker_loop(&*store, &workers, &config, max_cost))
                 .expect("spawn worker thread")
         })
         .collect()
 }
 
-fn worker_loop(store: Arc<dyn Store>, workers: Arc<Workers>) {
+fn worker_loop(store: &dyn Store, workers: &Workers, config: &PoolConfig, max_cost: i64) {
+    // This thread's worker process, started for the first job and again
+    // after one died or was killed. (Started from this thread, which lives
+    // as long as the service: on Linux the process dies with it.)
+    let mut process: Option<WorkerProcess> = None;
     while !workers.stopping.load(Ordering::SeqCst) {
-        match store.claim_job(now_ms()) {
+        match store.claim_job(now_ms(), max_cost) {
             Ok(Some(job)) => {
+                let lane = meters::lane(job.cost, config.short_cost);
+                if let Some(started) = job.started {
+                    workers
+                        .meters
+                        .job_queue_wait_ms
+                        .get_or_create(&lane)
+                        .observe(started.saturating_sub(job.created).max(0) as f64);
+                }
                 workers.running.fetch_add(1, Ordering::SeqCst);
                 workers.changed(&job.id);
-                let id = job.id.clone();
                 let start = Instant::now();
-                run_job(&*store, &workers, job);
-                workers.changed(&id);
+                run_job(store, workers, config, &mut process, &job);
+                workers.changed(&job.id);
                 workers.running.fetch_sub(1, Ordering::SeqCst);
-                if let Ok(mut d) = workers.durations.lock() {
-                    d.push(start.elapsed().as_secs_f64() * 1e3);
+                workers
+                    .meters
+                    .job_duration_ms
+                    .get_or_create(&lane)
+                    .observe(start.elapsed().as_secs_f64() * 1e3);
+                // A long job may leave its process holding memory it freed:
+                // the next job gets a fresh one.
+                if job.cost > config.short_cost {
+                    if let Some(p) = process.take() {
+                        p.kill();
+                    }
                 }
             }
             Ok(None) => workers.wait(),
@@ -148,110 +207,222 @@ fn worker_loop(store: Arc<dyn Store>, workers: Arc<Workers>) {
             }
         }
     }
+    if let Some(p) = process {
+        p.kill();
+    }
 }
 
-fn run_job(store: &dyn Store, workers: &Workers, job: JobRow) {
+fn fail(store: &dyn Store, job: &JobRow, code: &'static str, message: String) {
+    let e = JobError { code, message };
+    if let Err(err) = store.finish_job(&job.id, "failed", None, Some(&e), now_ms()) {
+        tracing::error!("storing the failure of job {}: {err}", job.id);
+    }
+}
+
+/// A worker process for the next job: the current one if it is alive (one
+/// that died while idle is replaced: not the job's fault), else a new one.
+fn ready_process(
+    process: &mut Option<WorkerProcess>,
+    memory_limit: Option<u64>,
+) -> std::io::Result<&mut WorkerProcess> {
+    if let Some(p) = process.as_mut() {
+        if !p.is_alive() {
+            if let Some(dead) = process.take() {
+                let why = dead.death();
+                tracing::warn!("a worker process died while idle: {}", why.message);
+            }
+        }
+    }
+    if process.is_none() {
+        *process = Some(WorkerProcess::start(memory_limit)?);
+    }
+    Ok(process.as_mut().expect("a worker process was just started"))
+}
+
+/// Runs one claimed job in this thread's worker process and stores how it
+/// ended.
+fn run_job(
+    store: &dyn Store,
+    workers: &Workers,
+    config: &PoolConfig,
+    process: &mut Option<WorkerProcess>,
+    job: &JobRow,
+) {
     let body = match store.mission_body_any(&job.mission) {
         Ok(Some(b)) => b,
         Ok(None) => {
-            let _ = store.finish_job(
-                &job.id,
-                "failed",
-                None,
-                Some("the mission was deleted"),
-                now_ms(),
-            );
-            return;
+            return fail(
+                store,
+                job,
+                "mission_deleted",
+                "the mission was deleted".into(),
+            )
         }
         Err(e) => {
             tracing::error!("reading mission {}: {e}", job.mission);
-            let _ = store.finish_job(
-                &job.id,
-                "failed",
-                None,
-                Some("storage error reading the mission"),
-                now_ms(),
+            return fail(
+                store,
+                job,
+                "internal",
+                "storage error reading the mission".into(),
             );
-            return;
         }
     };
-    let mission = match Mission::from_json(&body) {
-        Ok(m) => {
-            drop(body);
-            m
-        }
+    let order = JobOrder {
+        id: job.id.clone(),
+        contractor: job.contractor.clone(),
+        max_rounds: job.max_rounds.clamp(1, i64::from(u32::MAX)) as u32,
+        time_limit_s: job.time_limit_s,
+        mission_bytes: body.len(),
+    };
+    let p = match ready_process(process, config.memory_limit) {
+        Ok(p) => p,
         Err(e) => {
-            let _ = store.finish_job(&job.id, "failed", None, Some(&e.to_string()), now_ms());
+            // The machine cannot start a process now (out of processes or
+            // memory): the job waits for a later try.
+            tracing::error!("starting a worker process: {e}");
+            let _ = store.requeue_one(&job.id);
+            std::thread::sleep(Duration::from_secs(1));
             return;
         }
     };
-    let association = Association::parse(&job.contractor).unwrap_or(Association::None);
-    let options = SolveOptions {
-        association,
-        max_rounds: job.max_rounds.clamp(1, u32::MAX as i64) as u32,
-        tolerance: 1e-9,
-    };
-    let cancel = AtomicBool::new(false);
+    // A process that dies while reading the mission (too large for the
+    // memory limit) fails the send: that is this job's crash.
+    let sent = p.send(&order, &body);
+    drop(body);
+    if sent.is_err() {
+        if let Some(dead) = process.take() {
+            return crashed(store, workers, config, job, dead.death());
+        }
+    }
+    supervise(store, workers, config, process, job);
+}
+
+/// Follows the job in its worker process until it ends, is cancelled, runs
+/// out of time, or the service stops.
+fn supervise(
+    store: &dyn Store,
+    workers: &Workers,
+    config: &PoolConfig,
+    process: &mut Option<WorkerProcess>,
+    job: &JobRow,
+) {
     let start = Instant::now();
-    let limit = Duration::from_secs_f64(job.time_limit_s.max(0.001));
-    let mut last_saved = Instant::now() - Duration::from_secs(1);
-    let mut timed_out = false;
-    let mut progress = |p: &Progress| {
-        if last_saved.elapsed() >= Duration::from_millis(200) {
-            last_saved = Instant::now();
-            let _ = store.progress(
-                &job.id,
-                p.round as i64,
-                p.max_trajectory_diameter,
-                p.fraction,
-            );
-            workers.changed(&job.id);
-            if let Ok(Some(s)) = store.job_state(&job.id) {
-                if s == "cancelled" {
-                    cancel.store(true, Ordering::SeqCst);
+    let hard_limit =
+        Duration::from_secs_f64(job.time_limit_s.max(0.001)) + time_limit_grace(job.time_limit_s);
+    let mut last_saved: Option<Instant> = None;
+    let mut last_check = Instant::now();
+    let kill = |process: &mut Option<WorkerProcess>| {
+        if let Some(p) = process.take() {
+            p.kill();
+        }
+    };
+    loop {
+        let Some(p) = process.as_mut() else { return };
+        match p.next(Duration::from_millis(100)) {
+            Ok(Some(Message::Progress {
+                round,
+                diameter,
+                fraction,
+            })) => {
+                if last_saved.is_none_or(|t| t.elapsed() >= Duration::from_millis(200)) {
+                    last_saved = Some(Instant::now());
+                    let round = i64::try_from(round).unwrap_or(i64::MAX);
+                    let diameter = diameter.unwrap_or(f64::INFINITY);
+                    let _ = store.progress(&job.id, round, diameter, fraction);
+                    workers.changed(&job.id);
                 }
             }
-        }
-        if start.elapsed() > limit {
-            timed_out = true;
-            cancel.store(true, Ordering::SeqCst);
+            Ok(Some(Message::Done { result, timed_out })) => {
+                let error = timed_out.then(|| JobError {
+                    code: "time_limit",
+                    message: format!(
+                        "time limit of {} s reached (partial, sound result kept)",
+                        job.time_limit_s
+                    ),
+                });
+                if let Err(e) =
+                    store.finish_job(&job.id, "done", Some(&result), error.as_ref(), now_ms())
+                {
+                    tracing::error!("storing the result of job {}: {e}", job.id);
+                }
+                return;
+            }
+            Ok(Some(Message::Failed(e))) => return fail(store, job, e.code, e.message),
+            Ok(None) => {}
+            Err(()) => {
+                if let Some(dead) = process.take() {
+                    crashed(store, workers, config, job, dead.death());
+                }
+                return;
+            }
         }
         if workers.stopping.load(Ordering::SeqCst) {
-            cancel.store(true, Ordering::SeqCst);
+            // Shutting down mid-job: put it back for the next start.
+            kill(process);
+            let _ = store.requeue_one(&job.id);
+            return;
         }
+        if last_check.elapsed() >= Duration::from_millis(250) {
+            last_check = Instant::now();
+            // Cancelled, or deleted with its mission: stop the work.
+            if matches!(store.job_state(&job.id), Ok(Some(s)) if s == "cancelled")
+                || matches!(store.job_state(&job.id), Ok(None))
+            {
+                return kill(process);
+            }
+        }
+        if start.elapsed() > hard_limit {
+            kill(process);
+            return fail(
+                store,
+                job,
+                "time_limit",
+                format!(
+                    "time limit of {} s reached and the job did not stop within {:.0} s more: \
+                     its worker process was stopped, no result kept",
+                    job.time_limit_s,
+                    time_limit_grace(job.time_limit_s).as_secs_f64()
+                ),
+            );
+        }
+    }
+}
+
+/// Records the death of the worker process that ran `job`: back to the
+/// queue, or failed at the last attempt (at the first for `memory_limit`:
+/// the same job needs the same memory).
+fn crashed(
+    store: &dyn Store,
+    workers: &Workers,
+    config: &PoolConfig,
+    job: &JobRow,
+    mut error: JobError,
+) {
+    workers
+        .meters
+        .worker_deaths
+        .get_or_create(&ReasonLabel { reason: error.code })
+        .inc();
+    let max = if error.code == "memory_limit" {
+        1
+    } else {
+        i64::from(config.attempts.max(1))
     };
-    let solution = solve_model(&mission, &options, &mut progress, &cancel);
-    let elapsed_ms = start.elapsed().as_secs_f64() * 1e3;
-    if workers.stopping.load(Ordering::SeqCst) && !timed_out {
-        // Shutting down mid-job: put it back for the next start.
-        let _ = store.requeue_one(&job.id);
-        return;
-    }
-    if matches!(store.job_state(&job.id), Ok(Some(s)) if s == "cancelled") {
-        return;
-    }
-    // Streamed into the text (no JSON value of the whole result: a 10^6-step
-    // result is 82 MB of text, several times that as a value tree).
-    let mut text = Vec::new();
-    if let Err(e) = write_result(&mut text, &mission, &options, &solution, elapsed_ms) {
-        let _ = store.finish_job(
-            &job.id,
-            "failed",
-            None,
-            Some(&format!("writing the result: {e}")),
-            now_ms(),
+    let attempt = job.crashes + 1;
+    if error.code != "memory_limit" {
+        error.message = format!(
+            "{} (attempt {attempt} of at most {max}: --job-attempts)",
+            error.message
         );
-        return;
     }
-    drop(solution);
-    let text = String::from_utf8(text).expect("serde_json writes UTF-8");
-    let error = timed_out.then(|| {
-        format!(
-            "time limit of {} s reached (partial, sound result kept)",
-            job.time_limit_s
-        )
-    });
-    if let Err(e) = store.finish_job(&job.id, "done", Some(&text), error.as_deref(), now_ms()) {
-        tracing::error!("storing the result of job {}: {e}", job.id);
+    match store.record_crash(&job.id, &error, max, now_ms()) {
+        Ok(Some(s)) if s == "queued" => {
+            tracing::warn!("job {} re-queued: {}", job.id, error.message);
+            workers.notify();
+        }
+        Ok(Some(_)) => tracing::warn!("job {} failed: {}", job.id, error.message),
+        Ok(None) => {}
+        Err(e) => tracing::error!("recording the crash of job {}: {e}", job.id),
     }
 }

@@ -3,10 +3,15 @@
 //! (several `nvector serve` processes sharing one queue). Migrations are
 //! applied on open.
 //!
-//! Jobs form the queue. A worker claims the oldest queued job with one
-//! atomic statement (`UPDATE ... RETURNING`; on PostgreSQL with
-//! `FOR UPDATE SKIP LOCKED`), so a job runs once however many workers and
-//! processes there are. A running job carries the id of the process that
+//! Jobs form the queue. A job is queued with one statement that also
+//! checks the queue limit (on PostgreSQL under a transaction-scoped
+//! advisory lock, so concurrent submissions of every process never
+//! overshoot it), with its cost (the mission's steps × detections) and its
+//! place in the queue (`queue_order`: the submission time, plus the long-job
+//! delay for a job above the short-job cost: see [`QueuePolicy`]). A worker
+//! claims the first queued job in that order with one atomic statement
+//! (`UPDATE ... RETURNING`; on PostgreSQL with `FOR UPDATE SKIP LOCKED`),
+//! so a job runs once however many workers and processes there are. A running job carries the id of the process that
 //! runs it and a heartbeat that process refreshes; a job whose heartbeat is
 //! older than the lease (its process died) goes back to the queue. Writes
 //! about a running job (progress, result, re-queue) only apply while this
@@ -57,8 +62,16 @@ pub struct JobRow {
     pub fraction: f64,
     /// Error message when failed.
     pub error: Option<String>,
+    /// A word a client can test when failed or cut short (`time_limit`,
+    /// `memory_limit`, `worker_crashed`, `invalid_mission`, ...).
+    pub error_code: Option<String>,
     /// How many times a worker claimed it (1 unless re-queued).
     pub attempts: i64,
+    /// How many times the worker process running it died (abort, out of
+    /// memory, killed): at `--job-attempts` it fails.
+    pub crashes: i64,
+    /// The cost estimate: the mission's steps × detections (at least 1).
+    pub cost: i64,
     /// The process that runs or ran it.
     pub runner: Option<String>,
     /// Creation, start and end times (ms since epoch).
@@ -93,7 +106,48 @@ pub fn new_instance_id() -> String {
 
 /// The columns read into a [`JobRow`], in order.
 pub const JOB_COLUMNS: &str = "id, mission, state, contractor, max_rounds, time_limit_s, round, \
-     diameter, fraction, error, created, started, finished, attempts, runner";
+     diameter, fraction, error, created, started, finished, attempts, runner, error_code, \
+     crashes, cost";
+
+/// Why a job failed or was cut short: a word a client can test and a
+/// message a person can act on (the job's `error_code` and `error`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JobError {
+    /// `time_limit`, `memory_limit`, `worker_crashed`, `invalid_mission`,
+    /// `mission_deleted`, `internal`.
+    pub code: &'static str,
+    /// What happened, for a person.
+    pub message: String,
+}
+
+/// How jobs enter the queue and in which order they leave it.
+#[derive(Debug, Clone, Copy)]
+pub struct QueuePolicy {
+    /// Most queued jobs (of every process sharing the database).
+    pub max_queue: i64,
+    /// Jobs whose cost (steps × detections) is at most this are short.
+    pub short_cost: i64,
+    /// A long job is ordered as if submitted this much later (ms): short
+    /// jobs submitted within that delay run first, and no long job waits
+    /// behind short ones submitted after the delay.
+    pub long_delay_ms: i64,
+}
+
+/// What queueing a job did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Queued {
+    /// The job is queued.
+    Yes,
+    /// The queue is full (nothing stored).
+    Full,
+    /// No such mission for this owner (nothing stored).
+    NoMission,
+}
+
+/// The cost of a job on a mission: steps × detections (each at least 1),
+/// as SQL over the `missions` row `m` (SQLite and PostgreSQL alike).
+pub(crate) const COST_SQL: &str = "(CASE WHEN m.steps > 1 THEN m.steps ELSE 1 END) \
+     * (CASE WHEN m.detections > 1 THEN m.detections ELSE 1 END)";
 
 /// Result alias.
 pub type StoreResult<T> = Result<T, StoreError>;
@@ -117,17 +171,28 @@ pub trait Store: Send + Sync {
     fn mission_body_any(&self, id: &str) -> StoreResult<Option<String>>;
     /// Puts one job this process runs back in the queue (shutdown mid-job).
     fn requeue_one(&self, id: &str) -> StoreResult<()>;
+    /// Records that the worker process running this job died: the job goes
+    /// back to the queue, or fails with `error` once it has crashed
+    /// `max_crashes` times. Returns its new state (None when this process
+    /// no longer holds it).
+    fn record_crash(
+        &self,
+        id: &str,
+        error: &JobError,
+        max_crashes: i64,
+        now: i64,
+    ) -> StoreResult<Option<String>>;
     /// Deletes a mission and its jobs; false when absent.
     fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool>;
-    /// Queues a job.
-    fn insert_job(&self, owner: &str, job: &JobRow) -> StoreResult<()>;
+    /// Queues a job on a mission of `owner`, unless the queue holds
+    /// `policy.max_queue` jobs already: one atomic step, whatever the
+    /// number of concurrent submissions and processes.
+    fn insert_job(&self, owner: &str, job: &JobRow, policy: &QueuePolicy) -> StoreResult<Queued>;
     /// A job.
     fn job(&self, owner: &str, id: &str) -> StoreResult<Option<JobRow>>;
-    /// Number of queued jobs.
-    fn queued_count(&self) -> StoreResult<i64>;
-    /// Claims the oldest queued job for this process (state -> running),
-    /// if any.
-    fn claim_job(&self, now: i64) -> StoreResult<Option<JobRow>>;
+    /// Claims the first queued job (by `queue_order`, then submission) of
+    /// cost at most `max_cost` for this process (state -> running), if any.
+    fn claim_job(&self, now: i64, max_cost: i64) -> StoreResult<Option<JobRow>>;
     /// Refreshes the heartbeat of the jobs this process runs.
     fn heartbeat(&self, now: i64) -> StoreResult<()>;
     /// Puts back in the queue the running jobs whose heartbeat is older
@@ -141,7 +206,7 @@ pub trait Store: Send + Sync {
         id: &str,
         state: &str,
         result: Option<&str>,
-        error: Option<&str>,
+        error: Option<&JobError>,
         now: i64,
     ) -> StoreResult<()>;
     /// Marks a queued or running job cancelled; false when absent or ended.

@@ -8,7 +8,10 @@
 //! next use. The schema is created on open, under an advisory lock so that
 //! processes starting together do not race.
 
-use super::{JobRow, MissionRow, Store, StoreError, StoreResult, JOB_COLUMNS};
+use super::{
+    JobError, JobRow, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult, COST_SQL,
+    JOB_COLUMNS,
+};
 use postgres::{Client, NoTls, Row};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -37,10 +40,24 @@ const MIGRATIONS: &[&str] = &[
         ALTER TABLE jobs ALTER COLUMN result SET COMPRESSION lz4;
      EXCEPTION WHEN OTHERS THEN NULL;
      END $$;",
+    // Worker processes (issue 19): why a job failed as a word, how often
+    // its worker died, its cost and its place in the queue.
+    "ALTER TABLE jobs ADD COLUMN error_code TEXT,
+        ADD COLUMN crashes BIGINT NOT NULL DEFAULT 0,
+        ADD COLUMN cost BIGINT NOT NULL DEFAULT 1,
+        ADD COLUMN queue_order BIGINT NOT NULL DEFAULT 0;
+     UPDATE jobs SET queue_order = created;
+     CREATE INDEX jobs_queue ON jobs (state, queue_order, seq);",
 ];
 
 /// An arbitrary key for `pg_advisory_xact_lock` around migrations.
 const MIGRATION_LOCK: i64 = 0x006e_7665_6374_6f72;
+
+/// The key of `pg_advisory_xact_lock` around queueing a job: the queue
+/// limit's count and the insert happen under it, so submissions of every
+/// process are serialised there (a short transaction: one count on the
+/// `jobs_state` index, one insert).
+const QUEUE_LOCK: i64 = 0x006e_7665_6371_7565;
 
 /// PostgreSQL storage.
 pub struct PostgresStore {
@@ -132,6 +149,9 @@ fn job_from_row(r: &Row) -> JobRow {
         finished: r.get(12),
         attempts: r.get(13),
         runner: r.get(14),
+        error_code: r.get(15),
+        crashes: r.get(16),
+        cost: r.get(17),
     }
 }
 
@@ -238,11 +258,23 @@ impl Store for PostgresStore {
         })
     }
 
-    fn insert_job(&self, owner: &str, j: &JobRow) -> StoreResult<()> {
+    fn insert_job(&self, owner: &str, j: &JobRow, policy: &QueuePolicy) -> StoreResult<Queued> {
         self.with(|c| {
-            c.execute(
-                "INSERT INTO jobs (id, owner, mission, state, contractor, max_rounds, time_limit_s, created)
-                 VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7)",
+            let mut tx = c.transaction()?;
+            // Held to the commit: the next submission's count (a new
+            // snapshot, taken after it gets the lock) sees this insert.
+            tx.execute("SELECT pg_advisory_xact_lock($1)", &[&QUEUE_LOCK])?;
+            let n = tx.execute(
+                &format!(
+                    "INSERT INTO jobs (id, owner, mission, state, contractor, max_rounds,
+                        time_limit_s, created, cost, queue_order)
+                     SELECT $1::TEXT, $2::TEXT, m.id, 'queued', $4::TEXT, $5::BIGINT,
+                        $6::DOUBLE PRECISION, $7::BIGINT, {COST_SQL},
+                        $7::BIGINT + CASE WHEN {COST_SQL} > $9::BIGINT THEN $10::BIGINT ELSE 0 END
+                     FROM missions m
+                     WHERE m.id = $3::TEXT AND m.owner = $2::TEXT
+                       AND (SELECT COUNT(*) FROM jobs WHERE state = 'queued') < $8::BIGINT"
+                ),
                 &[
                     &j.id,
                     &owner,
@@ -251,9 +283,26 @@ impl Store for PostgresStore {
                     &j.max_rounds,
                     &j.time_limit_s,
                     &j.created,
+                    &policy.max_queue,
+                    &policy.short_cost,
+                    &policy.long_delay_ms,
                 ],
-            )
-            .map(|_| ())
+            )?;
+            let outcome = if n > 0 {
+                Queued::Yes
+            } else if tx
+                .query_opt(
+                    "SELECT 1 FROM missions WHERE id = $1 AND owner = $2",
+                    &[&j.mission, &owner],
+                )?
+                .is_some()
+            {
+                Queued::Full
+            } else {
+                Queued::NoMission
+            };
+            tx.commit()?;
+            Ok(outcome)
         })
     }
 
@@ -267,27 +316,19 @@ impl Store for PostgresStore {
         })
     }
 
-    fn queued_count(&self) -> StoreResult<i64> {
-        self.with(|c| {
-            Ok(
-                c.query_one("SELECT COUNT(*) FROM jobs WHERE state = 'queued'", &[])?
-                    .get(0),
-            )
-        })
-    }
-
-    fn claim_job(&self, now: i64) -> StoreResult<Option<JobRow>> {
+    fn claim_job(&self, now: i64, max_cost: i64) -> StoreResult<Option<JobRow>> {
         self.with(|c| {
             Ok(c.query_opt(
                 &format!(
                     "UPDATE jobs SET state = 'running', started = $1, heartbeat = $1,
                      runner = $2, attempts = attempts + 1
-                     WHERE id = (SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq
+                     WHERE id = (SELECT id FROM jobs WHERE state = 'queued' AND cost <= $3::BIGINT
+                                 ORDER BY queue_order, seq
                                  LIMIT 1 FOR UPDATE SKIP LOCKED)
                        AND state = 'queued'
                      RETURNING {JOB_COLUMNS}"
                 ),
-                &[&now, &self.instance],
+                &[&now, &self.instance, &max_cost],
             )?
             .map(|r| job_from_row(&r)))
         })
@@ -331,17 +372,50 @@ impl Store for PostgresStore {
         id: &str,
         state: &str,
         result: Option<&str>,
-        error: Option<&str>,
+        error: Option<&JobError>,
         now: i64,
     ) -> StoreResult<()> {
+        let (code, message) = (error.map(|e| e.code), error.map(|e| e.message.as_str()));
         self.with(|c| {
             c.execute(
-                "UPDATE jobs SET state = $2, result = $3, error = $4, finished = $5,
+                "UPDATE jobs SET state = $2, result = $3, error = $4, error_code = $7::TEXT, finished = $5,
                  fraction = CASE WHEN $2 = 'done' THEN 1 ELSE fraction END
                  WHERE id = $1 AND state = 'running' AND runner = $6",
-                &[&id, &state, &result, &error, &now, &self.instance],
+                &[&id, &state, &result, &message, &now, &self.instance, &code],
             )
             .map(|_| ())
+        })
+    }
+
+    fn record_crash(
+        &self,
+        id: &str,
+        error: &JobError,
+        max_crashes: i64,
+        now: i64,
+    ) -> StoreResult<Option<String>> {
+        // The right-hand sides all read the row before the update.
+        self.with(|c| {
+            Ok(c.query_opt(
+                "UPDATE jobs SET crashes = crashes + 1,
+                   state = CASE WHEN crashes + 1 >= $3::BIGINT THEN 'failed' ELSE 'queued' END,
+                   error = CASE WHEN crashes + 1 >= $3::BIGINT THEN $4::TEXT ELSE NULL END,
+                   error_code = CASE WHEN crashes + 1 >= $3::BIGINT THEN $5::TEXT ELSE NULL END,
+                   finished = CASE WHEN crashes + 1 >= $3::BIGINT THEN $6::BIGINT ELSE NULL END,
+                   started = CASE WHEN crashes + 1 >= $3::BIGINT THEN started ELSE NULL END,
+                   runner = CASE WHEN crashes + 1 >= $3::BIGINT THEN runner ELSE NULL END
+                 WHERE id = $1 AND state = 'running' AND runner = $2
+                 RETURNING state",
+                &[
+                    &id,
+                    &self.instance,
+                    &max_crashes,
+                    &error.message,
+                    &error.code,
+                    &now,
+                ],
+            )?
+            .map(|r| r.get(0)))
         })
     }
 

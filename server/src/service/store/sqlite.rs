@@ -1,6 +1,9 @@
 //! SQLite storage: a database file, created on first run.
 
-use super::{JobRow, MissionRow, Store, StoreError, StoreResult, JOB_COLUMNS};
+use super::{
+    JobError, JobRow, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult, COST_SQL,
+    JOB_COLUMNS,
+};
 use rusqlite::{params, Connection, OptionalExtension};
 use std::sync::Mutex;
 
@@ -27,6 +30,14 @@ const MIGRATIONS: &[&str] = &[
     "ALTER TABLE jobs ADD COLUMN runner TEXT;
      ALTER TABLE jobs ADD COLUMN heartbeat INTEGER;
      ALTER TABLE jobs ADD COLUMN attempts INTEGER NOT NULL DEFAULT 0",
+    // Worker processes (issue 19): why a job failed as a word, how often
+    // its worker died, its cost and its place in the queue.
+    "ALTER TABLE jobs ADD COLUMN error_code TEXT;
+     ALTER TABLE jobs ADD COLUMN crashes INTEGER NOT NULL DEFAULT 0;
+     ALTER TABLE jobs ADD COLUMN cost INTEGER NOT NULL DEFAULT 1;
+     ALTER TABLE jobs ADD COLUMN queue_order INTEGER NOT NULL DEFAULT 0;
+     UPDATE jobs SET queue_order = created;
+     CREATE INDEX IF NOT EXISTS jobs_queue ON jobs (state, queue_order, seq)",
 ];
 
 impl SqliteStore {
@@ -43,12 +54,16 @@ impl SqliteStore {
         conn.pragma_update(None, "journal_mode", "WAL")?;
         conn.pragma_update(None, "synchronous", "NORMAL")?;
         let version: i64 = conn.pragma_query_value(None, "user_version", |r| r.get(0))?;
+        // Each migration and its version number in one transaction: a
+        // process killed half-way leaves the previous version whole.
         for (i, m) in MIGRATIONS.iter().enumerate() {
             if (i as i64) >= version {
-                conn.execute_batch(m)?;
+                conn.execute_batch(&format!(
+                    "BEGIN IMMEDIATE; {m}; PRAGMA user_version = {}; COMMIT;",
+                    i + 1
+                ))?;
             }
         }
-        conn.pragma_update(None, "user_version", MIGRATIONS.len() as i64)?;
         Ok(SqliteStore {
             conn: Mutex::new(conn),
             instance: super::new_instance_id(),
@@ -81,6 +96,9 @@ fn job_from_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<JobRow> {
         finished: r.get(12)?,
         attempts: r.get(13)?,
         runner: r.get(14)?,
+        error_code: r.get(15)?,
+        crashes: r.get(16)?,
+        cost: r.get(17)?,
     })
 }
 
@@ -179,14 +197,49 @@ impl Store for SqliteStore {
         })
     }
 
-    fn insert_job(&self, owner: &str, j: &JobRow) -> StoreResult<()> {
+    fn insert_job(&self, owner: &str, j: &JobRow, policy: &QueuePolicy) -> StoreResult<Queued> {
+        // One statement under the connection's lock: the count and the
+        // insert cannot interleave with another submission.
         self.with(|c| {
-            c.execute(
-                "INSERT INTO jobs (id, owner, mission, state, contractor, max_rounds, time_limit_s, created, seq)
-                 VALUES (?1, ?2, ?3, 'queued', ?4, ?5, ?6, ?7, (SELECT COALESCE(MAX(seq), 0) + 1 FROM jobs))",
-                params![j.id, owner, j.mission, j.contractor, j.max_rounds, j.time_limit_s, j.created],
-            )
-            .map(|_| ())
+            let n = c.execute(
+                &format!(
+                    "INSERT INTO jobs (id, owner, mission, state, contractor, max_rounds,
+                        time_limit_s, created, seq, cost, queue_order)
+                     SELECT ?1, ?2, m.id, 'queued', ?4, ?5, ?6, ?7,
+                        (SELECT COALESCE(MAX(seq), 0) + 1 FROM jobs), {COST_SQL},
+                        ?7 + CASE WHEN {COST_SQL} > ?9 THEN ?10 ELSE 0 END
+                     FROM missions m
+                     WHERE m.id = ?3 AND m.owner = ?2
+                       AND (SELECT COUNT(*) FROM jobs WHERE state = 'queued') < ?8"
+                ),
+                params![
+                    j.id,
+                    owner,
+                    j.mission,
+                    j.contractor,
+                    j.max_rounds,
+                    j.time_limit_s,
+                    j.created,
+                    policy.max_queue,
+                    policy.short_cost,
+                    policy.long_delay_ms
+                ],
+            )?;
+            if n > 0 {
+                return Ok(Queued::Yes);
+            }
+            let mission: Option<i64> = c
+                .query_row(
+                    "SELECT 1 FROM missions WHERE id = ?1 AND owner = ?2",
+                    params![j.mission, owner],
+                    |r| r.get(0),
+                )
+                .optional()?;
+            Ok(if mission.is_some() {
+                Queued::Full
+            } else {
+                Queued::NoMission
+            })
         })
     }
 
@@ -201,26 +254,17 @@ impl Store for SqliteStore {
         })
     }
 
-    fn queued_count(&self) -> StoreResult<i64> {
-        self.with(|c| {
-            c.query_row(
-                "SELECT COUNT(*) FROM jobs WHERE state = 'queued'",
-                [],
-                |r| r.get(0),
-            )
-        })
-    }
-
-    fn claim_job(&self, now: i64) -> StoreResult<Option<JobRow>> {
+    fn claim_job(&self, now: i64, max_cost: i64) -> StoreResult<Option<JobRow>> {
         self.with(|c| {
             c.query_row(
                 &format!(
                     "UPDATE jobs SET state = 'running', started = ?1, heartbeat = ?1,
                      runner = ?2, attempts = attempts + 1
-                     WHERE id = (SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1)
+                     WHERE id = (SELECT id FROM jobs WHERE state = 'queued' AND cost <= ?3
+                                 ORDER BY queue_order, seq LIMIT 1)
                      RETURNING {JOB_COLUMNS}"
                 ),
-                params![now, self.instance],
+                params![now, self.instance, max_cost],
                 job_from_row,
             )
             .optional()
@@ -248,17 +292,51 @@ impl Store for SqliteStore {
         id: &str,
         state: &str,
         result: Option<&str>,
-        error: Option<&str>,
+        error: Option<&JobError>,
         now: i64,
     ) -> StoreResult<()> {
+        let (code, message) = (error.map(|e| e.code), error.map(|e| e.message.as_str()));
         self.with(|c| {
             c.execute(
-                "UPDATE jobs SET state = ?2, result = ?3, error = ?4, finished = ?5,
+                "UPDATE jobs SET state = ?2, result = ?3, error = ?4, error_code = ?7, finished = ?5,
                  fraction = CASE WHEN ?2 = 'done' THEN 1 ELSE fraction END
                  WHERE id = ?1 AND state = 'running' AND runner = ?6",
-                params![id, state, result, error, now, self.instance],
+                params![id, state, result, message, now, self.instance, code],
             )
             .map(|_| ())
+        })
+    }
+
+    fn record_crash(
+        &self,
+        id: &str,
+        error: &JobError,
+        max_crashes: i64,
+        now: i64,
+    ) -> StoreResult<Option<String>> {
+        // The right-hand sides all read the row before the update.
+        self.with(|c| {
+            c.query_row(
+                "UPDATE jobs SET crashes = crashes + 1,
+                   state = CASE WHEN crashes + 1 >= ?3 THEN 'failed' ELSE 'queued' END,
+                   error = CASE WHEN crashes + 1 >= ?3 THEN ?4 ELSE NULL END,
+                   error_code = CASE WHEN crashes + 1 >= ?3 THEN ?5 ELSE NULL END,
+                   finished = CASE WHEN crashes + 1 >= ?3 THEN ?6 ELSE NULL END,
+                   started = CASE WHEN crashes + 1 >= ?3 THEN started ELSE NULL END,
+                   runner = CASE WHEN crashes + 1 >= ?3 THEN runner ELSE NULL END
+                 WHERE id = ?1 AND state = 'running' AND runner = ?2
+                 RETURNING state",
+                params![
+                    id,
+                    self.instance,
+                    max_crashes,
+                    error.message,
+                    error.code,
+                    now
+                ],
+                |r| r.get(0),
+            )
+            .optional()
         })
     }
 

@@ -1,0 +1,219 @@
+//! Inside a worker process (`nvector worker`, started by `nvector serve`,
+//! never by hand): runs SLAM jobs one at a time, under a memory limit, and
+//! talks to the service over its standard input and output.
+//!
+//! Protocol (one job at a time; the worker owns no storage):
+//! - in: a [`JobOrder`] as one JSON line, then exactly `mission_bytes`
+//!   bytes of mission JSON;
+//! - out: [`Report::Progress`] lines while it runs (at most ten a second),
+//!   then one [`Report::Done`] line followed by exactly `result_bytes` bytes
+//!   of result JSON, or one [`Report::Failed`] line.
+//!
+//! The worker exits when its input ends (the service closed it or died).
+//! Cancellation is the service killing the process; the job's own time
+//! limit is kept here (the propagation stops at the deadline and the
+//! partial, sound result is reported with `timed_out`), and the service
+//! kills a worker that overruns it by more than a grace period.
+//!
+//! The memory limit is `setrlimit(RLIMIT_AS)` on the worker itself, set
+//! before it reads anything: an allocation over it fails, the Rust runtime
+//! prints `memory allocation of N bytes failed` and aborts, and the service
+//! reads that on the worker's standard error as `memory_limit`.
+
+use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
+use nvector_core::slam::result::write_result;
+use serde::{Deserialize, Serialize};
+use std::io::{BufRead, BufWriter, Read, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// A job sent to a worker process (one JSON line, then the mission).
+#[derive(Debug, Serialize, Deserialize)]
+pub struct JobOrder {
+    /// The job's id (for the logs).
+    pub id: String,
+    /// Its association mode.
+    pub contractor: String,
+    /// Its round cap.
+    pub max_rounds: u32,
+    /// Its time limit (s).
+    pub time_limit_s: f64,
+    /// The length of the mission JSON that follows the line.
+    pub mission_bytes: usize,
+}
+
+/// What a worker process reports (one JSON line each).
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Report {
+    /// The job's progress.
+    Progress {
+        /// Rounds so far.
+        round: u64,
+        /// The largest trajectory box diameter (None when unbounded).
+        diameter: Option<f64>,
+        /// Fraction of the work done.
+        fraction: f64,
+    },
+    /// The job ended with a result: `result_bytes` bytes of JSON follow.
+    Done {
+        /// The length of the result that follows the line.
+        result_bytes: usize,
+        /// Whether the time limit stopped the propagation (the result is
+        /// partial, and sound).
+        timed_out: bool,
+    },
+    /// The job failed for a reason of its own (bad mission, ...).
+    Failed {
+        /// A word a client can test.
+        code: String,
+        /// What is wrong, for a person.
+        message: String,
+    },
+}
+
+/// Runs the worker process until its input ends: limits its memory to
+/// `memory_limit` bytes (when given) and asks to be killed with its parent,
+/// then runs the jobs it reads.
+pub fn run(memory_limit: Option<u64>) -> Result<(), String> {
+    #[cfg(unix)]
+    if let Some(limit) = memory_limit {
+        use rustix::process::{setrlimit, Resource, Rlimit};
+        setrlimit(
+            Resource::As,
+            Rlimit {
+                current: Some(limit),
+                maximum: Some(limit),
+            },
+        )
+        .map_err(|e| format!("setting the memory limit: {e}"))?;
+    }
+    #[cfg(not(unix))]
+    let _ = memory_limit;
+    // Killed with the service's worker thread that started it (a service
+    // killed with -9 leaves no worker running on). Elsewhere than Linux a
+    // worker ends at its next write to the service, or when idle.
+    #[cfg(target_os = "linux")]
+    rustix::process::set_parent_process_death_signal(Some(rustix::process::Signal::KILL))
+        .map_err(|e| format!("setting the parent-death signal: {e}"))?;
+    let mut input = std::io::stdin().lock();
+    let mut output = std::io::stdout().lock();
+    let mut line = String::new();
+    loop {
+        line.clear();
+        if input
+            .read_line(&mut line)
+            .map_err(|e| format!("reading a job: {e}"))?
+            == 0
+        {
+            return Ok(());
+        }
+        let order: JobOrder =
+            serde_json::from_str(&line).map_err(|e| format!("reading a job order: {e}"))?;
+        let mut mission = vec![0u8; order.mission_bytes];
+        input
+            .read_exact(&mut mission)
+            .map_err(|e| format!("reading the mission of job {}: {e}", order.id))?;
+        let Ok(mission) = String::from_utf8(mission) else {
+            send(
+                &mut output,
+                &Report::Failed {
+                    code: "invalid_mission".into(),
+                    message: "the mission is not UTF-8".into(),
+                },
+            )?;
+            continue;
+        };
+        run_job(&order, mission, &mut output)?;
+    }
+}
+
+fn send(out: &mut impl Write, report: &Report) -> Result<(), String> {
+    let mut text = serde_json::to_string(report).map_err(|e| e.to_string())?;
+    text.push('\n');
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(|e| format!("writing to the service: {e}"))
+}
+
+/// Runs one job and reports its end (its progress on the way).
+fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<(), String> {
+    let mission = match Mission::from_json(&mission) {
+        Ok(m) => {
+            drop(mission);
+            m
+        }
+        Err(e) => {
+            return send(
+                out,
+                &Report::Failed {
+                    code: "invalid_mission".into(),
+                    message: e.to_string(),
+                },
+            )
+        }
+    };
+    let options = SolveOptions {
+        association: Association::parse(&order.contractor).unwrap_or(Association::None),
+        max_rounds: order.max_rounds.max(1),
+        tolerance: 1e-9,
+    };
+    let cancel = AtomicBool::new(false);
+    let start = Instant::now();
+    let limit = Duration::from_secs_f64(order.time_limit_s.clamp(0.001, 1e9));
+    let mut last_sent: Option<Instant> = None;
+    let mut timed_out = false;
+    let mut broken: Option<String> = None;
+    let mut progress = |p: &Progress| {
+        if start.elapsed() > limit {
+            timed_out = true;
+            cancel.store(true, Ordering::SeqCst);
+        }
+        if last_sent.is_none_or(|t| t.elapsed() >= Duration::from_millis(100)) {
+            last_sent = Some(Instant::now());
+            let report = Report::Progress {
+                round: u64::from(p.round),
+                diameter: p
+                    .max_trajectory_diameter
+                    .is_finite()
+                    .then_some(p.max_trajectory_diameter),
+                fraction: p.fraction,
+            };
+            if let Err(e) = send(out, &report) {
+                // The service is gone: stop, and say why on the way out.
+                broken = Some(e);
+                cancel.store(true, Ordering::SeqCst);
+            }
+        }
+    };
+    let solution = solve_model(&mission, &options, &mut progress, &cancel);
+    if let Some(e) = broken {
+        return Err(e);
+    }
+    let elapsed_ms = start.elapsed().as_secs_f64() * 1e3;
+    // The whole result first: its length goes before it.
+    let mut text = Vec::new();
+    if let Err(e) = write_result(&mut text, &mission, &options, &solution, elapsed_ms) {
+        return send(
+            out,
+            &Report::Failed {
+                code: "internal".into(),
+                message: format!("writing the result: {e}"),
+            },
+        );
+    }
+    drop(solution);
+    drop(mission);
+    send(
+        out,
+        &Report::Done {
+            result_bytes: text.len(),
+            timed_out,
+        },
+    )?;
+    let mut w = BufWriter::with_capacity(1 << 16, out);
+    w.write_all(&text)
+        .and_then(|()| w.flush())
+        .map_err(|e| format!("writing the result to the service: {e}"))
+}
