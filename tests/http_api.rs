@@ -92,15 +92,31 @@ fn missions_jobs_results(b: &Backend) {
     assert_eq!(st, 200);
     assert!(String::from_utf8_lossy(&svg).starts_with("<svg"));
 
-    // Metrics count the finished job and the requests.
-    let (_, _, metrics) = s.req("GET", "/metrics", None, &[]);
+    // Metrics count the finished job and the requests, and time them.
+    let (_, head, metrics) = s.req("GET", "/metrics", None, &[]);
+    assert!(head.contains("application/openmetrics-text"), "{head}");
     let metrics = String::from_utf8(metrics).unwrap();
     assert!(
         metrics.contains("nvector_jobs{state=\"done\"} 1"),
         "{metrics}"
     );
     assert!(
-        metrics.contains("nvector_http_requests{route=\"/api/v1/missions\",status=\"201\"} 2"),
+        metrics
+            .contains("nvector_http_requests_total{route=\"/api/v1/missions\",status=\"201\"} 2"),
+        "{metrics}"
+    );
+    assert!(
+        metrics.contains(
+            "nvector_http_request_duration_ms_count{route=\"/api/v1/missions\",status=\"201\"} 2"
+        ),
+        "{metrics}"
+    );
+    assert!(
+        metrics.contains("nvector_job_duration_ms_count{lane=\"short\"} 1"),
+        "{metrics}"
+    );
+    assert!(
+        metrics.contains("nvector_job_queue_wait_ms_count{lane=\"short\"} 1"),
         "{metrics}"
     );
 

@@ -49,11 +49,22 @@ fn a_killed_service_finishes_its_job_after_restart(b: &Backend) {
     let s = Server::start_on(b, &["--workers", "1", "--job-lease", "1"]);
     let (mid, mission, ids) = long_jobs(&s, 3);
     let first = wait_running(&s, &ids[0]);
+    let workers = s.worker_pids();
+    assert!(!workers.is_empty(), "the running job has a worker process");
     let (dir, db) = (s.dir.clone(), s.db.clone());
     let mut s = s;
     s.child.kill().unwrap(); // SIGKILL: no graceful shutdown
     s.child.wait().unwrap();
     drop(s);
+    // Its worker processes die with it (none goes on running the job).
+    let start = Instant::now();
+    while workers.iter().any(|&p| common::process_alive(p)) {
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "worker processes {workers:?} outlived the service"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
     let s = Server::start_with(dir, db, &["--workers", "1", "--job-lease", "1"]);
     for id in &ids {
         let j = s.wait_job(id, Duration::from_secs(120));

@@ -245,6 +245,35 @@ impl Server {
         (st, serde_json::from_slice(&b).unwrap_or(Value::Null))
     }
 
+    /// The live worker processes of this service (its child processes, read
+    /// from /proc: Linux only), by process id.
+    pub fn worker_pids(&self) -> Vec<u32> {
+        children_of(self.child.id())
+    }
+
+    /// Waits until `id` runs in a worker process other than those in
+    /// `not`, and returns the job and that process's id.
+    pub fn wait_running_in_worker(&self, id: &str, not: &[u32], limit: Duration) -> (Value, u32) {
+        let start = Instant::now();
+        loop {
+            let (_, j) = self.get(&format!("/api/v1/jobs/{id}"));
+            assert!(
+                !matches!(j["state"].as_str(), Some("done" | "failed" | "cancelled")),
+                "the job ended before the test could stop it: {j}"
+            );
+            if j["state"] == "running" {
+                if let Some(pid) = self.worker_pids().into_iter().find(|p| !not.contains(p)) {
+                    return (j, pid);
+                }
+            }
+            assert!(
+                start.elapsed() < limit,
+                "job {id} not running in a new worker: {j}"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
     /// Polls a job until it ends.
     pub fn wait_job(&self, id: &str, limit: Duration) -> Value {
         let start = Instant::now();
@@ -268,6 +297,48 @@ impl Drop for Server {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// The live (not zombie) child processes of `parent`, from /proc.
+pub fn children_of(parent: u32) -> Vec<u32> {
+    let Ok(dir) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    dir.flatten()
+        .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|&pid| {
+            // `pid (comm) state ppid ...`: the comm may hold spaces and
+            // parentheses, so read after its last ')'.
+            std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
+                let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+                let mut f = rest.split_whitespace();
+                let state = f.next();
+                let ppid = f.next().and_then(|p| p.parse::<u32>().ok());
+                state != Some("Z") && ppid == Some(parent)
+            })
+        })
+        .collect()
+}
+
+/// Whether a process runs (not a zombie), from /proc.
+pub fn process_alive(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
+        let state = stat
+            .rsplit_once(')')
+            .map_or("", |(_, r)| r)
+            .split_whitespace()
+            .next();
+        state != Some("Z")
+    })
+}
+
+/// Sends SIGKILL to a process.
+pub fn kill9(pid: u32) {
+    let ok = Command::new("kill")
+        .args(["-KILL", &pid.to_string()])
+        .status()
+        .expect("run kill");
+    assert!(ok.success(), "kill -KILL {pid}");
 }
 
 fn uuid_like() -> String {
