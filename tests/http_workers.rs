@@ -83,6 +83,11 @@ fn a_job_over_the_memory_limit_fails_and_the_service_keeps_answering() {
     );
     // It failed in the propagation, not reading the mission.
     assert!(j["progress"]["round"].as_i64() >= Some(1), "{j}");
+    // The failed job, as the OpenAPI document describes a Job.
+    let (_, doc) = s.get("/api/v1/openapi.json");
+    let errors =
+        nvector_tests::schema::validate(&doc, &json!({"$ref": "#/components/schemas/Job"}), &j);
+    assert!(errors.is_empty(), "{errors:?}: {j}");
     // Not retried: the same job needs the same memory.
     assert_eq!(
         (j["attempts"].as_i64(), j["worker_crashes"].as_i64()),

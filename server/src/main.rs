@@ -40,11 +40,7 @@ enum Command {
     /// A worker process of `nvector serve` (started by the service, not by
     /// hand): runs the jobs it reads on standard input.
     #[command(hide = true)]
-    Worker {
-        /// Memory limit of this process (bytes).
-        #[arg(long)]
-        memory_limit: Option<u64>,
-    },
+    Worker(cli::worker::Args),
     /// The performance table of BENCHMARKS.md, as JSON lines.
     Bench {
         /// Smaller sizes, for a smoke test (names end in `_quick`).
@@ -93,9 +89,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Import(a) => cli::import::run(a),
         Command::Plot(a) => cli::plot::run(a),
-        Command::Worker { memory_limit } => {
-            service::job_runner::run(memory_limit).map_err(CliError)
-        }
+        Command::Worker(a) => cli::worker::run(a),
         Command::Bench {
             service: true,
             clients,

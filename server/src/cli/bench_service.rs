@@ -3,7 +3,8 @@
 //! a fresh database, then `clients` threads at once each upload a small
 //! simulated mission, queue a job on it and follow the job's Server-Sent
 //! Events to the end. Prints one JSON line: errors, submit-to-done p50/p99,
-//! throughput, and the service's peak resident memory.
+//! throughput, and the peak resident memory of the service's HTTP process
+//! and, summed, of its worker processes (the jobs run there).
 
 use crate::CliError;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
@@ -157,6 +158,24 @@ fn client(addr: &str, mission: &str) -> Result<f64, String> {
     Ok(t.elapsed().as_secs_f64())
 }
 
+/// The child processes of `parent` (its worker processes), from /proc
+/// (Linux; empty elsewhere).
+fn worker_pids(parent: u32) -> Vec<u32> {
+    let Ok(dir) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    dir.flatten()
+        .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|pid| {
+            std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
+                // `pid (comm) state ppid ...`: read after the comm.
+                let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+                rest.split_whitespace().nth(1) == Some(&parent.to_string())
+            })
+        })
+        .collect()
+}
+
 /// Peak resident memory (VmHWM) of a process, in MiB (Linux).
 fn peak_rss_mib(pid: u32) -> Option<f64> {
     let s = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
@@ -218,6 +237,10 @@ pub fn run(o: &Options) -> Result<Value, CliError> {
     }
     let wall = start.elapsed().as_secs_f64();
     let rss = peak_rss_mib(service.child.id());
+    let workers_rss: f64 = worker_pids(service.child.id())
+        .into_iter()
+        .filter_map(peak_rss_mib)
+        .sum();
     times.sort_by(f64::total_cmp);
     let mut v = json!({
         "name": "service_load",
@@ -231,6 +254,7 @@ pub fn run(o: &Options) -> Result<Value, CliError> {
         "wall_ms": (wall * 1e6).round() / 1e3,
         "jobs_per_s": ((times.len() as f64 / wall) * 1e3).round() / 1e3,
         "peak_rss_mib": rss.map(|r| (r * 10.0).round() / 10.0),
+        "workers_peak_rss_mib": (workers_rss * 10.0).round() / 10.0,
         "goal_p99_ms": 2000,
     });
     if let Some(e) = errors.first() {

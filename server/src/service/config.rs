@@ -56,10 +56,12 @@ impl Default for Config {
     }
 }
 
-/// The default short-job cost (steps × detections): a 2,000-step paper
-/// mission (about 13,000 detections, 2.6·10^7) is short; the CMU Plaza
-/// missions and 10^5-step simulations are long.
-pub const DEFAULT_SHORT_JOB_COST: i64 = 50_000_000;
+/// The default short-job cost (steps × detections): simulated paper
+/// missions up to 10,000 steps (44 detections, 4.4·10^5) and the AUV
+/// survey (60,000 steps, 14 detections, 8.4·10^5) are short; a
+/// 100,000-step paper mission (4.5·10^7) and CMU Plaza (9657 steps, 3529
+/// ranges, 3.4·10^7; 8 s with `best`) are long.
+pub const DEFAULT_SHORT_JOB_COST: i64 = 1_000_000;
 
 /// The smallest job memory limit accepted: below it a worker process could
 /// not even read a small mission.

@@ -1,7 +1,7 @@
 //! The process's metrics (prometheus-client): histograms of job durations,
 //! queue waits and request latencies, counters of requests and of worker
-//! deaths, and the gauge of jobs by state that `/metrics` reads from
-//! storage when scraped. Memory is fixed per label set (a histogram is its
+//! deaths, the gauge of busy workers, and the gauge of jobs by state that
+//! `/metrics` reads from storage when scraped. Memory is fixed per label set (a histogram is its
 //! buckets), however many jobs and requests pass.
 
 use prometheus_client::encoding::EncodeLabelSet;
@@ -72,6 +72,8 @@ pub struct Meters {
     pub http_request_duration_ms: Family<RequestLabels, Histogram, fn() -> Histogram>,
     /// Deaths of this process's worker processes while running a job.
     pub worker_deaths: Family<ReasonLabel, Counter>,
+    /// Workers of this process running a job now.
+    pub busy_workers: Gauge,
 }
 
 impl Meters {
@@ -84,6 +86,7 @@ impl Meters {
         let http_request_duration_ms =
             Family::new_with_constructor(request_histogram as fn() -> Histogram);
         let worker_deaths = Family::<ReasonLabel, Counter>::default();
+        let busy_workers = Gauge::default();
         let mut registry = Registry::default();
         registry.register(
             "nvector_jobs",
@@ -115,6 +118,11 @@ impl Meters {
             "Worker processes of this process that died running a job, by reason",
             worker_deaths.clone(),
         );
+        registry.register(
+            "nvector_busy_workers",
+            "Workers of this process running a job now",
+            busy_workers.clone(),
+        );
         Meters {
             registry,
             jobs,
@@ -123,6 +131,7 @@ impl Meters {
             http_requests,
             http_request_duration_ms,
             worker_deaths,
+            busy_workers,
         }
     }
 

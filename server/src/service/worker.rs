@@ -22,7 +22,7 @@ use super::job_runner::JobOrder;
 use super::meters::{self, Meters, ReasonLabel};
 use super::store::{JobError, JobRow, Store};
 use super::worker_process::{Message, WorkerProcess};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
@@ -41,8 +41,6 @@ pub struct Workers {
     pub stopping: AtomicBool,
     /// The metric families of this process.
     pub meters: Arc<Meters>,
-    /// Jobs currently running in this process.
-    pub running: AtomicU64,
     /// Ids of the jobs whose stored state this process just changed (for
     /// the event streams).
     pub changes: tokio::sync::broadcast::Sender<String>,
@@ -56,7 +54,6 @@ impl Workers {
             cond: Condvar::new(),
             stopping: AtomicBool::new(false),
             meters: Arc::new(Meters::new()),
-            running: AtomicU64::new(0),
             changes: tokio::sync::broadcast::channel(4096).0,
         })
     }
@@ -181,12 +178,12 @@ fn worker_loop(store: &dyn Store, workers: &Workers, config: &PoolConfig, max_co
                         .get_or_create(&lane)
                         .observe(started.saturating_sub(job.created).max(0) as f64);
                 }
-                workers.running.fetch_add(1, Ordering::SeqCst);
+                workers.meters.busy_workers.inc();
                 workers.changed(&job.id);
                 let start = Instant::now();
                 run_job(store, workers, config, &mut process, &job);
                 workers.changed(&job.id);
-                workers.running.fetch_sub(1, Ordering::SeqCst);
+                workers.meters.busy_workers.dec();
                 workers
                     .meters
                     .job_duration_ms
@@ -366,10 +363,10 @@ fn supervise(
         if last_check.elapsed() >= Duration::from_millis(250) {
             last_check = Instant::now();
             // Cancelled, or deleted with its mission: stop the work.
-            if matches!(store.job_state(&job.id), Ok(Some(s)) if s == "cancelled")
-                || matches!(store.job_state(&job.id), Ok(None))
-            {
-                return kill(process);
+            match store.job_state(&job.id) {
+                Ok(Some(s)) if s == "cancelled" => return kill(process),
+                Ok(None) => return kill(process),
+                _ => {}
             }
         }
         if start.elapsed() > hard_limit {
