@@ -276,7 +276,7 @@ pub fn explain_death(
     });
     if let Some(bytes) = allocation {
         let limit = memory_limit.map_or_else(
-            || "the machine's memory".to_string(),
+            || "the machine could give (no --job-memory-limit)".to_string(),
             |l| {
                 format!(
                     "this service's limit of {} per job (--job-memory-limit)",
