@@ -46,7 +46,10 @@ const MIGRATIONS: &[&str] = &[
         ADD COLUMN crashes BIGINT NOT NULL DEFAULT 0,
         ADD COLUMN cost BIGINT NOT NULL DEFAULT 1,
         ADD COLUMN queue_order BIGINT NOT NULL DEFAULT 0;
-     UPDATE jobs SET queue_order = created;
+     UPDATE jobs SET queue_order = created, cost = COALESCE((SELECT
+         (CASE WHEN m.steps > 1 THEN m.steps ELSE 1 END)
+         * (CASE WHEN m.detections > 1 THEN m.detections ELSE 1 END)
+         FROM missions m WHERE m.id = jobs.mission), 1);
      CREATE INDEX jobs_queue ON jobs (state, queue_order, seq);",
 ];
 

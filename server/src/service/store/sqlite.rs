@@ -36,7 +36,10 @@ const MIGRATIONS: &[&str] = &[
      ALTER TABLE jobs ADD COLUMN crashes INTEGER NOT NULL DEFAULT 0;
      ALTER TABLE jobs ADD COLUMN cost INTEGER NOT NULL DEFAULT 1;
      ALTER TABLE jobs ADD COLUMN queue_order INTEGER NOT NULL DEFAULT 0;
-     UPDATE jobs SET queue_order = created;
+     UPDATE jobs SET queue_order = created, cost = COALESCE((SELECT
+         (CASE WHEN m.steps > 1 THEN m.steps ELSE 1 END)
+         * (CASE WHEN m.detections > 1 THEN m.detections ELSE 1 END)
+         FROM missions m WHERE m.id = jobs.mission), 1);
      CREATE INDEX IF NOT EXISTS jobs_queue ON jobs (state, queue_order, seq)",
 ];
 
@@ -409,5 +412,125 @@ impl Store for SqliteStore {
             let rows = st.query_map([], |r| Ok((r.get(0)?, r.get(1)?)))?;
             rows.collect()
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn open() -> (SqliteStore, std::path::PathBuf) {
+        let dir =
+            std::env::temp_dir().join(format!("nvector-store-{}", super::super::new_instance_id()));
+        let store = SqliteStore::open(dir.join("db").to_str().unwrap()).unwrap();
+        (store, dir)
+    }
+
+    fn mission(st: &SqliteStore, id: &str, steps: i64, detections: i64) {
+        let row = MissionRow {
+            id: id.into(),
+            name: id.into(),
+            steps,
+            detections,
+            created: 0,
+        };
+        st.insert_mission("", &row, "{}").unwrap();
+    }
+
+    fn job(id: &str, mission: &str, created: i64) -> JobRow {
+        JobRow {
+            id: id.into(),
+            mission: mission.into(),
+            state: "queued".into(),
+            contractor: "none".into(),
+            max_rounds: 1,
+            time_limit_s: 1.0,
+            round: 0,
+            diameter: None,
+            fraction: 0.0,
+            error: None,
+            error_code: None,
+            attempts: 0,
+            crashes: 0,
+            cost: 0,
+            runner: None,
+            created,
+            started: None,
+            finished: None,
+        }
+    }
+
+    const POLICY: QueuePolicy = QueuePolicy {
+        max_queue: 3,
+        short_cost: 100,
+        long_delay_ms: 1000,
+    };
+
+    #[test]
+    fn the_queue_limit_cost_and_order() {
+        let (st, dir) = open();
+        mission(&st, "long", 50, 3); // cost 150: long
+        mission(&st, "short", 10, 0); // cost 10 × 1: short
+        let q = |id: &str, m: &str, t: i64| st.insert_job("", &job(id, m, t), &POLICY).unwrap();
+        assert_eq!(q("a", "long", 0), Queued::Yes);
+        assert_eq!(q("b", "long", 10), Queued::Yes);
+        // Queued after both long jobs, within the long-job delay: first.
+        assert_eq!(q("c", "short", 500), Queued::Yes);
+        assert_eq!(q("d", "short", 600), Queued::Full);
+        assert_eq!(q("e", "gone", 600), Queued::NoMission);
+        // The short lane sees only the short job; the costs are stored.
+        assert!(st
+            .claim_job(1, 100)
+            .unwrap()
+            .is_some_and(|j| j.id == "c" && j.cost == 10));
+        assert!(st.claim_job(1, 100).unwrap().is_none());
+        let order: Vec<(String, i64)> = std::iter::from_fn(|| st.claim_job(1, i64::MAX).unwrap())
+            .map(|j| (j.id, j.cost))
+            .collect();
+        assert_eq!(order, [("a".into(), 150), ("b".into(), 150)]);
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn a_crash_requeues_until_the_last_attempt() {
+        let (st, dir) = open();
+        mission(&st, "m", 1, 1);
+        st.insert_job("", &job("j", "m", 0), &POLICY).unwrap();
+        let e = JobError {
+            code: "worker_crashed",
+            message: "killed".into(),
+        };
+        st.claim_job(1, i64::MAX).unwrap().unwrap();
+        assert_eq!(
+            st.record_crash("j", &e, 2, 5).unwrap().as_deref(),
+            Some("queued")
+        );
+        let j = st.job("", "j").unwrap().unwrap();
+        assert_eq!(
+            (j.crashes, j.error_code, j.runner, j.started),
+            (1, None, None, None)
+        );
+        let j = st.claim_job(6, i64::MAX).unwrap().unwrap();
+        assert_eq!((j.attempts, j.crashes), (2, 1));
+        assert_eq!(
+            st.record_crash("j", &e, 2, 9).unwrap().as_deref(),
+            Some("failed")
+        );
+        let j = st.job("", "j").unwrap().unwrap();
+        assert_eq!(
+            (
+                j.state.as_str(),
+                j.crashes,
+                j.error_code.as_deref(),
+                j.error.as_deref(),
+                j.finished
+            ),
+            ("failed", 2, Some("worker_crashed"), Some("killed"), Some(9))
+        );
+        // Nothing claims it again, and a crash of a job no longer held is
+        // not recorded.
+        assert!(st.claim_job(10, i64::MAX).unwrap().is_none());
+        assert_eq!(st.record_crash("j", &e, 2, 11).unwrap(), None);
+        let _ = std::fs::remove_dir_all(dir);
     }
 }
