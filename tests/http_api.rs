@@ -202,6 +202,9 @@ fn malformed_requests_get_4xx_naming_the_problem(b: &Backend) {
             "1",
             "--workers",
             "1",
+            // One worker in all, so that a second job waits.
+            "--short-lane-workers",
+            "0",
         ],
     );
     let mission = small_mission(1, 300);
