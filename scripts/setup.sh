@@ -2,8 +2,8 @@
 # Installs what the build and the tests need, when missing: the wasm32
 # target, wasm-bindgen-cli at the Cargo.lock version, Chromium and
 # chromedriver, PostgreSQL (server binaries for the storage tests), Node.js
-# and npm, and wasm-opt (npm's binaryen, at the version of
-# web/tools/package-lock.json).
+# and npm, wasm-opt (npm's binaryen, at the version of
+# web/tools/package-lock.json) and the Python venv (scripts/venv.sh).
 # Idempotent and quick when everything is there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,6 +12,27 @@ if ! rustup target list --installed | grep -q '^wasm32-unknown-unknown$'; then
   echo "setup: adding the wasm32-unknown-unknown target"
   rustup target add wasm32-unknown-unknown
 fi
+
+# Debian's packages and the Python venv download while wasm-bindgen-cli
+# compiles (the longest step on a fresh machine): each logs to a file, and
+# a failure stops the setup with that log.
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT
+apt_pkgs=()
+command -v chromium >/dev/null || apt_pkgs+=(chromium)
+command -v chromedriver >/dev/null || apt_pkgs+=(chromium-driver)
+ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || apt_pkgs+=(postgresql)
+command -v npm >/dev/null || apt_pkgs+=(nodejs npm)
+apt_pid=""
+if [ ${#apt_pkgs[@]} -gt 0 ]; then
+  echo "setup: installing ${apt_pkgs[*]} from Debian's packages"
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO=sudo
+  ( $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${apt_pkgs[@]}" ) \
+    >"$logs/apt" 2>&1 &
+  apt_pid=$!
+fi
+scripts/venv.sh >"$logs/venv" 2>&1 &
+venv_pid=$!
 
 # wasm-bindgen-cli must match the wasm-bindgen crate in Cargo.lock exactly.
 want=$(awk '/^name = "wasm-bindgen"$/ {getline; gsub(/[^0-9.]/, ""); print; exit}' Cargo.lock 2>/dev/null || true)
@@ -23,17 +44,17 @@ if [ -n "$want" ]; then
   fi
 fi
 
-apt_pkgs=()
-command -v chromium >/dev/null || apt_pkgs+=(chromium)
-command -v chromedriver >/dev/null || apt_pkgs+=(chromium-driver)
-ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || apt_pkgs+=(postgresql)
-command -v npm >/dev/null || apt_pkgs+=(nodejs npm)
-if [ ${#apt_pkgs[@]} -gt 0 ]; then
-  echo "setup: installing ${apt_pkgs[*]} from Debian's packages"
-  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO=sudo
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${apt_pkgs[@]}" >/dev/null
-fi
+
+finish() { # finish PID NAME: wait for a background step, show its log if it failed
+  if ! wait "$1"; then
+    echo "setup: $2 failed:" >&2
+    cat "$logs/$2" >&2
+    exit 1
+  fi
+}
+[ -z "$apt_pid" ] || finish "$apt_pid" apt
+finish "$venv_pid" venv
+cat "$logs/venv"
 
 # wasm-opt shrinks the page's wasm (scripts/web.sh build); pinned by the
 # lock file, installed under web/tools/node_modules.

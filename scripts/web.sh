@@ -27,8 +27,12 @@ case "${1:-}" in
   build) build ;;
   test)
     build
-    # Native outputs that the browser must reproduce bit for bit.
-    cargo test -p nvector-web --test native_reference
+    # Native outputs that the browser must reproduce bit for bit
+    # (target/web-reference.json). `--workspace` builds with the features
+    # of `cargo test --workspace`, which `make test` runs first, so nothing
+    # is compiled again (with `-p nvector-web` alone, feature unification
+    # differs and the dependencies were built a second time: 69 s).
+    cargo test --workspace --test native_reference
     export CHROMEDRIVER="${CHROMEDRIVER:-$(command -v chromedriver)}"
     CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
       cargo test -p nvector-web --target wasm32-unknown-unknown --test wasm
