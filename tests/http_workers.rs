@@ -78,8 +78,8 @@ fn a_job_over_the_memory_limit_fails_and_the_service_keeps_answering() {
     assert_eq!(j["error_code"], "memory_limit", "{j}");
     let message = j["error"].as_str().unwrap();
     assert!(
-        message.contains("64 MiB"),
-        "the error names the limit: {message}"
+        message.starts_with("memory_limit: ") && message.contains("64 MiB"),
+        "the error says why in a word, then names the limit: {message}"
     );
     // It failed in the propagation, not reading the mission.
     assert!(j["progress"]["round"].as_i64() >= Some(1), "{j}");
@@ -152,7 +152,9 @@ fn a_killed_worker_is_retried_then_its_job_fails(b: &Backend) {
     );
     let message = j["error"].as_str().unwrap();
     assert!(
-        message.contains("SIGKILL") && message.contains("2 of at most 2"),
+        message.starts_with("worker_crashed: ")
+            && message.contains("SIGKILL")
+            && message.contains("2 of at most 2"),
         "{message}"
     );
     healthy(&s);

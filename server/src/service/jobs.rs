@@ -206,7 +206,12 @@ impl From<&JobRow> for Job {
             created_ms: j.created,
             started_ms: j.started,
             finished_ms: j.finished,
-            error: j.error.clone(),
+            // spec/api.md: the error says why in a word a client can test,
+            // then the message (`error_code` holds the word alone).
+            error: j.error.as_ref().map(|e| match &j.error_code {
+                Some(c) if !e.starts_with(c.as_str()) => format!("{c}: {e}"),
+                _ => e.clone(),
+            }),
             error_code: j.error_code.clone(),
             attempts: (j.attempts > 0).then_some(j.attempts),
             runner: j.runner.clone(),
