@@ -1204,8 +1204,9 @@ fn the_engine_keeps_the_truth_across_unbounded_steps() {
 /// The three missions of issue 19, built in core (the CLI tests run them
 /// through the binary): a 3-step, 2-landmark mission whose first step has
 /// the unbounded speed and whose step 1 sees both landmarks at overlapping
-/// ranges; 2 steps and one landmark across an unbounded step; the paper
-/// scenario (seed 3, 3,000 steps) with motion_error[1500] = f64::MAX.
+/// ranges; 2 steps and one landmark across an unbounded step (and the same
+/// with the operator's labels and an unbounded range); the paper scenario
+/// (seed 3, 3,000 steps) with motion_error[1500] = f64::MAX.
 #[test]
 fn issue_19_missions_answer_consistently_under_every_contractor() {
     let three = json!({
@@ -1228,6 +1229,19 @@ fn issue_19_missions_answer_consistently_under_every_contractor() {
         "landmark_count": 1,
         "truth": {"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[3, 4]], "matching": [0, 0]}
     });
+    // The operator's group across the unbounded step, its second range
+    // unbounded: p(2) keeps an infinite bound, which must not count as a
+    // move in every round (the run must end consistent, not stopped).
+    let half = json!({
+        "format": "nvector-mission/1", "model": "unicycle2d", "dt": 1.0, "steps": 2,
+        "initial_position": [[0, 0], [0, 0]],
+        "inputs": {"speed": {"value": [1e308, 1], "error": [1e308, 0.01]},
+                   "heading": {"value": [0, 0], "error": 0.01}},
+        "detections": [{"step": 0, "range": [4.9, 5.1], "landmark": 0},
+                       {"step": 2, "range": [4.0, "inf"], "landmark": 0}],
+        "landmark_count": 1,
+        "truth": {"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[3, 4]], "matching": [0, 0]}
+    });
     let mut o = SimulateOptions::new(Scenario::Paper, 3);
     o.steps = Some(3000);
     let mut paper = simulate(&o);
@@ -1235,7 +1249,12 @@ fn issue_19_missions_answer_consistently_under_every_contractor() {
     let mut errors = vec![e; 3000];
     errors[1500] = f64::MAX;
     paper["motion_error"] = json!(errors);
-    for (name, v) in [("three", three), ("two", two), ("paper", paper)] {
+    for (name, v) in [
+        ("three", three),
+        ("two", two),
+        ("half", half),
+        ("paper", paper),
+    ] {
         let m = Mission::from_value(&v).expect("valid");
         for assoc in associations(m.detections.len()) {
             let options = SolveOptions {
