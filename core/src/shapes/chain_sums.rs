@@ -310,9 +310,9 @@ mod tests {
             for (a, b) in [(s, t), (t, s)] {
                 let w = d(a, b);
                 let (mut lo, mut hi) = (rat(0.0), rat(0.0));
-                for u in s..t {
-                    lo += rat(disp[u].lo());
-                    hi += rat(disp[u].hi());
+                for x in &disp[s..t] {
+                    lo += rat(x.lo());
+                    hi += rat(x.hi());
                 }
                 let (lo, hi) = if a < b { (lo, hi) } else { (-hi, -lo) };
                 assert!(rat(w.lo()) <= lo && hi <= rat(w.hi()), "{a} {b} {w:?}");
