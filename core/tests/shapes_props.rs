@@ -126,7 +126,10 @@ fn planted(seed: u64, dim: usize, layout: Layout, bearings: bool) -> Planted {
         }
         let l = rng.below(n);
         let (p, lm) = (&truth_pos[t], &landmarks[l]);
-        let dist = (0..dim).map(|a| (lm[a] - p[a]).powi(2)).sum::<f64>().sqrt();
+        let dist = (0..dim)
+            .map(|a| (lm[a] - p[a]) * (lm[a] - p[a]))
+            .sum::<f64>()
+            .sqrt();
         let r = around(dist, rng.range(0.0, range_err), rng.range(0.0, range_err));
         let r = r.intersect(Interval::new(0.0, f64::INFINITY));
         let hd = headings[(t).min(steps - 1)];

@@ -13,11 +13,27 @@
 //! `Σ_{s}^{t-1} lo_u ∈ L(t) - L(s)` (interval difference) and its lower
 //! bound is a sound lower bound (likewise for the upper bounds).
 //!
+//! Unbounded and huge bounds. A displacement may have an infinite bound (a
+//! speed of `1e308 ± 1e308` is [0, +inf]; an error bound of f64::MAX
+//! overflows when added): a lower bound below `-BIG` is counted as -inf and
+//! an upper bound above `BIG` as +inf, in counts kept beside the finite
+//! sums; a window whose count grows has that side infinite, and the other
+//! windows keep their finite sums. A lower bound above `BIG` and an upper
+//! bound below `-BIG` are replaced by 0 (a lower bound may only go down, an
+//! upper bound only up). So the finite sums stay below `N · BIG` in
+//! magnitude (no overflow for any N below 2^500) and hold no huge term: one
+//! huge step leaves the windows that do not contain it as tight as before
+//! (a huge term in the prefix sums would round every later window to its
+//! own ulp). An
+//! empty displacement (no motion is possible: the chain is infeasible) is
+//! counted too, and a window containing one is empty.
+//!
 //! # Soundness
 //!
-//! Every sum is an interval enclosure of the exact real sum (outward
-//! rounding); the true displacement sum lies between the exact sums of the
-//! bounds.
+//! Every finite sum is an interval enclosure of the exact real sum
+//! (outward rounding) of bounds that are at most the true lower bounds (at
+//! least the true upper bounds); an infinite side holds everything. The
+//! true displacement sum lies between the exact sums of the bounds.
 //!
 //! # Complexity
 //!
@@ -29,51 +45,115 @@ use crate::interval::Interval;
 /// Steps between stored prefix sums.
 const BLOCK: usize = 64;
 
+/// Displacement bounds beyond this magnitude (2^500) are taken as infinite
+/// (or as 0, see the module doc): a sum of fewer than 2^500 bounds below it
+/// cannot overflow.
+const BIG: f64 = 3.273_390_607_896_142e150;
+
+/// The sums of the bounds of the displacements before one step, on one
+/// axis (module doc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Prefix {
+    /// Enclosure of the sum of the lower bounds that are above `-BIG`
+    /// (0 for those above `BIG`).
+    lo: Interval,
+    /// Enclosure of the sum of the upper bounds that are below `BIG`
+    /// (0 for those below `-BIG`).
+    hi: Interval,
+    /// Lower bounds below `-BIG` (taken as -inf).
+    lo_inf: usize,
+    /// Upper bounds above `BIG` (taken as +inf).
+    hi_inf: usize,
+    /// Empty displacements.
+    empty: usize,
+}
+
+impl Prefix {
+    const ZERO: Prefix = Prefix {
+        lo: Interval::ZERO,
+        hi: Interval::ZERO,
+        lo_inf: 0,
+        hi_inf: 0,
+        empty: 0,
+    };
+
+    /// Adds the bounds of one displacement `d`.
+    #[inline]
+    fn add(&mut self, d: Interval) {
+        if d.is_empty() {
+            self.empty += 1;
+            return;
+        }
+        if d.lo() < -BIG {
+            self.lo_inf += 1;
+        } else {
+            let lo = if d.lo() > BIG { 0.0 } else { d.lo() };
+            self.lo = self.lo + Interval::point(lo);
+        }
+        if d.hi() > BIG {
+            self.hi_inf += 1;
+        } else {
+            let hi = if d.hi() < -BIG { 0.0 } else { d.hi() };
+            self.hi = self.hi + Interval::point(hi);
+        }
+    }
+
+    /// An enclosure of the displacement sum between the steps of `self`
+    /// and of `later` (a prefix at a later step).
+    #[inline]
+    fn window(&self, later: &Prefix) -> Interval {
+        if later.empty > self.empty {
+            return Interval::EMPTY;
+        }
+        let lo = if later.lo_inf > self.lo_inf {
+            f64::NEG_INFINITY
+        } else {
+            (later.lo - self.lo).lo()
+        };
+        let hi = if later.hi_inf > self.hi_inf {
+            f64::INFINITY
+        } else {
+            (later.hi - self.hi).hi()
+        };
+        Interval::new(lo, hi)
+    }
+}
+
 /// Prefix sums of the displacement bounds (module doc).
 #[derive(Debug, Clone)]
 pub struct ChainSums<'a> {
     dim: usize,
     disp: &'a [Interval],
-    /// Per block boundary b·BLOCK and axis: enclosures of Σ_{u<b·BLOCK}
-    /// lo_u and Σ hi_u.
-    lo: Vec<Interval>,
-    hi: Vec<Interval>,
+    /// Per block boundary b·BLOCK and axis: the sums of the bounds of the
+    /// displacements before it.
+    blocks: Vec<Prefix>,
     /// Steps whose prefix sums are kept too (sorted), and those sums.
     marks: Vec<usize>,
-    mark_lo: Vec<Interval>,
-    mark_hi: Vec<Interval>,
+    mark_sums: Vec<Prefix>,
 }
 
 impl<'a> ChainSums<'a> {
     /// Prefix sums of `disp` (N·dim displacement boxes).
     pub fn new(disp: &'a [Interval], dim: usize) -> ChainSums<'a> {
         let n = disp.len() / dim.max(1);
-        let blocks = n / BLOCK + 1;
-        let mut lo = Vec::with_capacity(blocks * dim);
-        let mut hi = Vec::with_capacity(blocks * dim);
-        let mut sl = [Interval::ZERO; MAX_DIM];
-        let mut sh = [Interval::ZERO; MAX_DIM];
+        let mut blocks = Vec::with_capacity((n / BLOCK + 1) * dim);
+        let mut sums = [Prefix::ZERO; MAX_DIM];
         for u in 0..=n {
             if u % BLOCK == 0 {
-                lo.extend_from_slice(&sl[..dim]);
-                hi.extend_from_slice(&sh[..dim]);
+                blocks.extend_from_slice(&sums[..dim]);
             }
             if u < n {
-                for a in 0..dim {
-                    let d = disp[u * dim + a];
-                    sl[a] = sl[a] + Interval::point(d.lo());
-                    sh[a] = sh[a] + Interval::point(d.hi());
+                for (a, s) in sums.iter_mut().enumerate().take(dim) {
+                    s.add(disp[u * dim + a]);
                 }
             }
         }
         ChainSums {
             dim,
             disp,
-            lo,
-            hi,
+            blocks,
             marks: Vec::new(),
-            mark_lo: Vec::new(),
-            mark_hi: Vec::new(),
+            mark_sums: Vec::new(),
         }
     }
 
@@ -83,44 +163,39 @@ impl<'a> ChainSums<'a> {
         let mut marks = steps.to_vec();
         marks.sort_unstable();
         marks.dedup();
-        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        let mut sums = Vec::with_capacity(marks.len() * self.dim);
         for &t in &marks {
             for a in 0..self.dim {
-                let (l, h) = self.walk(t, a);
-                lo.push(l);
-                hi.push(h);
+                sums.push(self.walk(t, a));
             }
         }
         self.marks = marks;
-        self.mark_lo = lo;
-        self.mark_hi = hi;
+        self.mark_sums = sums;
         self
     }
 
-    /// Enclosures of Σ_{u<t} lo_u and Σ_{u<t} hi_u on axis `a`.
-    fn prefix(&self, t: usize, a: usize) -> (Interval, Interval) {
+    /// The sums of the bounds before step `t` on axis `a`.
+    fn prefix(&self, t: usize, a: usize) -> Prefix {
         if let Ok(i) = self.marks.binary_search(&t) {
-            let x = i * self.dim + a;
-            return (self.mark_lo[x], self.mark_hi[x]);
+            return self.mark_sums[i * self.dim + a];
         }
         self.walk(t, a)
     }
 
     /// [`ChainSums::prefix`] from the block boundary below `t`.
-    fn walk(&self, t: usize, a: usize) -> (Interval, Interval) {
+    fn walk(&self, t: usize, a: usize) -> Prefix {
         let dim = self.dim;
         let b = t / BLOCK;
-        let (mut l, mut h) = (self.lo[b * dim + a], self.hi[b * dim + a]);
+        let mut p = self.blocks[b * dim + a];
         for u in b * BLOCK..t {
-            let d = self.disp[u * dim + a];
-            l = l + Interval::point(d.lo());
-            h = h + Interval::point(d.hi());
+            p.add(self.disp[u * dim + a]);
         }
-        (l, h)
+        p
     }
 
-    /// An enclosure of p(t) - p(s) on each axis (first `dim` entries);
-    /// empty when a displacement is empty.
+    /// An enclosure of p(t) - p(s) on each axis (first `dim` entries):
+    /// unbounded on a side where a displacement between the steps is;
+    /// empty only when a displacement between them is empty.
     pub fn delta(&self, s: usize, t: usize) -> [Interval; MAX_DIM] {
         let mut out = [Interval::ZERO; MAX_DIM];
         if s == t {
@@ -128,9 +203,7 @@ impl<'a> ChainSums<'a> {
         }
         let (from, to) = (s.min(t), s.max(t));
         for (a, o) in out.iter_mut().enumerate().take(self.dim) {
-            let (l1, h1) = self.prefix(from, a);
-            let (l2, h2) = self.prefix(to, a);
-            let forward = Interval::new((l2 - l1).lo(), (h2 - h1).hi());
+            let forward = self.prefix(from, a).window(&self.prefix(to, a));
             *o = if s < t { forward } else { -forward };
         }
         out
@@ -179,5 +252,83 @@ mod tests {
                 assert!(lo - rat(d[a].lo()) < slack.clone() && rat(d[a].hi()) - hi < slack);
             }
         }
+    }
+
+    /// Issue 19: one displacement with an infinite bound (a speed of
+    /// 1e308 ± 1e308 is [0, +inf]) made every later prefix sum empty, so
+    /// every window across it was empty and every pair of detections across
+    /// it "disjoint". Windows containing an unbounded, huge or overflowing
+    /// step are unbounded on that side (never empty), and the windows that
+    /// do not contain it keep the exact sums, tight.
+    #[test]
+    fn issue_19_unbounded_steps_give_unbounded_windows_not_empty_ones() {
+        use num_rational::BigRational;
+        let rat = |x: f64| BigRational::from_float(x).expect("finite");
+        let n = 400;
+        let mut disp = vec![Interval::new(0.9, 1.1); n];
+        disp[10] = Interval::new(0.0, f64::INFINITY);
+        disp[100] = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
+        disp[200] = Interval::new(-f64::MAX, f64::MAX);
+        disp[250] = Interval::new(1e300, f64::MAX);
+        disp[300] = Interval::new(-1e200, -1e160);
+        let sums = ChainSums::new(&disp, 1).with_steps(&[5, 150, 399]);
+        let d = |s: usize, t: usize| sums.delta(s, t)[0];
+        assert!(
+            d(0, 10).lo() > 8.9 && d(0, 10).hi() < 11.1,
+            "{:?}",
+            d(0, 10)
+        );
+        assert!(!d(5, 20).is_empty());
+        assert_eq!(d(5, 20).hi(), f64::INFINITY);
+        assert!(d(5, 20).lo() > 0.0, "{:?}", d(5, 20));
+        assert_eq!(d(20, 5).lo(), f64::NEG_INFINITY);
+        assert_eq!(d(50, 150), Interval::ENTIRE);
+        assert_eq!(d(150, 50), Interval::ENTIRE);
+        assert_eq!(d(199, 201), Interval::ENTIRE);
+        // Above BIG: a lower bound is taken as 0, the upper one as +inf.
+        // (0 up to the rounding of the prefix sums around it).
+        let w = d(250, 251);
+        assert!(
+            w.lo() <= 0.0 && w.lo() > -1e-9 && w.hi() == f64::INFINITY,
+            "{w:?}"
+        );
+        // Below -BIG: the lower bound as -inf, the upper one as 0.
+        let w = d(300, 301);
+        assert!(
+            w.lo() == f64::NEG_INFINITY && w.hi() >= 0.0 && w.hi() < 1e-9,
+            "{w:?}"
+        );
+        // Windows between the huge steps: the exact sums, tight.
+        for (s, t) in [
+            (11, 99),
+            (101, 199),
+            (201, 249),
+            (301, 399),
+            (0, 10),
+            (260, 299),
+        ] {
+            for (a, b) in [(s, t), (t, s)] {
+                let w = d(a, b);
+                let (mut lo, mut hi) = (rat(0.0), rat(0.0));
+                for x in &disp[s..t] {
+                    lo += rat(x.lo());
+                    hi += rat(x.hi());
+                }
+                let (lo, hi) = if a < b { (lo, hi) } else { (-hi, -lo) };
+                assert!(rat(w.lo()) <= lo && hi <= rat(w.hi()), "{a} {b} {w:?}");
+                let slack = rat(1e-9);
+                assert!(
+                    lo - rat(w.lo()) < slack.clone() && rat(w.hi()) - hi < slack,
+                    "{a} {b}"
+                );
+            }
+        }
+        // An empty displacement (an infeasible chain) empties its windows
+        // alone.
+        let mut disp = vec![Interval::new(0.9, 1.1); 100];
+        disp[40] = Interval::EMPTY;
+        let sums = ChainSums::new(&disp, 1);
+        assert!(sums.delta(30, 50)[0].is_empty());
+        assert!(!sums.delta(41, 99)[0].is_empty() && !sums.delta(0, 40)[0].is_empty());
     }
 }

@@ -211,7 +211,9 @@ impl Frames {
                 }
                 let shape = relative_shape(mission, sums, heading_at, dim, s, x);
                 work += p.region.boxes().len() as u64;
-                if !p.region.meets_shape(&shape) {
+                // An empty relative shape (an empty displacement between
+                // the steps) proves no distinct pair.
+                if !shape.is_empty() && !p.region.meets_shape(&shape) {
                     out.push((x as u32, p.member as u32));
                 }
             }
@@ -312,8 +314,12 @@ fn build_pieces(
     Ok(pieces)
 }
 
-/// Whether `a` may meet `b` translated by `delta` (`false` is a proof).
+/// Whether `a` may meet `b` translated by `delta` (`false` is a proof; an
+/// empty `delta`, from an empty displacement, proves nothing here).
 fn meets_translated(a: &Paving, b: &Paving, delta: &[Interval]) -> bool {
+    if delta.iter().any(|x| x.is_empty()) {
+        return true;
+    }
     let dim = delta.len();
     let shifted: Vec<IntervalBox> = b
         .boxes()

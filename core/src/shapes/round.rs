@@ -86,6 +86,7 @@ use super::witnesses::{find_witnesses, Item};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::slam::mission::Mission;
+use crate::slam::motion_chain::shrinkage;
 
 /// Tuning of the shapes round.
 #[derive(Debug, Clone, PartialEq)]
@@ -230,6 +231,8 @@ pub struct ShapesState {
 struct RegKey {
     p: IntervalBox,
     roots: Vec<usize>,
+    /// A detection of each witness slot's group.
+    slots: Vec<usize>,
     fixed: Vec<Option<usize>>,
     pieces: usize,
     witnesses: Vec<IntervalBox>,
@@ -237,12 +240,16 @@ struct RegKey {
 
 impl RegKey {
     /// Whether a registration that read `self` can stand for one reading
-    /// `new`: the same groups and pieces, and the position box and the
-    /// witness regions' hulls shrunk by at most the fraction `slack` of
-    /// their widths on every axis since. Its answer holds (it was sound for
-    /// larger boxes); a registration on the smaller boxes could only be
+    /// `new`: the same groups and pieces, each witness slot holding the
+    /// same landmark (its witness in one group of `uf` with the old one's:
+    /// the candidate masks name witnesses by slot, so a mask is only
+    /// carried over while slot i is the same landmark in both rounds), and
+    /// the position box and the witness regions' hulls shrunk by at most
+    /// the fraction `slack` of their widths on every axis since. Its answer
+    /// holds (it was sound for larger boxes, and says which landmarks the
+    /// groups may see); a registration on the smaller boxes could only be
     /// tighter, by little.
-    fn close(&self, new: &RegKey, slack: f64) -> bool {
+    fn close(&self, new: &RegKey, slack: f64, uf: &mut Uf) -> bool {
         let near = |a: &IntervalBox, b: &IntervalBox| {
             a.dim() == b.dim()
                 && (0..a.dim()).all(|x| {
@@ -251,6 +258,12 @@ impl RegKey {
                 })
         };
         self.roots == new.roots
+            && self.slots.len() == new.slots.len()
+            && self
+                .slots
+                .iter()
+                .zip(&new.slots)
+                .all(|(&a, &b)| uf.find(a) == uf.find(b))
             && self.fixed == new.fixed
             && self.pieces == new.pieces
             && self.witnesses.len() == new.witnesses.len()
@@ -273,19 +286,6 @@ fn shape_of(mission: &Mission, dom: &Domains, j: usize) -> Shape {
         det.bearing.map(|b| (dom.heading_at[j], b)),
         dom.det[j].clone(),
     )
-}
-
-fn shrinkage(before: Interval, after: Interval) -> f64 {
-    if after.is_empty() {
-        return f64::INFINITY;
-    }
-    let lo = after.lo() - before.lo();
-    let hi = before.hi() - after.hi();
-    if lo.is_nan() || hi.is_nan() {
-        // Infinite bound moved to a finite one.
-        return f64::INFINITY;
-    }
-    lo.max(hi).max(0.0)
 }
 
 impl ShapesState {
@@ -396,8 +396,8 @@ impl ShapesState {
                 Ok(u) => {
                     let done = u.is_empty() && pass > 0;
                     out.moved |= !u.is_empty();
-                    out.moved_detections.extend(u.iter().map(|&(_, b)| b));
-                    out.moved_detections.extend(u.iter().map(|&(_, b)| b));
+                    out.moved_detections
+                        .extend(u.iter().flat_map(|&(a, b)| [a, b]));
                     out.unions.extend(u);
                     if done {
                         break;
@@ -418,7 +418,8 @@ impl ShapesState {
         match self.distinct.infer(&mut uf, n, self.options.clique_budget) {
             Ok(u) => {
                 out.moved |= !u.is_empty();
-                out.moved_detections.extend(u.iter().map(|&(_, b)| b));
+                out.moved_detections
+                    .extend(u.iter().flat_map(|&(a, b)| [a, b]));
                 out.unions.extend(u);
             }
             Err(reason) => out.infeasible = Some(reason),
@@ -853,13 +854,14 @@ impl ShapesState {
             let key = RegKey {
                 p: p.clone(),
                 roots: roots.clone(),
+                slots: slot_root.to_vec(),
                 fixed: groups.iter().map(|g| g.fixed).collect(),
                 pieces: groups.iter().map(|g| g.pieces.len()).sum(),
                 witnesses: wregions.iter().map(|w| w.hull()).collect(),
             };
             let slot = self.registered.binary_search_by_key(&s, |e| e.0);
             if let Some((_, old, old_reach)) = slot.ok().map(|i| &self.registered[i]) {
-                if old.close(&key, self.options.register_slack) {
+                if old.close(&key, self.options.register_slack, uf) {
                     for (&root, &r) in roots.iter().zip(old_reach) {
                         reach[root] &= r;
                     }
@@ -1013,4 +1015,104 @@ fn apply(
         chain.changed(t);
     }
     Ok(p_moved > tol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct NoChain(Vec<usize>);
+
+    impl Chain for NoChain {
+        fn sweep_forward(
+            &mut self,
+            _pos: &mut [Interval],
+            _from: usize,
+            to: usize,
+        ) -> Result<bool, String> {
+            Ok(to == usize::MAX)
+        }
+        fn changed(&mut self, step: usize) {
+            self.0.push(step);
+        }
+    }
+
+    /// Issue 19: an infinite bound that a branch leaves unchanged counted
+    /// as an infinite move (`-inf - -inf` is NaN, read as "moved"), so an
+    /// unbounded position was reported moving in every round. It moves
+    /// only when it becomes finite or a finite bound moves by more than the
+    /// tolerance.
+    #[test]
+    fn issue_19_an_unchanged_infinite_bound_has_not_moved() {
+        let mission = Mission::from_value(&serde_json::json!({
+            "format": "nvector-mission/1",
+            "model": "unicycle2d",
+            "dt": 1.0,
+            "steps": 1,
+            "initial_position": [[0, 0], [0, 0]],
+            "inputs": {"speed": {"value": [1.0], "error": 0}, "heading": {"value": [0.0], "error": 0}},
+            "detections": [{"step": 1, "range": [1, 2]}]
+        }))
+        .expect("valid mission");
+        let half = Interval::new(0.0, f64::INFINITY);
+        let mut pos = vec![Interval::ZERO, Interval::ZERO, half, Interval::ENTIRE];
+        let mut det = vec![IntervalBox::new(&[Interval::ENTIRE, half])];
+        let heading_at = [Interval::ZERO];
+        let disp = [Interval::ZERO; 2];
+        let br = Branches {
+            p: IntervalBox::new(&[half, Interval::ENTIRE]),
+            d: IntervalBox::new(&[Interval::ENTIRE, half]),
+            surviving: vec![0],
+        };
+        let mut chain = NoChain(Vec::new());
+        let mut out = ShapesOutcome::default();
+        let mut dom = Domains {
+            dim: 2,
+            pos: &mut pos,
+            det: &mut det,
+            heading_at: &heading_at,
+            disp: &disp,
+        };
+        assert_eq!(
+            apply(&mission, &mut dom, 0, &br, 1e-9, &mut chain, &mut out),
+            Ok(false)
+        );
+        assert!(!out.moved && out.moved_detections.is_empty() && chain.0.is_empty());
+        // An infinite bound becoming finite is a move.
+        let br = Branches {
+            p: IntervalBox::new(&[Interval::new(0.0, 5.0), Interval::ENTIRE]),
+            ..br
+        };
+        assert_eq!(
+            apply(&mission, &mut dom, 0, &br, 1e-9, &mut chain, &mut out),
+            Ok(true)
+        );
+        assert!(out.moved && out.moved_detections == [0] && chain.0 == [1]);
+    }
+
+    /// The registration's cache names witnesses by slot: an answer is
+    /// carried over only while each slot holds the same landmark (its
+    /// witness in one group with the old one), even when the regions look
+    /// alike (here both unbounded, as after an unbounded step).
+    #[test]
+    fn a_cached_registration_needs_the_same_landmark_in_each_slot() {
+        let entire = IntervalBox::entire(2);
+        let key = |slots: Vec<usize>| RegKey {
+            p: entire.clone(),
+            roots: vec![4],
+            slots,
+            fixed: vec![None],
+            pieces: 1,
+            witnesses: vec![entire.clone(), entire.clone()],
+        };
+        let mut uf = Uf::new(6);
+        let old = key(vec![0, 1]);
+        assert!(old.close(&key(vec![0, 1]), 0.02, &mut uf));
+        // The witnesses swapped slots: the masks would name the wrong ones.
+        assert!(!old.close(&key(vec![1, 0]), 0.02, &mut uf));
+        // Another detection of the same landmark stands for it.
+        assert!(!old.close(&key(vec![0, 2]), 0.02, &mut uf));
+        uf.union(1, 2);
+        assert!(old.close(&key(vec![0, 2]), 0.02, &mut uf));
+    }
 }

@@ -38,6 +38,10 @@
 //!   the common hull is bisected (bounded count) and every piece must be
 //!   excluded by one of the two shapes.
 //!
+//! An empty shape (an empty centre, range or cut) is never called disjoint
+//! from another: emptiness is a proof of infeasibility, reported where it
+//! arises, never a proof of distinct landmarks.
+//!
 //! # Complexity
 //!
 //! O(d) per test, O(budget · d) for [`disjoint_paved`].
@@ -162,8 +166,17 @@ impl Shape {
 
     /// A proof that the two shapes share no point (`false`: not proved).
     /// Hulls, then the annulus tests of the module doc. O(d).
+    ///
+    /// An empty shape proves nothing here (`false`): its emptiness says the
+    /// mission is infeasible, which is for the caller to report as such,
+    /// not to turn into "distinct landmarks" (issue 19: an empty centre box
+    /// from an unbounded displacement made every pair across it
+    /// "disjoint").
     pub fn disjoint(&self, other: &Shape) -> bool {
-        if self.is_empty() || other.is_empty() || !self.cut.meets(&other.cut) {
+        if self.is_empty() || other.is_empty() {
+            return false;
+        }
+        if !self.cut.meets(&other.cut) {
             return true;
         }
         let dd = distance_between(self.centre.axes(), other.centre.axes());
@@ -186,6 +199,10 @@ impl Shape {
 /// pieces. Sound: a common point would lie in a piece neither shape
 /// excludes. O(budget · d).
 pub fn disjoint_paved(a: &Shape, b: &Shape, budget: usize) -> bool {
+    if a.is_empty() || b.is_empty() {
+        // Not a proof of disjointness (see [`Shape::disjoint`]).
+        return false;
+    }
     if a.disjoint(b) {
         return true;
     }
@@ -303,5 +320,35 @@ mod tests {
         );
         assert!(!port.disjoint(&starboard) || !port.cut.meets(&starboard.cut));
         assert!(disjoint_paved(&port, &starboard, 64));
+    }
+
+    /// Issue 19: an empty centre box (an unbounded displacement made the
+    /// displacement sums empty) made every pair "disjoint". An empty shape
+    /// proves nothing; an unbounded centre box meets everything.
+    #[test]
+    fn issue_19_an_empty_or_unbounded_shape_proves_no_disjointness() {
+        let far = annulus(100.0, 0.0, 0.5, 5.0, 6.0);
+        let mut empty = annulus(0.0, 0.0, 0.5, 5.0, 6.0);
+        assert!(empty.disjoint(&far));
+        empty.centre = IntervalBox::empty(2);
+        assert!(!empty.disjoint(&far) && !far.disjoint(&empty));
+        assert!(!disjoint_paved(&empty, &far, 64) && !disjoint_paved(&far, &empty, 64));
+        let mut cut = annulus(0.0, 0.0, 0.5, 5.0, 6.0);
+        cut.cut = IntervalBox::empty(2);
+        assert!(!cut.disjoint(&far) && !far.disjoint(&cut));
+        let unbounded = Shape::new(
+            IntervalBox::entire(2),
+            Interval::new(5.0, 6.0),
+            None,
+            IntervalBox::entire(2),
+        );
+        assert!(!unbounded.disjoint(&far) && !far.disjoint(&unbounded));
+        let huge = Shape::new(
+            b2(-f64::MAX, f64::MAX, -f64::MAX, f64::MAX),
+            Interval::new(0.0, f64::INFINITY),
+            None,
+            IntervalBox::entire(2),
+        );
+        assert!(!huge.disjoint(&far) && !disjoint_paved(&huge, &far, 64));
     }
 }

@@ -48,6 +48,15 @@ pub const POOL: usize = 64;
 const PAVED_BUDGET: usize = 32;
 
 impl Item<'_> {
+    /// Whether the item holds no point (then it is no witness of
+    /// anything).
+    pub fn is_empty(&self) -> bool {
+        match self {
+            Item::Shape(s) => s.is_empty(),
+            Item::Region(r) => r.is_empty(),
+        }
+    }
+
     /// A rank key, smaller is more telling: regions of proved groups
     /// first (by the total area, or volume, of their boxes), then shapes
     /// (by their thickness).
@@ -59,7 +68,11 @@ impl Item<'_> {
     }
 
     /// A proof that the two items share no point (`false`: not proved).
+    /// An empty item proves nothing (see [`Shape::disjoint`]).
     pub fn disjoint(&self, other: &Item) -> bool {
+        if self.is_empty() || other.is_empty() {
+            return false;
+        }
         match (self, other) {
             (Item::Shape(a), Item::Shape(b)) => {
                 a.disjoint(b)
@@ -222,5 +235,30 @@ mod tests {
                 assert!(items[i].disjoint(&items[j]));
             }
         }
+    }
+
+    /// An empty shape or region is no witness: it is disjoint from nothing
+    /// (its emptiness is a proof of infeasibility, not of distinct
+    /// landmarks).
+    #[test]
+    fn empty_items_prove_nothing() {
+        let a = ring(5.0, 6.0);
+        let mut empty = ring(20.0, 21.0);
+        assert!(Item::Shape(&a).disjoint(&Item::Shape(&empty)));
+        empty.centre = IntervalBox::empty(2);
+        let none = Paving::from_box(&IntervalBox::empty(2));
+        let far = Paving::from_box(&IntervalBox::new(&[
+            Interval::new(50.0, 51.0),
+            Interval::new(50.0, 51.0),
+        ]));
+        for (x, y) in [
+            (Item::Shape(&a), Item::Shape(&empty)),
+            (Item::Shape(&a), Item::Region(&none)),
+            (Item::Region(&far), Item::Region(&none)),
+            (Item::Region(&far), Item::Shape(&empty)),
+        ] {
+            assert!(!x.disjoint(&y) && !y.disjoint(&x));
+        }
+        assert!(Item::Shape(&a).disjoint(&Item::Region(&far)));
     }
 }

@@ -611,6 +611,18 @@ impl<'a> Propagation<'a> {
         for &j in &out.moved_detections {
             self.moving[j] = true;
         }
+        // A position the round shrank (a registration, a branch) is flagged
+        // for the next passes' sweeps; its detections count as moving, so
+        // that the round loop goes on to sweep it (issue 19: a run could end
+        // "consistent" with positions the registration shrank left
+        // unswept).
+        for s in 0..self.steps.len() {
+            if self.unswept[0][s] || self.unswept[1][s] {
+                for &j in &self.order[self.starts[s]..self.starts[s + 1]] {
+                    self.moving[j] = true;
+                }
+            }
+        }
         Ok(())
     }
 

@@ -527,6 +527,14 @@ const SEAMARKS: [[f64; 3]; 6] = [
     [127.349, 156.328, 20.0],
 ];
 
+/// The distance between two 3-D points, with basic operations and the
+/// correctly rounded `libm::sqrt` only (`f64::powi` has no specified
+/// precision: it may differ between platforms).
+fn distance3(q: &[f64; 3], l: &[f64; 3]) -> f64 {
+    let (dx, dy, dz) = (q[0] - l[0], q[1] - l[1], q[2] - l[2]);
+    libm::sqrt(dx * dx + dy * dy + dz * dz)
+}
+
 fn auv(o: &SimulateOptions) -> Value {
     let mut rng = Rng::new(o.seed);
     let steps = o.steps.unwrap_or(60_000).max(2);
@@ -584,12 +592,7 @@ fn auv(o: &SimulateOptions) -> Value {
     }
     let mut detections: Vec<(usize, usize)> = Vec::new();
     for (j, l) in SEAMARKS.iter().enumerate() {
-        let dist: Vec<f64> = positions
-            .iter()
-            .map(|q| {
-                libm::sqrt((q[0] - l[0]).powi(2) + (q[1] - l[1]).powi(2) + (q[2] - l[2]).powi(2))
-            })
-            .collect();
+        let dist: Vec<f64> = positions.iter().map(|q| distance3(q, l)).collect();
         for s in closest_approaches(&dist, sonar_range) {
             detections.push((s, j));
         }
@@ -600,7 +603,7 @@ fn auv(o: &SimulateOptions) -> Value {
     for &(s, j) in &detections {
         let q = positions[s];
         let l = SEAMARKS[j];
-        let r = libm::sqrt((q[0] - l[0]).powi(2) + (q[1] - l[1]).powi(2) + (q[2] - l[2]).powi(2));
+        let r = distance3(&q, &l);
         let r_meas = r + rng.sym(range_err);
         let mut d = json!({
             "step": s,
