@@ -538,8 +538,16 @@ impl<'a> Propagation<'a> {
             return Ok(());
         }
         let snapshot = self.model.det.clone();
-        let out = atmost_nvector(nl, &mut self.model.det, mode)
-            .map_err(|e| Halt::Infeasible(format!("atmost_nvector({nl}): {e}")))?;
+        let out = match atmost_nvector(nl, &mut self.model.det, mode) {
+            Ok(out) => out,
+            // Not a proof of infeasibility: `exact` out of its work budget
+            // (k > 40 or its node budget) proves nothing this round, so the
+            // boxes go back to what they were and the round goes on.
+            Err(_) => {
+                self.model.det = snapshot;
+                return self.shapes_step(nl);
+            }
+        };
         self.contractions += 1;
         if let Status::Infeasible { reason } = out.status {
             return Err(Halt::Infeasible(format!(
