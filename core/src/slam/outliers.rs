@@ -47,9 +47,19 @@
 //!   feasible sub-mission; it gives no evidence, its box becomes empty, and
 //!   the budget left for the others is q minus the number proved false
 //!   (below zero: the mission is infeasible).
-//! - atmost_nvector is not applied here: its contractors reason on every
-//!   detection (a false one would make their groups unsound). Matchings come
-//!   from the operator's `landmark` fields only.
+//! - atmost_nvector is not applied in these rounds: its contractors reason
+//!   on every detection (a false one would make their groups unsound).
+//! - `matching` (see [`super::kept`]): dropping a detection only removes
+//!   constraints, so unless every reading (set of at most q detections
+//!   taken as false) holds exactly q detections, any detection, labelled or
+//!   not, is false in some reading, and no group is proved. At the fixpoint
+//!   the detections proved false and the pairs with one label and disjoint
+//!   boxes (one of each is false) are counted; when they account for q,
+//!   every other detection is kept in every reading, and the ordinary
+//!   propagation (with the requested association) on the mission cut to
+//!   them is sound: its groups are reported, its boxes intersected in.
+//!   Otherwise `matching` is empty. q >= k reads as q = k (no allocation is
+//!   sized by q itself).
 //!
 //! # Soundness
 //!
@@ -65,7 +75,7 @@
 //!
 //! # Complexity
 //!
-//! A round is O(N·d·q + k·d·q) time (two passes over the chain, one
+//! With q capped at k, a round is O(N·d·q + k·d·q) time (two passes over the chain, one
 //! contraction per detection, sorted lists of q+1 keys per axis and bound,
 //! merged at each step of the backward pass) and O(N·d + k·q·d) memory
 //! beyond the model (recorded sums and key snapshots; past 2^24 keys the
