@@ -591,3 +591,45 @@ fn a_label_pair_with_disjoint_boxes_uses_up_q() {
     // the true one of the pair).
     assert!(r["detections"][a] != "empty");
 }
+
+/// When the false detections account for q, the ordinary propagation on
+/// the detections kept in every reading follows the robust rounds: the
+/// reports go on counting rounds, the fraction keeps rising and ends at 1,
+/// and the solution's rounds count both.
+#[test]
+fn the_refinement_continues_the_progress_reports() {
+    use nvector_core::slam::propagator::{propagate, Progress};
+    let p = plant(4, 3000, 3, &[Kind::FarAway, Kind::FarAway], true, true);
+    let mut m = p.mission.clone();
+    m.max_outliers = 2;
+    let mut reports: Vec<Progress> = Vec::new();
+    let s = propagate(
+        &m,
+        &SolveOptions::default(),
+        &mut |r| reports.push(r.clone()),
+        &AtomicBool::new(false),
+    );
+    assert_eq!(s.status, SolveStatus::Consistent);
+    assert!(!s.matching.is_empty(), "the refinement ran");
+    check_truth(&p, &s).unwrap();
+    // The robust rounds report once per round; the ordinary propagation
+    // also reports its passes.
+    let start = reports
+        .iter()
+        .position(|r| r.pass != "round")
+        .expect("the ordinary propagation's passes");
+    let robust = start as u32;
+    assert!(reports[..start]
+        .iter()
+        .enumerate()
+        .all(|(i, r)| r.round == i as u32 + 1));
+    assert!(reports[start..].iter().all(|r| r.round > robust));
+    assert!(s.rounds > robust);
+    for (a, b) in reports.iter().zip(&reports[1..]) {
+        assert!(b.fraction >= a.fraction, "{a:?} {b:?}");
+        assert!(b.round >= a.round, "{a:?} {b:?}");
+    }
+    let last = reports.last().unwrap();
+    assert_eq!((last.fraction, last.round), (1.0, s.rounds));
+    assert!(reports.iter().rev().skip(1).all(|r| r.fraction < 1.0));
+}
