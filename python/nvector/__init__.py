@@ -157,15 +157,16 @@ def simulate(
 
     ``scenario``: ``"paper"`` (the paper's section 6 experiment: a robot
     looping around its start, side-scan sonar detections of ``landmarks``
-    landmarks, default 4) or ``"auv"`` (a Redermor-scale 3-D survey).
-    ``steps`` defaults to 10,000 (paper) or 60,000 (auv); ``noise`` scales
+    landmarks, default 4, at most 64) or ``"auv"`` (a Redermor-scale 3-D
+    survey). ``steps`` defaults to 10,000 (paper) or 60,000 (auv), at most
+    2,000,000; ``noise`` scales
     the sensor error bounds; ``operator`` writes the true matching as
     operator ``landmark`` fields. Paper only: ``layout`` puts the landmarks
     on a ``"line"`` (10 m apart along x, the paper's Figure 9), a ``"ring"``
     around the start (the axis projections interleave) or at ``"random"``;
     ``range_only`` drops the bearings for a rough region per detection (the
     paper's P''); ``false_detections`` adds ranges to no landmark (``None``
-    in ``truth["matching"]``, ``max_outliers`` set).
+    in ``truth["matching"]``, ``max_outliers`` set; at most 100,000).
 
     Deterministic for a seed: equal to ``nvector simulate --scenario S
     --seed N ...`` with the same options. Bad options raise

@@ -19,7 +19,8 @@ use nvector_core::nvector::contract::contract_json;
 use nvector_core::slam::mission::{Mission, MAX_STEPS};
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
 use nvector_core::slam::simulate::{
-    simulate as simulate_mission, Layout, Scenario, SimulateOptions,
+    simulate as simulate_mission, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS,
+    MAX_LANDMARKS,
 };
 use nvector_core::InputError;
 use pyo3::exceptions::PyValueError;
@@ -32,13 +33,6 @@ use std::time::Instant;
 /// Deepest nesting accepted from Python (serde_json's own limit): deeper
 /// input is refused with an error instead of overflowing the stack.
 const MAX_DEPTH: usize = 128;
-
-/// Most landmarks `simulate` accepts: bounds the memory of a simulation so a
-/// typo cannot abort the interpreter on a failed allocation.
-const MAX_LANDMARKS: usize = 10_000;
-
-/// Most false detections `simulate` adds (the CLI's bound).
-const MAX_FALSE_DETECTIONS: usize = 100_000;
 
 /// `nvector.InputError(path, message)` (defined in Python, `nvector/_errors.py`,
 /// so that it carries `.path` and `.message`); a plain `ValueError` if that

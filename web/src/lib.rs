@@ -6,9 +6,11 @@
 use nvector_core::nvector::contract::{response_json, ContractRequest};
 use nvector_core::nvector::nvalue::{atmost_nvalue, NValue, NValueScratch};
 use nvector_core::nvector::{atmost_nvector, Mode};
-use nvector_core::slam::mission::Mission;
+use nvector_core::slam::mission::{Mission, MAX_STEPS};
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
-use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
+use nvector_core::slam::simulate::{
+    simulate, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS, MAX_LANDMARKS,
+};
 use nvector_core::InputError;
 use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;
@@ -85,11 +87,11 @@ pub fn simulate_json(options: &Value) -> Result<Value, InputError> {
     o.steps = options
         .get("steps")
         .and_then(Value::as_u64)
-        .map(|s| (s as usize).clamp(2, 2_000_000));
+        .map(|s| (s as usize).clamp(2, MAX_STEPS));
     o.landmarks = options
         .get("landmarks")
         .and_then(Value::as_u64)
-        .map(|s| (s as usize).clamp(1, 64));
+        .map(|s| (s as usize).clamp(1, MAX_LANDMARKS));
     o.noise = options
         .get("noise")
         .and_then(Value::as_f64)
@@ -111,7 +113,7 @@ pub fn simulate_json(options: &Value) -> Result<Value, InputError> {
     o.false_detections = options
         .get("false_detections")
         .and_then(Value::as_u64)
-        .map_or(0, |k| (k as usize).min(100_000));
+        .map_or(0, |k| (k as usize).min(MAX_FALSE_DETECTIONS));
     Ok(simulate(&o))
 }
 

@@ -214,7 +214,9 @@ impl Distinct {
             let roots: Vec<u32> = (0..k as u32)
                 .filter(|&r| !adj[r as usize].is_empty())
                 .collect();
-            let mut clique = Vec::with_capacity(n);
+            // A clique holds at most n - 1 of the k roots: n itself is an
+            // input number (up to u32::MAX) that k does not bound.
+            let mut clique = Vec::with_capacity(n.min(k));
             e.extend(&mut clique, &roots);
             if let Some(reason) = e.infeasible {
                 return Err(reason);

@@ -157,12 +157,16 @@ pub struct Mission {
     pub motion_error: Vec<f64>,
     /// Detections, in input order.
     pub detections: Vec<Detection>,
-    /// n, the known number of landmarks.
+    /// n, the known number of landmarks (at most u32::MAX). An input
+    /// number that the mission's size does not bound: n >= k (detections)
+    /// constrains nothing more than n = k, and nothing may be sized by n.
     pub landmark_count: Option<usize>,
     /// A box holding every landmark.
     pub landmark_region: Option<IntervalBox>,
     /// q: at most this many detections may be false (`max_outliers`,
-    /// default 0). Carried for the propagator; q = 0 changes nothing.
+    /// default 0, at most u32::MAX). Carried for the propagator; q = 0
+    /// changes nothing, and q >= k (detections) is the same as q = k, which
+    /// is how the propagator reads it: nothing may be sized by q itself.
     pub max_outliers: usize,
     /// Free-form metadata, carried through.
     pub meta: Value,
@@ -867,6 +871,27 @@ mod tests {
         assert_eq!(m, again);
     }
 
+    /// The largest values of the u32 fields are accepted as they are (the
+    /// solvers read them as the detection count; tests/huge_fields.rs runs
+    /// them under a memory limit).
+    #[test]
+    fn the_largest_u32_fields_are_accepted() {
+        let mut v = small();
+        v["max_outliers"] = json!(u32::MAX);
+        v["landmark_count"] = json!(u32::MAX);
+        v["detections"][0]["landmark"] = json!(u32::MAX - 1);
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(
+            (m.max_outliers, m.landmark_count, m.detections[0].landmark),
+            (
+                u32::MAX as usize,
+                Some(u32::MAX as usize),
+                Some(u32::MAX as usize - 1)
+            )
+        );
+        assert_eq!(Mission::from_json(&v.to_string()).unwrap(), m);
+    }
+
     #[test]
     fn max_outliers_and_false_detections_round_trip() {
         let m = Mission::from_value(&small()).unwrap();
@@ -959,6 +984,21 @@ mod tests {
             (
                 |v| v["max_outliers"] = json!("2"),
                 "max_outliers: expected a non-negative integer, found a string",
+            ),
+            (
+                |v| v["max_outliers"] = json!(4294967296u64),
+                "max_outliers: 4294967296 is above the limit 4294967295",
+            ),
+            (
+                |v| v["landmark_count"] = json!(4294967296u64),
+                "landmark_count: 4294967296 is above the limit 4294967295",
+            ),
+            (
+                |v| {
+                    v.as_object_mut().unwrap().remove("landmark_count");
+                    v["detections"][0]["landmark"] = json!(4294967296u64);
+                },
+                "detections[0].landmark: 4294967296 is above the limit 4294967295",
             ),
             (
                 |v| v["truth"] = json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]], "matching": [-1]}),

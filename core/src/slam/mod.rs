@@ -4,6 +4,7 @@
 pub mod bearing;
 pub mod diagnose;
 pub mod distance;
+pub mod kept;
 pub mod mission;
 pub mod model;
 pub mod motion_chain;

@@ -47,9 +47,19 @@
 //!   feasible sub-mission; it gives no evidence, its box becomes empty, and
 //!   the budget left for the others is q minus the number proved false
 //!   (below zero: the mission is infeasible).
-//! - atmost_nvector is not applied here: its contractors reason on every
-//!   detection (a false one would make their groups unsound). Matchings come
-//!   from the operator's `landmark` fields only.
+//! - atmost_nvector is not applied in these rounds: its contractors reason
+//!   on every detection (a false one would make their groups unsound).
+//! - `matching` (see [`super::kept`]): dropping a detection only removes
+//!   constraints, so unless every reading (set of at most q detections
+//!   taken as false) holds exactly q detections, any detection, labelled or
+//!   not, is false in some reading, and no group is proved. At the fixpoint
+//!   the detections proved false and the pairs with one label and disjoint
+//!   boxes (one of each is false) are counted; when they account for q,
+//!   every other detection is kept in every reading, and the ordinary
+//!   propagation (with the requested association) on the mission cut to
+//!   them is sound: its groups are reported, its boxes intersected in.
+//!   Otherwise `matching` is empty. q >= k reads as q = k (no allocation is
+//!   sized by q itself).
 //!
 //! # Soundness
 //!
@@ -65,7 +75,7 @@
 //!
 //! # Complexity
 //!
-//! A round is O(N·d·q + k·d·q) time (two passes over the chain, one
+//! With q capped at k, a round is O(N·d·q + k·d·q) time (two passes over the chain, one
 //! contraction per detection, sorted lists of q+1 keys per axis and bound,
 //! merged at each step of the backward pass) and O(N·d + k·q·d) memory
 //! beyond the model (recorded sums and key snapshots; past 2^24 keys the
@@ -73,6 +83,7 @@
 
 use super::bearing::contract_bearing;
 use super::distance::contract_distance;
+use super::kept::{kept, refine, sure_groups};
 use super::mission::Mission;
 use super::model::Model;
 use super::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
@@ -554,7 +565,10 @@ fn relaxed_pass(
     Ok(moved)
 }
 
-/// Solves a mission with `max_outliers` = q > 0 (see the module doc).
+/// Solves a mission with `max_outliers` = q > 0 (see the module doc): the
+/// robust rounds to their fixpoint, then what is proved of the detections
+/// kept in every reading ([`super::kept`]): `matching` holds only groups
+/// proved whichever detections are false.
 pub fn solve_robust(
     mission: &Mission,
     q: usize,
@@ -562,33 +576,17 @@ pub fn solve_robust(
     progress: &mut dyn FnMut(&Progress),
     cancel: &AtomicBool,
 ) -> Solution {
+    let k = mission.detections.len();
+    // At most k detections can be dropped: q >= k reads as q = k. (q is an
+    // input number, up to u32::MAX, that the mission's size does not bound:
+    // nothing below may be sized by it before this cap.)
+    let q = q.min(k);
     let mut model = Model::new(mission);
     model.max_outliers = q;
-    let k = mission.detections.len();
     let dim = model.dim;
     let tol = options.tolerance.max(0.0);
     let prior = model.det.clone();
-    // The operator's groups.
-    let mut by_landmark: Vec<(usize, usize)> = mission
-        .detections
-        .iter()
-        .enumerate()
-        .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
-        .collect();
-    by_landmark.sort_unstable();
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    for (x, &(l, j)) in by_landmark.iter().enumerate() {
-        if x > 0 && by_landmark[x - 1].0 == l {
-            groups.last_mut().expect("a group was opened").push(j);
-        } else {
-            groups.push(vec![j]);
-        }
-    }
-    let mut matching: Vec<Vec<usize>> = groups.iter().filter(|g| g.len() >= 2).cloned().collect();
-    for g in &mut matching {
-        g.sort_unstable();
-    }
-    matching.sort_unstable();
+    let groups = label_groups(mission);
     let mut order: Vec<usize> = (0..k).collect();
     order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
     let mut ev = Evidence {
@@ -599,37 +597,45 @@ pub fn solve_robust(
     let mut round = 0u32;
     let mut work = WorkEstimate::new(k);
     let mut fraction = 0.0f64;
-    let end = |model: Model, status: SolveStatus, round: u32, contractions: u64| Solution {
-        status,
-        matching: matching.clone(),
+    let infeasible = |model: Model, reason: String, round: u32, contractions: u64| Solution {
+        status: SolveStatus::Infeasible(reason),
+        matching: Vec::new(),
         rounds: round,
         contractions,
         model,
     };
     let chain_empty = |s: usize| {
-        SolveStatus::Infeasible(format!(
+        format!(
             "motion chain: the position of step {s} is empty (the inputs cannot join the initial and final positions)"
-        ))
+        )
     };
     if let Sweep::Empty(s) = sweep_forward(&mut model.pos, &model.disp, dim, 0, 0.0) {
-        return end(model, chain_empty(s), 0, 0);
+        return infeasible(model, chain_empty(s), 0, 0);
     }
     if mission.final_position.is_some() {
         if let Sweep::Empty(s) = sweep_backward(&mut model.pos, &model.disp, dim, model.steps, 0.0)
         {
-            return end(model, chain_empty(s), 0, 0);
+            return infeasible(model, chain_empty(s), 0, 0);
         }
     }
     let initial_max_trajectory_diameter = model.trajectory_diameters().0;
-    loop {
+    let proof = loop {
         if round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
-            return end(model, SolveStatus::Stopped, round, contractions);
+            // Stopped: the boxes are sound, and so is what they prove.
+            let status = match kept(&model.det, &ev.proved_false, &groups, q) {
+                Err(reason) => return infeasible(model, reason, round, contractions),
+                Ok(proof) => proof,
+            };
+            let matching = status
+                .as_ref()
+                .map_or_else(Vec::new, |p| sure_groups(&groups, &p.sure));
+            return finish(model, SolveStatus::Stopped, matching, round, contractions);
         }
         round += 1;
         let det_before = model.det.clone();
         let budget = match gather(mission, &mut model, &prior, &groups, q, &mut ev) {
             Ok(b) => b,
-            Err(reason) => return end(model, SolveStatus::Infeasible(reason), round, contractions),
+            Err(reason) => return infeasible(model, reason, round, contractions),
         };
         contractions += 2 * k as u64;
         let mut moved = 0.0f64;
@@ -649,7 +655,7 @@ pub fn solve_robust(
                     let reason = format!(
                         "the position of step {t} is empty: no choice of at most {q} false detections is consistent"
                     );
-                    return end(model, SolveStatus::Infeasible(reason), round, contractions);
+                    return infeasible(model, reason, round, contractions);
                 }
             }
             contractions += model.steps as u64;
@@ -676,21 +682,106 @@ pub fn solve_robust(
         }
         let (max_d, _) = model.trajectory_diameters();
         fraction = fraction.max(work.end_round(moving));
+        // At the fixpoint: what the boxes prove of the detections kept in
+        // every reading, and whether the refinement on them follows (then
+        // this is not the end of the work yet).
+        let proof = (moved <= tol).then(|| kept(&model.det, &ev.proved_false, &groups, q));
+        let refines = matches!(proof, Some(Ok(Some(_)))) && round < options.max_rounds;
         progress(&Progress {
             round,
             max_trajectory_diameter: max_d,
-            fraction,
+            fraction: if refines {
+                fraction.min(0.99)
+            } else {
+                fraction
+            },
             pass: "round",
             detections: k,
             detections_done: k,
             moving,
             initial_max_trajectory_diameter,
         });
-        if moved <= tol {
-            break;
+        if let Some(proof) = proof {
+            break proof;
+        }
+    };
+    let proof = match proof {
+        Err(reason) => return infeasible(model, reason, round, contractions),
+        Ok(None) => {
+            return finish(
+                model,
+                SolveStatus::Consistent,
+                Vec::new(),
+                round,
+                contractions,
+            )
+        }
+        Ok(Some(p)) => p,
+    };
+    if round >= options.max_rounds {
+        let matching = sure_groups(&groups, &proof.sure);
+        return finish(
+            model,
+            SolveStatus::Consistent,
+            matching,
+            round,
+            contractions,
+        );
+    }
+    let r = refine(
+        mission,
+        &mut model,
+        &proof,
+        options,
+        (round, fraction.min(0.99)),
+        progress,
+        cancel,
+    );
+    let (rounds, contractions) = (round + r.rounds, contractions + r.contractions);
+    match r.status {
+        SolveStatus::Infeasible(reason) => infeasible(model, reason, rounds, contractions),
+        status => finish(model, status, r.matching, rounds, contractions),
+    }
+}
+
+/// The operator's groups: detections by `landmark` label, each sorted.
+fn label_groups(mission: &Mission) -> Vec<Vec<usize>> {
+    let mut by_landmark: Vec<(usize, usize)> = mission
+        .detections
+        .iter()
+        .enumerate()
+        .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
+        .collect();
+    by_landmark.sort_unstable();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (x, &(l, j)) in by_landmark.iter().enumerate() {
+        if x > 0 && by_landmark[x - 1].0 == l {
+            groups.last_mut().expect("a group was opened").push(j);
+        } else {
+            groups.push(vec![j]);
         }
     }
-    end(model, SolveStatus::Consistent, round, contractions)
+    groups
+}
+
+/// The solution, its groups proved (members kept in every reading), so
+/// that a group's landmark box is the plain intersection of its members'
+/// boxes: `max_outliers` of the model is 0 from here on.
+fn finish(
+    mut model: Model,
+    status: SolveStatus,
+    matching: Vec<Vec<usize>>,
+    rounds: u32,
+    contractions: u64,
+) -> Solution {
+    model.max_outliers = 0;
+    Solution {
+        status,
+        matching,
+        rounds,
+        contractions,
+        model,
+    }
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@
 //! drawn (by a margin that also covers the f64 rounding of the simulation
 //! itself), so the truth satisfies every constraint of the mission.
 
+use super::mission::MAX_STEPS;
 use crate::json::{box_to_json, interval_to_json};
 use crate::{Interval, IntervalBox};
 use serde_json::{json, Value};
@@ -73,6 +74,14 @@ impl Layout {
         }
     }
 }
+
+/// Most landmarks a simulation takes (every front end refuses more, naming
+/// the option): the paper scenario's work grows with steps × landmarks.
+pub const MAX_LANDMARKS: usize = 64;
+
+/// Most false detections a simulation adds (every front end refuses more,
+/// naming the option; each costs up to 1000 draws).
+pub const MAX_FALSE_DETECTIONS: usize = 100_000;
 
 /// Simulation options.
 #[derive(Debug, Clone)]
@@ -165,10 +174,21 @@ fn interval_json(lo: f64, hi: f64) -> Value {
 }
 
 /// A simulated mission with truth, as `nvector-mission/1` JSON.
+///
+/// Steps, landmarks and false detections above [`MAX_STEPS`],
+/// [`MAX_LANDMARKS`] and [`MAX_FALSE_DETECTIONS`] are taken at those limits
+/// (the front ends refuse them first): no allocation here is sized by an
+/// unchecked number.
 pub fn simulate(options: &SimulateOptions) -> Value {
-    match options.scenario {
-        Scenario::Paper => paper(options),
-        Scenario::Auv => auv(options),
+    let o = SimulateOptions {
+        steps: options.steps.map(|s| s.min(MAX_STEPS)),
+        landmarks: options.landmarks.map(|n| n.min(MAX_LANDMARKS)),
+        false_detections: options.false_detections.min(MAX_FALSE_DETECTIONS),
+        ..options.clone()
+    };
+    match o.scenario {
+        Scenario::Paper => paper(&o),
+        Scenario::Auv => auv(&o),
     }
 }
 

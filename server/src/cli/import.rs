@@ -297,6 +297,13 @@ fn generic(a: &Args) -> Result<Value, CliError> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
+    // Each planted range is a detection: as many as a simulation may add.
+    let most = nvector_core::slam::simulate::MAX_FALSE_DETECTIONS;
+    if a.false_detections > most {
+        return Err(CliError(format!(
+            "--false-detections must be at most {most}"
+        )));
+    }
     let mission = match &a.cmu_plaza {
         Some(dir) => {
             let mut m = cmu_plaza(dir, a.operator)?;

@@ -1,7 +1,11 @@
 //! `nvector simulate`: a simulated mission with truth.
 
 use crate::CliError;
-use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
+use nvector_core::slam::mission::MAX_STEPS;
+use nvector_core::slam::simulate::{
+    simulate, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS, MAX_LANDMARKS,
+};
+use std::io::Write;
 use std::path::PathBuf;
 
 /// Arguments of `nvector simulate`.
@@ -16,7 +20,7 @@ pub struct Args {
     /// Number of steps (default: 10000 for paper, 60000 for auv).
     #[arg(long)]
     steps: Option<usize>,
-    /// Number of landmarks (paper only; default 4).
+    /// Number of landmarks (paper only; default 4; at most 64).
     #[arg(long)]
     landmarks: Option<usize>,
     /// Scale of the sensor noise bounds (default 1).
@@ -43,9 +47,6 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-/// A bound on `--false-detections` (each costs up to 1000 draws).
-const MAX_FALSE_DETECTIONS: usize = 100_000;
-
 fn parse_scenario(s: &str) -> Result<Scenario, String> {
     Scenario::parse(s).ok_or_else(|| format!("unknown scenario '{s}' (expected paper or auv)"))
 }
@@ -62,11 +63,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
             a.noise
         )));
     }
-    if a.steps == Some(0)
-        || a.steps
-            .is_some_and(|s| s > nvector_core::slam::mission::MAX_STEPS)
-    {
-        return Err(CliError("--steps must be between 1 and 2000000".into()));
+    if a.steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
+        return Err(CliError(format!(
+            "--steps must be between 1 and {MAX_STEPS}"
+        )));
+    }
+    if a.landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
+        return Err(CliError(format!(
+            "--landmarks must be at most {MAX_LANDMARKS}"
+        )));
     }
     if a.scenario != Scenario::Paper
         && (a.layout != Layout::Line || a.range_only || a.false_detections > 0)
@@ -92,11 +97,20 @@ pub fn run(a: Args) -> Result<(), CliError> {
         false_detections: a.false_detections,
     };
     let mission = simulate(&options);
-    let text = serde_json::to_string(&mission)?;
+    // Written as it is serialized: a 2,000,000-step mission's text is
+    // hundreds of megabytes more, on top of its JSON value.
+    let write = |w: &mut dyn Write| -> std::io::Result<()> {
+        let mut w = std::io::BufWriter::new(w);
+        serde_json::to_writer(&mut w, &mission)?;
+        w.write_all(b"\n")?;
+        w.flush()
+    };
     match a.out {
-        Some(path) => std::fs::write(&path, text + "\n")
+        Some(path) => std::fs::File::create(&path)
+            .and_then(|mut f| write(&mut f))
             .map_err(|e| CliError(format!("writing {}: {e}", path.display())))?,
-        None => println!("{text}"),
+        None => write(&mut std::io::stdout().lock())
+            .map_err(|e| CliError(format!("writing the mission: {e}")))?,
     }
     Ok(())
 }

@@ -14,7 +14,7 @@ use axum::extract::State;
 use axum::http::{HeaderMap, StatusCode};
 use axum::Json;
 use nvector_core::json::{check_fields, integer, number, object};
-use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
+use nvector_core::slam::simulate::{self, simulate, Layout, Scenario, SimulateOptions};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
@@ -22,11 +22,12 @@ use utoipa::ToSchema;
 /// The scenarios' default steps (core's `simulate`).
 const PAPER_STEPS: u64 = 10_000;
 const AUV_STEPS: u64 = 60_000;
-/// Most landmarks of a simulated paper mission.
-const MAX_LANDMARKS: u64 = 64;
-/// Most false detections (as `nvector simulate`: each costs up to 1000
-/// draws).
-const MAX_FALSE_DETECTIONS: u64 = 100_000;
+/// Most landmarks of a simulated paper mission (core's limit, as
+/// `nvector simulate`).
+const MAX_LANDMARKS: u64 = simulate::MAX_LANDMARKS as u64;
+/// Most false detections (core's limit, as `nvector simulate`: each costs
+/// up to 1000 draws).
+const MAX_FALSE_DETECTIONS: u64 = simulate::MAX_FALSE_DETECTIONS as u64;
 
 /// The landmark layouts of the paper scenario.
 #[derive(Deserialize, ToSchema)]

@@ -1,0 +1,425 @@
+//! Which detections are kept in every reading of a mission with false
+//! detections (`max_outliers` = q > 0), and what is proved of them: the
+//! `matching` of the robust propagation ([`super::outliers`]).
+//!
+//! # Question
+//!
+//! A *reading* is a set F of at most q detections taken as false (no
+//! landmark there, a measurement outside its bounds, or a wrong operator
+//! label) such that the mission without F is consistent; the truth is one
+//! reading. A group of `matching` claims that its members are true
+//! detections of one landmark, so it may be reported only if, in every
+//! reading, none of its members is in F and all of them see one landmark.
+//!
+//! # Math
+//!
+//! - Monotonicity: dropping a detection only removes constraints (its range,
+//!   bearing, region and label), so when F is a reading and |F| < q, so is
+//!   F ∪ {j} for every j. Hence, unless every reading has exactly q
+//!   detections, every detection is false in some reading and no group is
+//!   proved, whatever the labels say (any member may be the false one).
+//! - Proved false (P, from the robust rounds): j's own constraints have no
+//!   solution within enclosures of every reading keeping j, so j is in
+//!   every reading.
+//! - Conflict pairs: two detections with the same operator label whose
+//!   boxes are disjoint cannot both be kept (a kept detection's label is
+//!   right and its landmark lies in its box, which encloses d(j) in every
+//!   reading keeping j): every reading holds one of them.
+//! - With P and c pairwise disjoint conflict pairs (disjoint from P), every
+//!   reading has at least |P| + c detections. If |P| + c > q there is no
+//!   reading: the mission is infeasible. If |P| + c = q, every reading is P
+//!   plus exactly one detection of each pair, so every other detection (the
+//!   *sure* set S) is kept, with its label right, in every reading. If
+//!   |P| + c < q, nothing is proved kept and `matching` is empty.
+//! - Refinement on S: the mission whose detections outside S are stripped
+//!   of every constraint (range [0, +inf], no bearing, region, depth or
+//!   label), with q = 0, is a relaxation of every reading: a solution of a
+//!   reading is one of it (atmost_nvector too: at most n landmarks among the
+//!   kept detections, hence among S, and a stripped detection may take the
+//!   landmark of any of them). So the ordinary propagator, with the
+//!   requested association, is sound on it: its boxes of the positions and
+//!   of d(j), j in S, enclose those of every reading and are intersected
+//!   with the robust ones; its groups cut to S are proved in every reading
+//!   (kept, true, one landmark); its infeasibility proves the mission's.
+//!
+//! The conflict pairs are found per label group by a greedy sweep: on each
+//! axis the largest lower bound and the smallest upper bound of the boxes
+//! still in play; when they come from two boxes and do not meet, those two
+//! boxes are disjoint: a pair, both out of play. When no axis gives one, the
+//! boxes left meet pairwise on every axis, so no two of them are disjoint:
+//! the set of pairs is maximal (not always maximum: fewer pairs than q - |P|
+//! only proves less).
+//!
+//! # Soundness
+//!
+//! Each step above is a consequence of the semantics of `max_outliers`
+//! (spec/formats.md) and of enclosures computed soundly; the comparisons
+//! are exact (no rounding: the bounds are compared, not computed).
+//!
+//! # Complexity
+//!
+//! Conflict pairs: O(k log k · d) (sorting each group's bounds per axis,
+//! then pointers that only move forward). The refinement is one ordinary
+//! propagation (see [`super::propagator`]); O(N + k) memory for its copy of
+//! the mission and its model.
+
+use super::mission::{Detection, Mission};
+use super::model::Model;
+use super::propagator::{propagate, Progress, SolveOptions};
+use super::result::SolveStatus;
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use serde_json::Value;
+use std::sync::atomic::AtomicBool;
+
+/// What every reading of the mission holds ([`kept`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Kept {
+    /// Per detection: kept (and true, its label right) in every reading.
+    pub sure: Vec<bool>,
+    /// Detections proved false (in every reading).
+    pub proved_false: Vec<usize>,
+    /// Disjoint pairs of which every reading drops exactly one.
+    pub pairs: Vec<(usize, usize)>,
+    /// q.
+    pub max_outliers: usize,
+}
+
+/// The detections kept in every reading (module doc), from boxes `det`
+/// enclosing d(j) in every reading keeping j, the detections proved false,
+/// the operator's label groups and q. `Ok(None)`: none is proved kept
+/// (fewer than q detections are proved to be in every reading). `Err`: no
+/// reading exists; the reason names the detections.
+pub fn kept(
+    det: &[IntervalBox],
+    proved_false: &[bool],
+    groups: &[Vec<usize>],
+    q: usize,
+) -> Result<Option<Kept>, String> {
+    let dropped: Vec<usize> = (0..det.len()).filter(|&j| proved_false[j]).collect();
+    let Some(budget) = q.checked_sub(dropped.len()) else {
+        return Err(format!(
+            "{} detections {dropped:?} cannot reach any landmark position, more than max_outliers = {q}",
+            dropped.len()
+        ));
+    };
+    let mut pairs = Vec::new();
+    for g in groups {
+        let members: Vec<usize> = g.iter().copied().filter(|&j| !proved_false[j]).collect();
+        disjoint_pairs(&members, det, budget + 1, &mut pairs);
+        if pairs.len() > budget {
+            break;
+        }
+    }
+    if pairs.len() > budget {
+        return Err(format!(
+            "detections {dropped:?} are proved false and the pairs {pairs:?} have one operator label each but disjoint boxes (one of each pair is false): {} false detections, more than max_outliers = {q}",
+            dropped.len() + pairs.len()
+        ));
+    }
+    if pairs.len() < budget {
+        return Ok(None);
+    }
+    let mut sure: Vec<bool> = proved_false.iter().map(|&f| !f).collect();
+    for &(a, b) in &pairs {
+        sure[a] = false;
+        sure[b] = false;
+    }
+    Ok(Some(Kept {
+        sure,
+        proved_false: dropped,
+        pairs,
+        max_outliers: q,
+    }))
+}
+
+/// Adds to `out` pairwise disjoint pairs of members with disjoint boxes, a
+/// maximal set of them (module doc), until `out` holds `limit` pairs.
+fn disjoint_pairs(
+    members: &[usize],
+    det: &[IntervalBox],
+    limit: usize,
+    out: &mut Vec<(usize, usize)>,
+) {
+    let m = members.len();
+    if m < 2 || out.len() >= limit {
+        return;
+    }
+    let dim = det[members[0]].dim();
+    let bx = |i: usize| &det[members[i]];
+    // Per axis: the members' positions by lower bound, largest first, and
+    // by upper bound, smallest first (ties by position: one order whatever
+    // the sort).
+    let mut by_lo: Vec<Vec<usize>> = Vec::with_capacity(dim);
+    let mut by_hi: Vec<Vec<usize>> = Vec::with_capacity(dim);
+    for a in 0..dim {
+        let mut lo: Vec<usize> = (0..m).collect();
+        lo.sort_unstable_by(|&x, &y| bx(y)[a].lo().total_cmp(&bx(x)[a].lo()).then(x.cmp(&y)));
+        let mut hi: Vec<usize> = (0..m).collect();
+        hi.sort_unstable_by(|&x, &y| bx(x)[a].hi().total_cmp(&bx(y)[a].hi()).then(x.cmp(&y)));
+        by_lo.push(lo);
+        by_hi.push(hi);
+    }
+    let mut in_play = vec![true; m];
+    let mut at = vec![(0usize, 0usize); dim];
+    while out.len() < limit {
+        let mut found = None;
+        for a in 0..dim {
+            let (mut l, mut h) = at[a];
+            while l < m && !in_play[by_lo[a][l]] {
+                l += 1;
+            }
+            while h < m && !in_play[by_hi[a][h]] {
+                h += 1;
+            }
+            at[a] = (l, h);
+            if l == m || h == m {
+                return;
+            }
+            let (x, y) = (by_lo[a][l], by_hi[a][h]);
+            // The box with the largest lower bound lies wholly above the
+            // one with the smallest upper bound on this axis.
+            if x != y && bx(x)[a].lo() > bx(y)[a].hi() {
+                found = Some((x, y));
+                break;
+            }
+        }
+        let Some((x, y)) = found else {
+            return;
+        };
+        in_play[x] = false;
+        in_play[y] = false;
+        let (a, b) = (members[x], members[y]);
+        out.push((a.min(b), a.max(b)));
+    }
+}
+
+/// The operator's label groups cut to the detections kept in every
+/// reading: groups of size >= 2, sorted, by smallest member.
+pub fn sure_groups(groups: &[Vec<usize>], sure: &[bool]) -> Vec<Vec<usize>> {
+    let mut out: Vec<Vec<usize>> = groups
+        .iter()
+        .map(|g| {
+            let mut g: Vec<usize> = g.iter().copied().filter(|&j| sure[j]).collect();
+            g.sort_unstable();
+            g
+        })
+        .filter(|g| g.len() >= 2)
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+/// The mission with the detections outside `sure` stripped of every
+/// constraint (same indices), without false detections or truth.
+fn stripped(mission: &Mission, sure: &[bool]) -> Mission {
+    let detections = mission
+        .detections
+        .iter()
+        .zip(sure)
+        .map(|(d, &s)| {
+            if s {
+                d.clone()
+            } else {
+                Detection {
+                    step: d.step,
+                    range: Interval::new(0.0, f64::INFINITY),
+                    bearing: None,
+                    region: None,
+                    depth: None,
+                    landmark: None,
+                }
+            }
+        })
+        .collect();
+    Mission {
+        name: mission.name.clone(),
+        model: mission.model,
+        dt: mission.dt,
+        steps: mission.steps,
+        detection_count: mission.detection_count,
+        initial_position: mission.initial_position.clone(),
+        final_position: mission.final_position.clone(),
+        inputs: mission.inputs.clone(),
+        motion_error: mission.motion_error.clone(),
+        detections,
+        landmark_count: mission.landmark_count,
+        landmark_region: mission.landmark_region.clone(),
+        max_outliers: 0,
+        meta: Value::Null,
+        truth: None,
+    }
+}
+
+/// What the refinement on the sure detections adds ([`refine`]).
+pub struct Refined {
+    /// Consistent, infeasible (the reason in the mission's numbering) or
+    /// stopped.
+    pub status: SolveStatus,
+    /// Proved groups (size >= 2, members sure).
+    pub matching: Vec<Vec<usize>>,
+    /// Its rounds.
+    pub rounds: u32,
+    /// Its contractions.
+    pub contractions: u64,
+}
+
+/// Runs the ordinary propagation on the mission cut to the sure detections
+/// (module doc) and intersects its boxes into `model` (the robust ones).
+/// `rounds_done`: the robust rounds before (progress continues their count,
+/// the fraction rises from `fraction_done` to 1).
+pub fn refine(
+    mission: &Mission,
+    model: &mut Model,
+    kept: &Kept,
+    options: &SolveOptions,
+    (rounds_done, fraction_done): (u32, f64),
+    progress: &mut dyn FnMut(&Progress),
+    cancel: &AtomicBool,
+) -> Refined {
+    let sub = stripped(mission, &kept.sure);
+    let sub_options = SolveOptions {
+        max_rounds: options.max_rounds.saturating_sub(rounds_done),
+        ..options.clone()
+    };
+    let mut report = |p: &Progress| {
+        let mut p = p.clone();
+        p.round += rounds_done;
+        p.fraction = fraction_done + (1.0 - fraction_done) * p.fraction;
+        progress(&p);
+    };
+    let s = propagate(&sub, &sub_options, &mut report, cancel);
+    let forced = || {
+        format!(
+            "with detections {:?} proved false and one of each pair {:?} (forced by max_outliers = {}), the other detections",
+            kept.proved_false, kept.pairs, kept.max_outliers
+        )
+    };
+    let mut out = Refined {
+        status: s.status.clone(),
+        matching: Vec::new(),
+        rounds: s.rounds,
+        contractions: s.contractions,
+    };
+    if let SolveStatus::Infeasible(r) = &s.status {
+        out.status = SolveStatus::Infeasible(format!("{}: {r}", forced()));
+        return out;
+    }
+    let dim = model.dim;
+    for (i, (p, r)) in model.pos.iter_mut().zip(&s.model.pos).enumerate() {
+        *p = p.intersect(*r);
+        if p.is_empty() {
+            out.status = SolveStatus::Infeasible(format!(
+                "{} leave no position at step {}",
+                forced(),
+                i / dim
+            ));
+            return out;
+        }
+    }
+    for (j, b) in model.det.iter_mut().enumerate() {
+        if kept.sure[j] {
+            b.intersect_with(&s.model.det[j]);
+            if b.is_empty() {
+                out.status = SolveStatus::Infeasible(format!(
+                    "{} leave no landmark position for detection {j}",
+                    forced()
+                ));
+                return out;
+            }
+        }
+    }
+    let regions = &s.model.landmark_regions;
+    let mut landmark_regions = vec![None; mission.detections.len()];
+    for g in &s.matching {
+        let cut: Vec<usize> = g.iter().copied().filter(|&j| kept.sure[j]).collect();
+        if cut.len() >= 2 {
+            landmark_regions[cut[0]] = regions.get(g[0]).cloned().flatten();
+            out.matching.push(cut);
+        }
+    }
+    out.matching.sort_unstable();
+    if !regions.is_empty() {
+        model.landmark_regions = landmark_regions;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Lcg;
+
+    fn boxes(v: &[(f64, f64)]) -> Vec<IntervalBox> {
+        v.iter()
+            .map(|&(lo, w)| IntervalBox::new(&[Interval::new(lo, lo + w)]))
+            .collect()
+    }
+
+    #[test]
+    fn disjoint_pairs_are_disjoint_and_maximal() {
+        let mut rng = Lcg::new(11);
+        for _ in 0..3000 {
+            let m = (rng.bits() % 8) as usize;
+            let dim = 1 + (rng.bits() % 2) as usize;
+            let det: Vec<IntervalBox> = (0..m)
+                .map(|_| {
+                    let axes: Vec<Interval> = (0..dim)
+                        .map(|_| {
+                            let lo = (rng.bits() % 10) as f64;
+                            Interval::new(lo, lo + (rng.bits() % 4) as f64)
+                        })
+                        .collect();
+                    IntervalBox::new(&axes)
+                })
+                .collect();
+            let members: Vec<usize> = (0..m).collect();
+            let mut pairs = Vec::new();
+            disjoint_pairs(&members, &det, usize::MAX, &mut pairs);
+            let mut used = vec![false; m];
+            for &(a, b) in &pairs {
+                assert!(a < b && !used[a] && !used[b], "{pairs:?}");
+                used[a] = true;
+                used[b] = true;
+                assert!(det[a].intersect(&det[b]).is_empty(), "{a} {b}");
+            }
+            // Maximal: the boxes left meet pairwise.
+            for a in 0..m {
+                for b in a + 1..m {
+                    if !used[a] && !used[b] {
+                        assert!(!det[a].intersect(&det[b]).is_empty(), "{det:?} {pairs:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_sure_set_needs_every_unit_of_q_accounted_for() {
+        // Group {0, 1, 2}: box 2 is apart from 0 and 1; 3 is proved false.
+        let det = boxes(&[(0.0, 1.0), (0.5, 1.0), (5.0, 1.0), (0.0, 1.0), (9.0, 1.0)]);
+        let groups = vec![vec![0, 1, 2]];
+        let falses = [false, false, false, true, false];
+        // q = 1: 3 alone uses it up, and the pair (0 or 1, 2) is one more.
+        assert!(kept(&det, &falses, &groups, 1)
+            .unwrap_err()
+            .contains("more than max_outliers = 1"));
+        // q = 2: every reading is {3} and one of the pair.
+        let k = kept(&det, &falses, &groups, 2).unwrap().unwrap();
+        assert_eq!(k.proved_false, vec![3]);
+        assert_eq!(k.pairs.len(), 1);
+        assert!(k.pairs[0].1 == 2);
+        let pair_low = k.pairs[0].0;
+        let expect: Vec<bool> = (0..5).map(|j| j != 3 && j != 2 && j != pair_low).collect();
+        assert_eq!(k.sure, expect);
+        // q = 3: a reading may drop one more of anything: nothing is sure.
+        assert_eq!(kept(&det, &falses, &groups, 3).unwrap(), None);
+        // Groups cut to the sure set.
+        let mut sure = vec![true; 5];
+        sure[1] = false;
+        assert_eq!(
+            sure_groups(&[vec![2, 0, 1], vec![3, 4]], &sure),
+            vec![vec![0, 2], vec![3, 4]]
+        );
+    }
+}
