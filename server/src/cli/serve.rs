@@ -133,6 +133,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
             Some(bytes)
         }
     };
+    // A service started under an address-space limit (`ulimit -v`) passes
+    // it on to its workers: the job limit is never above it, and names it.
+    let memory_limit = match (memory_limit, service::job_runner::inherited_memory_limit()) {
+        (Some(l), Some(h)) => Some(l.min(h)),
+        (None, h) => h,
+        (l, None) => l,
+    };
     let pool = PoolConfig {
         workers,
         short_lane_workers: a.short_lane_workers,

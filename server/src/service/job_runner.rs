@@ -73,6 +73,19 @@ pub enum Report {
     },
 }
 
+/// The address-space limit this process inherited (`ulimit -v`), if any:
+/// the hard limit, which no worker can raise.
+pub fn inherited_memory_limit() -> Option<u64> {
+    #[cfg(unix)]
+    {
+        rustix::process::getrlimit(rustix::process::Resource::As).maximum
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
 /// Runs the worker process until its input ends: limits its memory to
 /// `memory_limit` bytes (when given) and asks to be killed with its parent,
 /// then runs the jobs it reads.
@@ -80,6 +93,9 @@ pub fn run(memory_limit: Option<u64>) -> Result<(), String> {
     #[cfg(unix)]
     if let Some(limit) = memory_limit {
         use rustix::process::{setrlimit, Resource, Rlimit};
+        // Never above the limit this process inherited (raising a hard
+        // limit is refused, and the worker would die at every job).
+        let limit = inherited_memory_limit().map_or(limit, |h| limit.min(h));
         setrlimit(
             Resource::As,
             Rlimit {
