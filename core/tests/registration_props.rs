@@ -5,7 +5,8 @@
 //! landmarks differ. The true position must stay in the contracted box and
 //! each group's true landmark among its candidates, whatever the tuning.
 //!
-//! `NVECTOR_PROPTEST_CASES` scales the number of cases.
+//! `PROPTEST_CASES` sets the number of cases; seeds and persisted
+//! failures: tests/common/mod.rs (`config`).
 
 use nvector_core::shapes::registration::{register, LocalGroup, RegisterOptions};
 use nvector_core::{Interval, IntervalBox};
@@ -13,13 +14,6 @@ use proptest::prelude::*;
 
 mod common;
 use common::Rng;
-
-fn cases() -> u32 {
-    std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(2000)
-}
 
 /// A box holding point `x` (or, when `x` is None, anywhere near `centre`),
 /// half-widths up to `w`; a zero width on some axes now and then.
@@ -52,7 +46,7 @@ fn paving_holding(rng: &mut Rng, x: &[f64], w: f64, k: usize) -> Vec<IntervalBox
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(2000))]
 
     #[test]
     fn registration_keeps_the_planted_solution(

@@ -4,7 +4,8 @@
 //! 2-D and 3-D. No contractor may lose a true point, group two detections
 //! of different landmarks, or call a consistent instance infeasible.
 //!
-//! `NVECTOR_PROPTEST_CASES` scales the number of cases.
+//! `PROPTEST_CASES` sets the number of cases; seeds and persisted
+//! failures: tests/common/mod.rs (`config`).
 
 // Axes and detections index several parallel arrays at once.
 #![allow(clippy::needless_range_loop)]
@@ -25,13 +26,6 @@ use serde_json::json;
 
 mod common;
 use common::Rng;
-
-fn cases(default: u32) -> u32 {
-    std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(default)
-}
 
 /// Margin covering the f64 rounding of the instance generator itself.
 const MARGIN: f64 = 1e-9;
@@ -317,7 +311,7 @@ fn layout(i: u8) -> Layout {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(600), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(600))]
 
     /// The shapes round, iterated with the detections' own constraints as
     /// a propagator would: the truth stays inside, groups are true, no
