@@ -20,6 +20,7 @@
 use super::Rng;
 use nvector_core::shapes::shape::distance_between;
 use nvector_core::slam::mission::Mission;
+use nvector_core::slam::motion_chain::{auv_displacement, unicycle_displacement};
 use nvector_core::slam::result::{Solution, SolveStatus};
 use nvector_core::Interval;
 use serde_json::{json, Value};
@@ -144,15 +145,62 @@ pub fn mission(rng: &mut Rng, o: &Options) -> PlantedMission {
             landmarks.push(l);
         }
     }
-    // The walk: small moves (quarter metres half of the time: exact), the
-    // robot standing still now and then, and stepping onto a landmark
-    // within reach.
+    // The walk. Each step has inputs (speed and heading; for auv3d roll,
+    // pitch, yaw and the body velocity), exact points; `dv` is the interval
+    // displacement the model computes from them (the project's own
+    // functions) and the motion error covers the rest: the magnitude of
+    // the interval difference `p(i+1) - p(i) - dv` (so the true
+    // displacement lies in the model's box, within an ulp or two of a
+    // bound), plus a slack half of the time. Steps: a move of the inputs
+    // (p(i+1) = p(i) + the middle of dv: a box off-centre from 0, its
+    // bound at the truth to the ulp), the robot standing still, a move in
+    // quarter metres with no velocity (exact sums), or a step onto a
+    // landmark within reach.
+    let dt = if rng.chance(0.5) { 1.0 } else { 0.5 };
     let mut positions = vec![(0..dim).map(|_| coord(rng, 4.0)).collect::<Vec<f64>>()];
+    let mut channels: Vec<Vec<f64>> =
+        vec![Vec::with_capacity(n_steps); if dim == 2 { 2 } else { 6 }];
+    let mut motion_error = Vec::with_capacity(n_steps);
+    let mut h = rng.range(-3.0, 3.0);
     for _ in 0..n_steps {
         let last = positions.last().expect("p(0)").clone();
-        let next: Vec<f64> = if rng.chance(0.15) {
+        h += rng.range(-0.5, 0.5);
+        let kind = rng.unit();
+        let moving = kind < 0.55;
+        let v = if moving { rng.range(-0.3, 1.0) } else { 0.0 };
+        let inputs: Vec<f64> = if dim == 2 {
+            vec![v, h]
+        } else {
+            let small = |rng: &mut Rng| if moving { rng.range(-0.15, 0.15) } else { 0.0 };
+            vec![small(rng), small(rng), h, v, small(rng), small(rng)]
+        };
+        let pt = Interval::point;
+        let dv: Vec<Interval> = if dim == 2 {
+            unicycle_displacement(dt, pt(inputs[0]), pt(inputs[1]), 0.0).to_vec()
+        } else {
+            let c = &inputs;
+            auv_displacement(
+                dt,
+                pt(c[0]),
+                pt(c[1]),
+                pt(c[2]),
+                [pt(c[3]), pt(c[4]), pt(c[5])],
+                0.0,
+            )
+            .to_vec()
+        };
+        let next: Vec<f64> = if moving {
+            (0..dim).map(|a| last[a] + dv[a].mid()).collect()
+        } else if kind < 0.7 {
             last.clone()
-        } else if rng.chance(0.1) {
+        } else if kind < 0.9 {
+            (0..dim)
+                .map(|a| {
+                    let w = if a == 2 { 0.2 } else { 0.6 };
+                    last[a] + (rng.range(-w, w) * 4.0).round() / 4.0
+                })
+                .collect()
+        } else {
             let l = &landmarks[rng.below(landmarks.len())];
             let d2: f64 = (0..dim).map(|a| (l[a] - last[a]) * (l[a] - last[a])).sum();
             if d2 < 16.0 {
@@ -160,60 +208,32 @@ pub fn mission(rng: &mut Rng, o: &Options) -> PlantedMission {
             } else {
                 last.clone()
             }
-        } else {
-            let quarter = rng.chance(0.5);
-            (0..dim)
-                .map(|a| {
-                    let w = if a == 2 { 0.2 } else { 0.6 };
-                    let d = rng.range(-w, w);
-                    last[a] + if quarter { (d * 4.0).round() / 4.0 } else { d }
-                })
-                .collect()
         };
+        let mut e = 0.0f64;
+        for a in 0..dim {
+            let residual = pt(next[a]) - pt(last[a]) - dv[a];
+            e = e.max(residual.mag());
+        }
+        motion_error.push(e + rng.slack(0.5, 0.1));
+        for (c, x) in channels.iter_mut().zip(&inputs) {
+            c.push(*x);
+        }
         positions.push(next);
     }
-    // Motion: no velocity, each step's displacement bounded by the motion
-    // error alone: the magnitude of the interval difference (the true
-    // displacement on the bound of the dominant axis), plus a slack half
-    // of the time.
-    let mut motion_error = Vec::with_capacity(n_steps);
-    for i in 0..n_steps {
-        let mut m = 0.0f64;
-        for a in 0..dim {
-            let d = Interval::point(positions[i + 1][a]) - Interval::point(positions[i][a]);
-            m = m.max(d.mag());
-        }
-        motion_error.push(m + rng.slack(0.5, 0.1));
-    }
-    let headings: Vec<f64> = {
-        let mut h = rng.range(-3.0, 3.0);
-        (0..n_steps)
-            .map(|_| {
-                h += rng.range(-0.5, 0.5);
-                h
-            })
-            .collect()
-    };
-    let zeros = vec![0.0; n_steps];
+    let headings: Vec<f64> = channels[if dim == 2 { 1 } else { 2 }].clone();
+    let channel = |x: &[f64]| json!({"value": x, "error": 0.0});
     let (model, inputs) = if dim == 2 {
         (
             "unicycle2d",
-            json!({
-                "speed": {"value": zeros, "error": 0.0},
-                "heading": {"value": headings, "error": 0.0},
-            }),
+            json!({"speed": channel(&channels[0]), "heading": channel(&channels[1])}),
         )
     } else {
-        let z = json!({"value": zeros, "error": 0.0});
-        let small: Vec<f64> = (0..n_steps).map(|_| rng.range(-0.1, 0.1)).collect();
-        (
-            "auv3d",
-            json!({
-                "roll": {"value": small, "error": 0.0},
-                "pitch": z, "yaw": {"value": headings, "error": 0.0},
-                "vx": z, "vy": z, "vz": z,
-            }),
-        )
+        let names = ["roll", "pitch", "yaw", "vx", "vy", "vz"];
+        let mut o = serde_json::Map::new();
+        for (name, c) in names.iter().zip(&channels) {
+            o.insert((*name).into(), channel(c));
+        }
+        ("auv3d", Value::Object(o))
     };
     let range_err = rng.range(0.01, 1.0);
     let bearing_err = rng.range(0.001, 0.3);
@@ -289,7 +309,7 @@ pub fn mission(rng: &mut Rng, o: &Options) -> PlantedMission {
         "format": "nvector-mission/1",
         "name": "planted on the boundary",
         "model": model,
-        "dt": if rng.chance(0.5) { 1.0 } else { 0.5 },
+        "dt": dt,
         "steps": n_steps,
         "initial_position": box_json(&box_around(rng, &positions[0], 0.3)),
         "inputs": inputs,
