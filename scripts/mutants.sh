@@ -124,7 +124,9 @@ timeout_s=${MUTANT_TIMEOUT:-1800}
 rm -rf "$copy"
 mkdir -p "$copy"
 git ls-files -z --cached --others --exclude-standard |
-  tar --null -T - -cf - | tar -xf - -C "$copy"
+  tar --null -T - -cf - | tar -xmf - -C "$copy"
+# (-m: the copied files get new times, newer than any build of a mutant
+# left in the target directory by an earlier run, so cargo rebuilds them)
 cd "$copy"
 
 # The targets of a mutation that exist (it may name a test file another

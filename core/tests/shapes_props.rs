@@ -3,6 +3,10 @@
 //! ranges and bearings holding the truth, in ring, random and line layouts,
 //! 2-D and 3-D. No contractor may lose a true point, group two detections
 //! of different landmarks, or call a consistent instance infeasible.
+//! The truth sits on the boundary: displacements and ranges are the
+//! interval differences and distances of the true points (no margin),
+//! boxes often have the truth as a bound; tangent and coincident shapes
+//! (ranges of exactly 0, touching centre boxes) are generated on purpose.
 //!
 //! `PROPTEST_CASES` sets the number of cases; seeds and persisted
 //! failures: tests/common/mod.rs (`config`).
