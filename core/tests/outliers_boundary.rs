@@ -86,9 +86,9 @@ fn run(seed: u64, q: usize, upper: bool, with_false: bool) -> Result<(), String>
         return Err(format!("infeasible: {r}"));
     }
     for (t, p) in truth.iter().enumerate() {
-        for a in 0..2 {
+        for (a, v) in p.iter().enumerate() {
             let x = sol.model.pos[t * 2 + a];
-            if !holds(x, &p[a]) {
+            if !holds(x, v) {
                 return Err(format!(
                     "p({t}) axis {a} lost: {x:?} (the truth is the exact sum of the {} bounds)",
                     if upper { "upper" } else { "lower" }

@@ -278,9 +278,9 @@ proptest! {
             truth.push((0..dim).map(|a| last[a] + moves[i * 3 + a]).collect());
         }
         let mut disp = Vec::with_capacity(steps * dim);
-        for i in 0..steps {
-            for a in 0..dim {
-                disp.push(enclose(&q(truth[i + 1][a] - truth[i][a])));
+        for w in truth.windows(2) {
+            for (next, last) in w[1].iter().zip(&w[0]) {
+                disp.push(enclose(&q(next - last)));
             }
         }
         let mut pos = vec![Interval::ENTIRE; dim * (steps + 1)];
