@@ -4,12 +4,20 @@
 # profile, as a user's `pip install ./python` builds it), then run its pytest
 # suite against the `nvector` binary of the same tree (built here if `cargo
 # test` did not; the test profile, as the Rust end-to-end tests use it), or
-# the one $NVECTOR_BIN names. Arguments go to pytest.
+# the one $NVECTOR_BIN names. Arguments go to pytest. mypy (pinned in
+# scripts/requirements-test.txt) must be there: python/tests/test_typing.py
+# runs it, and this step fails at once when the venv lacks it rather than
+# letting that test skip.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 scripts/venv.sh
 export PATH="$PWD/.venv/bin:$PATH"
+if ! .venv/bin/python -c "import mypy" 2>/dev/null; then
+  echo "python: mypy is missing from .venv (scripts/requirements-test.txt pins it);" \
+    "remove .venv/.requirements.sha256 and run scripts/venv.sh again" >&2
+  exit 1
+fi
 if [ -z "${NVECTOR_BIN:-}" ]; then
   cargo build --quiet -p nvector-server --bin nvector --profile test
   NVECTOR_BIN="$PWD/target/debug/nvector"

@@ -9,51 +9,26 @@
 //! also checks every arithmetic operation against inari's tightest
 //! enclosures (containment and the promised tightness).
 //!
-//! Case count: `NVECTOR_PROPTEST_CASES` (default 4000 per property).
+//! Case count: `PROPTEST_CASES` (default 4000 per property); seeds and
+//! persisted failures: tests/common/mod.rs (`config`).
 
-use num_bigint::BigInt;
 use num_rational::BigRational;
-use num_traits::{One, Signed, Zero};
+use num_traits::{One, Signed};
 use nvector_core::Interval;
 use proptest::prelude::*;
 
-fn cases() -> u32 {
-    std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(4000)
-}
+mod common;
+use common::{ceil_f64, floor_f64, holds, rat, taylor};
 
+/// Default 4000 cases per property (`PROPTEST_CASES` changes it).
 fn config() -> ProptestConfig {
-    ProptestConfig {
-        cases: cases(),
-        failure_persistence: None,
-        max_global_rejects: 100_000,
-        ..ProptestConfig::default()
-    }
+    common::config(4000)
 }
 
 /// The trigonometric oracle sums big-rational Taylor series, about a
 /// hundred times slower than the others: fewer cases for those.
 fn trig_config() -> ProptestConfig {
-    ProptestConfig {
-        cases: (cases() / 10).max(50),
-        ..config()
-    }
-}
-
-fn rat(x: f64) -> BigRational {
-    BigRational::from_float(x).expect("finite")
-}
-
-/// Whether the exact value `v` lies in `x` (bounds compared exactly).
-fn holds(x: Interval, v: &BigRational) -> bool {
-    if x.is_empty() {
-        return false;
-    }
-    let lo_ok = x.lo() == f64::NEG_INFINITY || (x.lo().is_finite() && rat(x.lo()) <= *v);
-    let hi_ok = x.hi() == f64::INFINITY || (x.hi().is_finite() && *v <= rat(x.hi()));
-    lo_ok && hi_ok
+    common::config_div(4000, 10, 50)
 }
 
 /// Finite f64 of every magnitude: small integers, ordinary values, tiny and
@@ -106,34 +81,6 @@ fn any_interval_and_point() -> impl Strategy<Value = (Interval, f64)> {
     })
 }
 
-/// sin or cos of an exact rational by its Taylor series, with the
-/// remainder bound: returns an interval [s - r, s + r] of rationals that
-/// holds the true value (alternating series, |x| <= 8 so terms decrease
-/// after a few steps; we sum until the term is below 2^-120).
-fn taylor(x: &BigRational, cosine: bool) -> (BigRational, BigRational) {
-    let eps = BigRational::new(BigInt::one(), BigInt::one() << 120);
-    let x2 = x * x;
-    let mut term = if cosine {
-        BigRational::one()
-    } else {
-        x.clone()
-    };
-    let mut k: i64 = if cosine { 0 } else { 1 };
-    let mut sum = BigRational::zero();
-    loop {
-        sum += &term;
-        let next = -(&term * &x2) / BigRational::from_integer(BigInt::from((k + 1) * (k + 2)));
-        k += 2;
-        // Once terms decrease in magnitude, the tail of an alternating
-        // series is bounded by the next term.
-        if next.abs() < eps && BigInt::from(k) > x.abs().to_integer() {
-            let r = next.abs();
-            return (&sum - &r, &sum + &r);
-        }
-        term = next;
-    }
-}
-
 proptest! {
     #![proptest_config(config())]
 
@@ -141,6 +88,22 @@ proptest! {
     fn add_contains((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
         let z = x + y;
         prop_assert!(holds(z, &(rat(a) + rat(b))), "{:?} + {:?} = {:?} misses {} + {}", x, y, z, a, b);
+    }
+
+    /// `Interval::add` and `Interval::sub` are documented tightest: each
+    /// bound is the nearest f64 on its side of the exact sum (difference)
+    /// of the operands' bounds, so an exact sum comes back unwidened.
+    #[test]
+    fn add_and_sub_are_tightest((x, _a) in any_interval_and_point(), (y, _b) in any_interval_and_point()) {
+        let inf = f64::INFINITY;
+        let lo = |u: f64, v: f64| if u == -inf || v == -inf { -inf } else { floor_f64(&(rat(u) + rat(v))) };
+        let hi = |u: f64, v: f64| if u == inf || v == inf { inf } else { ceil_f64(&(rat(u) + rat(v))) };
+        let s = x + y;
+        prop_assert!(s.lo() == lo(x.lo(), y.lo()) && s.hi() == hi(x.hi(), y.hi()),
+            "{:?} + {:?} = {:?}, tightest [{:e}, {:e}]", x, y, s, lo(x.lo(), y.lo()), hi(x.hi(), y.hi()));
+        let d = x - y;
+        prop_assert!(d.lo() == lo(x.lo(), -y.hi()) && d.hi() == hi(x.hi(), -y.lo()),
+            "{:?} - {:?} = {:?}, tightest [{:e}, {:e}]", x, y, d, lo(x.lo(), -y.hi()), hi(x.hi(), -y.lo()));
     }
 
     #[test]

@@ -11,7 +11,8 @@
 //! - Signed zeros and bounds spreading over f64::MAX keep planted solutions.
 //! - `exact` under a node budget: the exact answer or a sound error.
 //!
-//! Case count: `NVECTOR_PROPTEST_CASES` (default 3000).
+//! Case count: `PROPTEST_CASES` (default 3000); seeds and persisted
+//! failures: tests/common/mod.rs (`config`).
 
 // Index loops compare several parallel vectors of boxes: clearer as ranges.
 #![allow(clippy::needless_range_loop)]
@@ -22,16 +23,12 @@ use nvector_core::nvector::{atmost_nvector, atmost_nvector_with, Mode, Status};
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 
+mod common;
+
+/// Default 3000 cases (`PROPTEST_CASES`), divided by `div` for the slower
+/// properties.
 fn config(div: u32) -> ProptestConfig {
-    let cases = std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(3000u32);
-    ProptestConfig {
-        cases: (cases / div).max(20),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
+    common::config_div(3000, div, 20)
 }
 
 const MODES: [Mode; 5] = [

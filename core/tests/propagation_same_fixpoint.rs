@@ -29,10 +29,12 @@ const MODES: [Association; 5] = [
     Association::NVector(Mode::Best),
 ];
 
+/// Missions per test (fixed seeds): 24, or `PROPTEST_CASES` / 40 (at
+/// least 8) for a longer run.
 fn cases() -> u64 {
-    std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse::<u64>().ok())
+    ["PROPTEST_CASES", "NVECTOR_PROPTEST_CASES"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.parse::<u64>().ok())
         .map_or(24, |c| (c / 40).max(8))
 }
 

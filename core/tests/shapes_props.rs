@@ -3,8 +3,13 @@
 //! ranges and bearings holding the truth, in ring, random and line layouts,
 //! 2-D and 3-D. No contractor may lose a true point, group two detections
 //! of different landmarks, or call a consistent instance infeasible.
+//! The truth sits on the boundary: displacements and ranges are the
+//! interval differences and distances of the true points (no margin),
+//! boxes often have the truth as a bound; tangent and coincident shapes
+//! (ranges of exactly 0, touching centre boxes) are generated on purpose.
 //!
-//! `NVECTOR_PROPTEST_CASES` scales the number of cases.
+//! `PROPTEST_CASES` sets the number of cases; seeds and persisted
+//! failures: tests/common/mod.rs (`config`).
 
 // Axes and detections index several parallel arrays at once.
 #![allow(clippy::needless_range_loop)]
@@ -14,7 +19,7 @@ use nvector_core::shapes::chain_sums::ChainSums;
 use nvector_core::shapes::distinct::{Distinct, Uf};
 use nvector_core::shapes::region::Paving;
 use nvector_core::shapes::relative::relative_pairs;
-use nvector_core::shapes::shape::{disjoint_paved, Shape};
+use nvector_core::shapes::shape::{disjoint_paved, distance_between, Shape};
 use nvector_core::shapes::witnesses::{find_witnesses, Item};
 use nvector_core::shapes::{Chain, Domains, ShapesState};
 use nvector_core::slam::mission::Mission;
@@ -24,20 +29,26 @@ use proptest::prelude::*;
 use serde_json::json;
 
 mod common;
+use common::planted::bearing_enclosure;
 use common::Rng;
 
-fn cases(default: u32) -> u32 {
-    std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(default)
+/// An interval holding the exact float `x` (a true position, landmark or
+/// heading), `below` and `above` it: no margin, the truth is at a bound
+/// when a side is 0 (`x - below` rounds to nearest, but stays <= x).
+fn around(x: f64, below: f64, above: f64) -> Interval {
+    Interval::new(x - below, x + above)
 }
 
-/// Margin covering the f64 rounding of the instance generator itself.
-const MARGIN: f64 = 1e-9;
+/// The enclosure `x` of a derived true value (computed with the project's
+/// outward-rounded operations, so the truth is within an ulp of a bound),
+/// widened by `below` and `above`.
+fn widen(x: Interval, below: f64, above: f64) -> Interval {
+    Interval::new(x.lo() - below, x.hi() + above)
+}
 
-fn around(x: f64, below: f64, above: f64) -> Interval {
-    Interval::new(x - below - MARGIN, x + above + MARGIN)
+/// A point box.
+fn points(x: &[f64]) -> Vec<Interval> {
+    x.iter().map(|&c| Interval::point(c)).collect()
 }
 
 /// A planted instance: the domains, the mission (detections) and the truth.
@@ -103,13 +114,15 @@ fn planted(seed: u64, dim: usize, layout: Layout, bearings: bool) -> Planted {
     let mut disp = Vec::with_capacity(steps * dim);
     for i in 0..steps {
         for a in 0..dim {
-            let d = truth_pos[i + 1][a] - truth_pos[i][a];
-            disp.push(around(d, rng.range(0.0, odo), rng.range(0.0, odo)));
+            // The interval difference of the true positions: the true
+            // displacement is within an ulp of its bounds.
+            let d = Interval::point(truth_pos[i + 1][a]) - Interval::point(truth_pos[i][a]);
+            disp.push(widen(d, rng.slack(0.5, odo), rng.slack(0.5, odo)));
         }
     }
     let mut pos = vec![Interval::ENTIRE; (steps + 1) * dim];
     for a in 0..dim {
-        pos[a] = around(0.0, rng.range(0.0, 0.5), rng.range(0.0, 0.5));
+        pos[a] = around(0.0, rng.slack(0.5, 0.5), rng.slack(0.5, 0.5));
     }
     sweep_forward(&mut pos, &disp, dim, 0, 0.0);
     // Detections: some steps see one landmark (random, or the nearest).
@@ -126,32 +139,29 @@ fn planted(seed: u64, dim: usize, layout: Layout, bearings: bool) -> Planted {
         }
         let l = rng.below(n);
         let (p, lm) = (&truth_pos[t], &landmarks[l]);
-        let dist = (0..dim)
-            .map(|a| (lm[a] - p[a]) * (lm[a] - p[a]))
-            .sum::<f64>()
-            .sqrt();
-        let r = around(dist, rng.range(0.0, range_err), rng.range(0.0, range_err));
+        // The interval distance between the true points.
+        let dist = distance_between(&points(p), &points(lm));
+        let r = widen(dist, rng.slack(0.5, range_err), rng.slack(0.5, range_err));
         let r = r.intersect(Interval::new(0.0, f64::INFINITY));
         let hd = headings[(t).min(steps - 1)];
-        let h_int = around(hd, rng.range(0.0, 0.05), rng.range(0.0, 0.05));
+        let h_int = around(hd, rng.slack(0.5, 0.05), rng.slack(0.5, 0.05));
         let mut d = json!({"step": t, "range": [r.lo(), r.hi()]});
         if bearings {
-            let beta = libm::atan2(lm[1] - p[1], lm[0] - p[0]) - hd;
-            let b = around(
-                beta,
-                rng.range(0.0, bearing_err),
-                rng.range(0.0, bearing_err),
+            let b = widen(
+                bearing_enclosure(p, lm, hd),
+                rng.slack(0.5, bearing_err),
+                rng.slack(0.5, bearing_err),
             );
             d["bearing"] = json!([b.lo(), b.hi()]);
         }
         let mut b = IntervalBox::entire(dim);
         if region {
             for a in 0..dim {
-                b[a] = around(lm[a], rng.range(0.0, 20.0), rng.range(0.0, 20.0));
+                b[a] = around(lm[a], rng.slack(0.3, 20.0), rng.slack(0.3, 20.0));
             }
         }
         if dim == 3 {
-            b[2] = b[2].intersect(around(lm[2], rng.range(0.0, 1.0), rng.range(0.0, 1.0)));
+            b[2] = b[2].intersect(around(lm[2], rng.slack(0.3, 1.0), rng.slack(0.3, 1.0)));
         }
         dets.push(d);
         det.push(b);
@@ -320,7 +330,7 @@ fn layout(i: u8) -> Layout {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(600), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(600))]
 
     /// The shapes round, iterated with the detections' own constraints as
     /// a propagator would: the truth stays inside, groups are true, no
@@ -378,7 +388,7 @@ proptest! {
             let t = inst.mission.detections[j].step;
             let mut b = IntervalBox::point(l);
             for a in 0..dim {
-                b[a] = around(l[a], rng.range(0.0, 3.0), rng.range(0.0, 3.0));
+                b[a] = around(l[a], rng.slack(0.3, 3.0), rng.slack(0.3, 3.0));
             }
             let piece = shapes[j].contract_piece(b.axes());
             prop_assert!(piece.is_some(), "seed {seed}: det {j} misses a box holding its landmark");
@@ -478,6 +488,162 @@ proptest! {
             for &j in &g {
                 prop_assert_eq!(truth[j], truth[g[0]], "seed {}", seed);
             }
+        }
+    }
+}
+
+/// A box holding `p`: each side at `p` (degenerate or touching) or up to
+/// `w` away, zero widths often.
+fn box_holding(rng: &mut Rng, p: &[f64], w: f64) -> IntervalBox {
+    let axes: Vec<Interval> = p
+        .iter()
+        .map(|&c| around(c, rng.slack(0.5, w), rng.slack(0.5, w)))
+        .collect();
+    IntervalBox::new(&axes)
+}
+
+/// The integer square root of `d2` when it is the square of an integer.
+fn exact_root(d2: f64) -> Option<f64> {
+    let r = libm::sqrt(d2).round();
+    (r * r == d2).then_some(r)
+}
+
+proptest! {
+    #![proptest_config(common::config(2000))]
+
+    /// Two detections of one landmark L at the boundary: the robot boxes
+    /// hold the true positions (often at a bound, often degenerate, often
+    /// touching), the ranges hold the true distances exactly on their
+    /// bounds (an exact point when the distance is an integer, `[0, 0]`
+    /// when the robot is on L; else the interval distance between the point
+    /// boxes), coordinates on a 3-point integer grid so that coincident
+    /// points and tangent shapes are frequent, 2-D and 3-D, sometimes a
+    /// bearing, cuts unbounded or boxes with L on a bound. The two shapes
+    /// share L: never "disjoint" (annulus tests or paving), each meets L's
+    /// point box, keeps the truth in its piece, and a region cut by both
+    /// keeps L.
+    #[test]
+    fn shapes_of_one_landmark_on_the_boundary_meet(seed in any::<u64>(), three in any::<bool>()) {
+        let dim = if three { 3 } else { 2 };
+        let mut rng = Rng::new(seed);
+        let grid = |rng: &mut Rng| -> Vec<f64> { (0..dim).map(|_| rng.below(3) as f64).collect() };
+        let l = grid(&mut rng);
+        let shapes: Vec<(Shape, Vec<f64>)> = (0..2)
+            .map(|_| {
+                let p = if rng.chance(0.35) { l.clone() } else { grid(&mut rng) };
+                let d2: f64 = (0..dim).map(|a| (p[a] - l[a]) * (p[a] - l[a])).sum();
+                let range = match exact_root(d2) {
+                    Some(r) if rng.chance(0.6) => Interval::point(r),
+                    _ => widen(distance_between(&points(&p), &points(&l)), 0.0, rng.slack(0.6, 0.5)),
+                };
+                let range = Interval::new(range.lo().max(0.0), range.hi());
+                let bearing = (dim == 2 && rng.chance(0.3)).then(|| {
+                    let h = rng.range(-3.0, 3.0);
+                    (Interval::point(h), bearing_enclosure(&p, &l, h))
+                });
+                let cut = if rng.chance(0.5) { IntervalBox::entire(dim) } else { box_holding(&mut rng, &l, 2.0) };
+                (Shape::new(box_holding(&mut rng, &p, 1.0), range, bearing, cut), p)
+            })
+            .collect();
+        let (a, b) = (&shapes[0].0, &shapes[1].0);
+        prop_assert!(!a.disjoint(b) && !b.disjoint(a), "seed {seed}: one landmark's shapes called disjoint: {:?} {:?}", a, b);
+        prop_assert!(!disjoint_paved(a, b, 64), "seed {seed}: one landmark's shapes paved disjoint: {:?} {:?}", a, b);
+        prop_assert!(!Item::Shape(a).disjoint(&Item::Shape(b)));
+        for (s, p) in &shapes {
+            let piece = s.contract_piece(&points(&l));
+            prop_assert!(piece.is_some(), "seed {seed}: {:?} misses its landmark {:?}", s, l);
+            let piece = piece.expect("some");
+            for x in 0..dim {
+                prop_assert!(piece.p[x].contains(p[x]) && piece.d[x].contains(l[x]), "seed {seed}: piece {:?} lost the truth", piece);
+            }
+        }
+        let mut region = Paving::from_box(&a.hull());
+        region.cut(b);
+        region.refine(&[a, b], 0.0, 32);
+        prop_assert!(region.contains(&l), "seed {seed}: the region of {:?} and {:?} lost {:?}", a, b, l);
+    }
+}
+
+/// Tangent and coincident shapes: the robot on the landmark (range exactly
+/// [0, 0]) from two boxes that only touch, or coincide; a range [0, 5]
+/// around a point and a range [5, 5] around another point 10 m away... and
+/// exact tangency of zero-width annuli at a common point. None is disjoint.
+#[test]
+fn tangent_and_coincident_shapes_are_not_disjoint() {
+    let b = |x: (f64, f64), y: (f64, f64)| {
+        IntervalBox::new(&[Interval::new(x.0, x.1), Interval::new(y.0, y.1)])
+    };
+    let shape = |c: IntervalBox, r: (f64, f64)| {
+        Shape::new(c, Interval::new(r.0, r.1), None, IntervalBox::entire(2))
+    };
+    let cases = [
+        // Range 0 from boxes touching at (1, 0): the landmark is there.
+        (
+            shape(b((0.0, 1.0), (0.0, 0.0)), (0.0, 0.0)),
+            shape(b((1.0, 2.0), (0.0, 0.0)), (0.0, 0.0)),
+        ),
+        // Range 0 from the same point.
+        (
+            shape(b((3.0, 3.0), (4.0, 4.0)), (0.0, 0.0)),
+            shape(b((3.0, 3.0), (4.0, 4.0)), (0.0, 0.0)),
+        ),
+        // Range 0 from a box, a disc of radius 5 from a point of it.
+        (
+            shape(b((0.0, 1.0), (0.0, 1.0)), (0.0, 0.0)),
+            shape(b((1.0, 1.0), (1.0, 1.0)), (0.0, 5.0)),
+        ),
+        // Circles of radius 5 around (0, 0) and (6, 8), tangent at (3, 4).
+        (
+            shape(b((0.0, 0.0), (0.0, 0.0)), (5.0, 5.0)),
+            shape(b((6.0, 6.0), (8.0, 8.0)), (5.0, 5.0)),
+        ),
+        // A circle of radius 5 inside one of radius 10, tangent at (3, 4).
+        (
+            shape(b((0.0, 0.0), (0.0, 0.0)), (5.0, 5.0)),
+            shape(b((-3.0, -3.0), (-4.0, -4.0)), (10.0, 10.0)),
+        ),
+    ];
+    for (i, (s, t)) in cases.iter().enumerate() {
+        assert!(!s.disjoint(t) && !t.disjoint(s), "case {i}: {s:?} {t:?}");
+        assert!(!disjoint_paved(s, t, 64), "case {i}");
+    }
+}
+
+/// The chain sums of displacements whose sums are exact in f64 (quarter
+/// metres) are those sums, unwidened: `Interval::add` is tightest, so the
+/// enclosure of p(t) - p(s) is exactly `[Σ lo, Σ hi]`.
+#[test]
+fn exact_chain_sums_are_not_widened() {
+    let mut rng = Rng::new(7);
+    let n = 300;
+    let disp: Vec<Interval> = (0..n * 2)
+        .map(|_| {
+            let c = (rng.range(-40.0, 40.0) * 4.0).round() / 4.0;
+            let w = rng.below(3) as f64 * 0.25;
+            Interval::new(c - w, c + w)
+        })
+        .collect();
+    let sums = ChainSums::new(&disp, 2);
+    for (s, t) in [
+        (0, 300),
+        (5, 70),
+        (64, 128),
+        (200, 3),
+        (299, 300),
+        (63, 65),
+        (7, 7),
+    ] {
+        let d = sums.delta(s, t);
+        let (from, to) = (s.min(t), s.max(t));
+        for a in 0..2 {
+            let lo: f64 = (from..to).map(|u| disp[u * 2 + a].lo()).sum();
+            let hi: f64 = (from..to).map(|u| disp[u * 2 + a].hi()).sum();
+            let want = if s <= t {
+                Interval::new(lo, hi)
+            } else {
+                Interval::new(-hi, -lo)
+            };
+            assert_eq!(d[a], want, "delta({s}, {t}) axis {a}");
         }
     }
 }

@@ -4,7 +4,8 @@
 //! box, no two detections of different landmarks are grouped, the mission
 //! stays consistent, and a landmark region is given per group.
 //!
-//! `NVECTOR_PROPTEST_CASES` scales the number of cases.
+//! `PROPTEST_CASES` scales the number of cases (halved here); seeds and
+//! persisted failures: tests/common/mod.rs (`config`).
 
 use nvector_core::nvector::Mode;
 use nvector_core::slam::mission::Mission;
@@ -13,12 +14,7 @@ use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
 use proptest::prelude::*;
 use std::sync::atomic::AtomicBool;
 
-fn cases() -> u32 {
-    std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .map_or(500, |c| (c / 2).max(10))
-}
+mod common;
 
 fn run(mission: &Mission, mode: Mode) -> serde_json::Value {
     let options = SolveOptions {
@@ -29,7 +25,7 @@ fn run(mission: &Mission, mode: Mode) -> serde_json::Value {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(common::config_div(1000, 2, 10))]
 
     #[test]
     fn simulated_missions_keep_the_truth(

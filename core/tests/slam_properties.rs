@@ -27,15 +27,10 @@ const MODES: [Association; 5] = [
     Association::NVector(Mode::Best),
 ];
 
-fn cases() -> u32 {
-    std::env::var("NVECTOR_PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .map_or(200, |c| (c / 15).max(10))
-}
+mod common;
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(common::config_div(3000, 15, 10))]
 
     #[test]
     fn random_small_missions_keep_the_truth(seed in 0u64..1_000_000, steps in 200usize..2500, landmarks in 1usize..6, noise in 0.2..3.0f64, operator in any::<bool>()) {
