@@ -10,7 +10,7 @@
 # changed: update the mutation) or its mutant does not build.
 #
 # Not part of `make test` (a rebuild of core and its tests per mutation:
-# about an hour on two cores). Usage:
+# 10 to 20 minutes on two cores). Usage:
 #   scripts/mutants.sh            every mutation
 #   scripts/mutants.sh a d g      the named ones
 #   scripts/mutants.sh --list     list them
