@@ -2,7 +2,7 @@
 # Installs what the build and the tests need, when missing: the wasm32
 # target, wasm-bindgen-cli at the Cargo.lock version, Chromium and
 # chromedriver, PostgreSQL (server binaries for the storage tests), Node.js
-# and npm, wasm-opt (npm's binaryen, at the version of
+# and npm, brotli (the page's precompressed files), wasm-opt (npm's binaryen, at the version of
 # web/tools/package-lock.json) and the Python venv (scripts/venv.sh).
 # Idempotent and quick when everything is there.
 set -euo pipefail
@@ -23,6 +23,7 @@ command -v chromium >/dev/null || apt_pkgs+=(chromium)
 command -v chromedriver >/dev/null || apt_pkgs+=(chromium-driver)
 ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || apt_pkgs+=(postgresql)
 command -v npm >/dev/null || apt_pkgs+=(nodejs npm)
+command -v brotli >/dev/null || apt_pkgs+=(brotli)
 apt_pid=""
 if [ ${#apt_pkgs[@]} -gt 0 ]; then
   echo "setup: installing ${apt_pkgs[*]} from Debian's packages"

@@ -21,6 +21,16 @@ build() {
     --enable-mutable-globals --enable-reference-types --enable-multivalue \
     web/www/pkg/nvector_web_bg.wasm -o web/www/pkg/nvector_web_bg.wasm
   echo "web: $(stat -c %s web/www/pkg/nvector_web_bg.wasm) bytes of wasm in web/www/pkg"
+  # Precompressed copies beside each file, served by content negotiation
+  # (server/src/service/mod.rs, static_files): brotli (Debian's `brotli`,
+  # installed by scripts/setup.sh) and gzip, both at their best level,
+  # without names or times in them (same input, same bytes).
+  local f
+  for f in web/www/*.html web/www/*.js web/www/*.css web/www/pkg/*.js web/www/pkg/*.wasm; do
+    brotli -f -q 11 -o "$f.br" "$f"
+    gzip -9 -n -c "$f" >"$f.gz"
+  done
+  echo "web: $(stat -c %s web/www/pkg/nvector_web_bg.wasm.br) bytes of wasm sent with brotli, $(stat -c %s web/www/pkg/nvector_web_bg.wasm.gz) with gzip"
 }
 
 case "${1:-}" in

@@ -497,3 +497,97 @@ fn issue_13_simulated_missions_fit_the_detection_limit() {
     assert_eq!(status, 200);
     assert_eq!(stored["detections"].as_array().unwrap().len(), 60);
 }
+
+/// The value of header `name` in a response head (lower-cased name).
+fn header_of(head: &str, name: &str) -> Option<String> {
+    head.lines().find_map(|l| {
+        let (k, v) = l.split_once(':')?;
+        (k.trim().eq_ignore_ascii_case(name)).then(|| v.trim().to_string())
+    })
+}
+
+/// Decompresses with the command-line tool (`brotli` or `gzip`), as a
+/// client would see the body.
+fn decompressed(tool: &str, body: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut child = std::process::Command::new(tool)
+        .args(["-d", "-c"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("{tool} (scripts/setup.sh installs it): {e}"));
+    child.stdin.take().unwrap().write_all(body).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{tool} -d failed");
+    out.stdout
+}
+
+/// The page's files are sent precompressed by content negotiation (brotli,
+/// gzip, or as they are), the wasm in at most 160 KB, with validation
+/// headers: a client that has the file gets 304.
+#[test]
+fn the_page_is_served_precompressed_and_revalidated() {
+    let www = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../web/www");
+    let wasm = std::fs::read(www.join("pkg/nvector_web_bg.wasm"))
+        .expect("the page is not built: run `scripts/web.sh build` (make test does)");
+    let dir = std::env::temp_dir().join(format!("nvector-static-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let link = dir.join("www");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&www, &link).unwrap();
+    let db = format!("sqlite://{}", dir.join("nvector.db").display());
+    let s = Server::start_with(dir, db, &[]);
+    let path = "/pkg/nvector_web_bg.wasm";
+    for (accept, encoding, tool) in [
+        ("br, gzip", Some("br"), "brotli"),
+        ("gzip", Some("gzip"), "gzip"),
+        ("identity", None, ""),
+    ] {
+        let (st, head, body) = s.req("GET", path, None, &[("Accept-Encoding", accept)]);
+        assert_eq!(st, 200, "{head}");
+        assert_eq!(
+            header_of(&head, "content-encoding").as_deref(),
+            encoding,
+            "{head}"
+        );
+        assert_eq!(
+            header_of(&head, "content-type").as_deref(),
+            Some("application/wasm")
+        );
+        assert_eq!(
+            header_of(&head, "cache-control").as_deref(),
+            Some("no-cache")
+        );
+        assert_eq!(header_of(&head, "vary").as_deref(), Some("accept-encoding"));
+        let plain = match encoding {
+            Some(_) => decompressed(tool, &body),
+            None => body.clone(),
+        };
+        assert!(plain == wasm, "{accept}: the body is not the page's wasm");
+        if encoding == Some("br") {
+            assert!(
+                body.len() <= 160_000,
+                "{} bytes of wasm sent with brotli",
+                body.len()
+            );
+        }
+        // Revalidation: unchanged since the last answer, 304 and no body.
+        let modified = header_of(&head, "last-modified").expect("last-modified");
+        let (st, _, body) = s.req(
+            "GET",
+            path,
+            None,
+            &[
+                ("Accept-Encoding", accept),
+                ("If-Modified-Since", &modified),
+            ],
+        );
+        assert_eq!((st, body.len()), (304, 0), "{accept}");
+    }
+    // The page itself, and a file with no compressed copy, as they are.
+    let (st, head, body) = s.req("GET", "/", None, &[("Accept-Encoding", "br")]);
+    assert_eq!(st, 200, "{head}");
+    assert_eq!(header_of(&head, "content-encoding").as_deref(), Some("br"));
+    let html = std::fs::read(www.join("index.html")).unwrap();
+    assert!(decompressed("brotli", &body) == html);
+}

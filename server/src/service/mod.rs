@@ -39,6 +39,8 @@ use axum::routing::get;
 use axum::{Extension, Router};
 use std::sync::Arc;
 use store::Store;
+use tower_http::services::ServeDir;
+use tower_http::set_header::SetResponseHeader;
 use utoipa::OpenApi;
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
@@ -77,6 +79,28 @@ pub fn document(config: &Config) -> serde_json::Value {
     openapi::finish(routes().into_openapi(), config)
 }
 
+/// The page's static files: the brotli or gzip copy that `scripts/web.sh
+/// build` wrote beside each file (`x.wasm.br`, `x.wasm.gz`) when the client
+/// accepts it, else the file itself. No file name carries a content hash,
+/// so every answer is revalidated (`Cache-Control: no-cache`: a cache keeps
+/// it and asks with `If-Modified-Since`, answered 304 while unchanged), and
+/// `Vary: Accept-Encoding` keeps caches from mixing the encodings.
+fn static_files(
+    dir: std::path::PathBuf,
+) -> SetResponseHeader<SetResponseHeader<ServeDir, HeaderValue>, HeaderValue> {
+    let files = ServeDir::new(dir).precompressed_br().precompressed_gzip();
+    let files = SetResponseHeader::overriding(
+        files,
+        header::CACHE_CONTROL,
+        HeaderValue::from_static("no-cache"),
+    );
+    SetResponseHeader::overriding(
+        files,
+        header::VARY,
+        HeaderValue::from_static("accept-encoding"),
+    )
+}
+
 /// The router of the whole service.
 pub fn app(state: AppState) -> Router {
     let (router, api) = routes().split_for_parts();
@@ -86,7 +110,7 @@ pub fn app(state: AppState) -> Router {
         .layer(DefaultBodyLimit::max(state.config.max_body));
     let dir = state.config.static_dir.clone();
     if dir.join("index.html").exists() {
-        router = router.fallback_service(tower_http::services::ServeDir::new(dir));
+        router = router.fallback_service(static_files(dir));
     } else {
         router = router.route(
             "/",
