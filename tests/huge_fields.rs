@@ -313,43 +313,15 @@ fn the_largest_mission_runs_under_1_gib_with_false_detections() {
 fn the_service_runs_huge_field_jobs_under_1_gib_and_keeps_answering() {
     // Issue 19: one such upload aborted `nvector serve` (and, the job
     // queued again at restart, every restart after it).
-    use std::io::{BufRead, BufReader};
     let dir = nvector_tests::temp_dir("huge-serve");
     let db = format!("sqlite://{}", dir.join("nvector.db").display());
-    let mut child = Command::new("bash")
+    let mut under_limit = Command::new("bash");
+    under_limit
         .arg("-c")
         .arg(format!("ulimit -v {LIMIT_KIB} && exec \"$0\" \"$@\""))
         .arg(nvector_tests::nvector_bin())
-        .args([
-            "serve",
-            "--addr",
-            "127.0.0.1:0",
-            "--database",
-            &db,
-            "--static-dir",
-        ])
-        .arg(dir.join("www"))
-        .env("MALLOC_ARENA_MAX", "2")
-        .env("RUST_LOG", "warn")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("start nvector serve");
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .trim()
-        .strip_prefix("nvector serving on http://")
-        .unwrap_or_else(|| panic!("unexpected first line: {line}"))
-        .to_string();
-    let server = nvector_tests::Server {
-        child,
-        addr,
-        dir,
-        db,
-    };
+        .env("MALLOC_ARENA_MAX", "2");
+    let server = nvector_tests::Server::start_from(under_limit, dir, db, &[]);
     for extra in [
         json!({"max_outliers": U32_MAX}),
         json!({"landmark_count": U32_MAX, "max_outliers": U32_MAX}),

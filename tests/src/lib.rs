@@ -154,7 +154,13 @@ impl Server {
 
     /// Starts on an existing directory and database (restart tests).
     pub fn start_with(dir: PathBuf, db: String, extra: &[&str]) -> Server {
-        let mut child = nvector()
+        Server::start_from(nvector(), dir, db, extra)
+    }
+
+    /// [`Server::start_with`], the service started by `command` (the
+    /// `nvector` binary, or a wrapper that runs it, e.g. under a limit).
+    pub fn start_from(mut command: Command, dir: PathBuf, db: String, extra: &[&str]) -> Server {
+        let mut child = command
             .args([
                 "serve",
                 "--addr",
