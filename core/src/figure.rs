@@ -264,7 +264,10 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
     if !detections.is_empty() && shown_detections {
         layers.push(Layer {
             name: "detections",
-            label: format!("{} detection boxes", detections.len()),
+            label: match detections.len() {
+                1 => "1 detection box".to_string(),
+                d => format!("{d} detection boxes"),
+            },
             kind: Kind::Rects,
             colour: DETECTIONS,
             fill_alpha: 0.0,
