@@ -144,9 +144,9 @@ pub fn metres(x: Option<f64>) -> String {
         Some(x) if x.is_infinite() => "unbounded".to_string(),
         Some(x) if x.abs() >= 100.0 => format!("{x:.0} m"),
         Some(x) if x.abs() >= 1.0 => format!("{x:.1} m"),
-        Some(x) if x == 0.0 => "0 m".to_string(),
         Some(x) if x.abs() >= 0.01 => format!("{x:.3} m"),
-        Some(x) => format!("{x:.2e} m"),
+        Some(x) if x.abs() > 0.0 => format!("{x:.2e} m"),
+        Some(_) => "0 m".to_string(),
     }
 }
 
@@ -238,7 +238,7 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
                 // limits): every k-th box and the last.
                 let stride = n.div_ceil(MAX_TRAJECTORY_BOXES).max(1);
                 let mut rects: Vec<[f64; 4]> = trajectory.iter().step_by(stride).copied().collect();
-                if (n - 1) % stride != 0 {
+                if rects.last() != Some(&trajectory[n - 1]) {
                     rects.push(trajectory[n - 1]);
                 }
                 let label = if stride == 1 {
@@ -329,7 +329,7 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
         let m = truth_path.len();
         let stride = m.div_ceil(MAX_PATH_POINTS).max(1);
         let mut points: Vec<[f64; 2]> = truth_path.iter().step_by(stride).copied().collect();
-        if (m - 1) % stride != 0 {
+        if points.last() != Some(&truth_path[m - 1]) {
             points.push(truth_path[m - 1]);
         }
         layers.push(Layer {
@@ -563,5 +563,7 @@ mod tests {
         assert_eq!(metres(Some(612.4)), "612 m");
         assert_eq!(metres(Some(0.4123)), "0.412 m");
         assert_eq!(metres(None), "?");
+        assert_eq!(metres(Some(0.0)), "0 m");
+        assert_eq!(metres(Some(0.004)), "4.00e-3 m");
     }
 }
