@@ -130,3 +130,15 @@ fn api_docs_page_and_its_script_are_served_locally() {
     let doc: serde_json::Value = serde_json::from_slice(&doc).unwrap();
     assert!(doc["openapi"].as_str().unwrap().starts_with("3."));
 }
+
+#[test]
+fn api_docs_page_is_readable_without_a_key() {
+    let cwd = temp_dir("docs-keys");
+    let keys = cwd.join("keys.txt");
+    std::fs::write(&keys, "k-1\n").unwrap();
+    let s = start(&cwd, &["--api-key-file", keys.to_str().unwrap()]);
+    assert_eq!(get(&s.addr, "/api/v1/missions").0, 401);
+    assert_eq!(get(&s.addr, "/api/docs").0, 200);
+    assert_eq!(get(&s.addr, "/api/docs/redoc.standalone.js").0, 200);
+    assert_eq!(get(&s.addr, "/api/v1/openapi.json").0, 200);
+}
