@@ -92,6 +92,20 @@ impl Image {
     }
 }
 
+/// The words of an SVG as a person reads them: the text of every `<text>`
+/// element, joined by spaces (a legend label wrapped on two lines reads
+/// as one).
+fn svg_words(svg: &str) -> String {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let body = &t[t.find('>')? + 1..];
+            Some(body[..body.find("</text>")?].trim().to_string())
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 /// The truth's colour: black (core::figure::TRUTH).
 fn is_truth(c: [u8; 3]) -> bool {
     c.iter().all(|&v| v < 40)
@@ -195,8 +209,9 @@ fn plaza_ids_hidden_shows_the_truth_path_with_axes_and_legend() {
     );
 
     // The SVG: title in metres, axes, legend.
-    let text = std::fs::read_to_string(&svg).unwrap();
-    assert!(text.starts_with("<svg"));
+    let svg_text = std::fs::read_to_string(&svg).unwrap();
+    assert!(svg_text.starts_with("<svg"));
+    let text = svg_words(&svg_text);
     let max = result["metrics"]["max_trajectory_diameter"]
         .as_f64()
         .unwrap();
@@ -212,7 +227,7 @@ fn plaza_ids_hidden_shows_the_truth_path_with_axes_and_legend() {
             result["trajectory"].as_array().unwrap().len()
         ),
         format!(
-            "{} proved groups of at most 4",
+            "{} proved groups of at most 4 landmarks",
             result["matching"].as_array().unwrap().len()
         ),
     ] {
@@ -220,4 +235,56 @@ fn plaza_ids_hidden_shows_the_truth_path_with_axes_and_legend() {
     }
     // A handful of group outlines, not one per group.
     assert!(text.contains("tightest outlined"), "outlines not thinned");
+}
+
+/// Unbounded, overflowing and empty values, and a result with nothing to
+/// draw: a figure all the same (never a panic), the undrawn boxes counted.
+#[test]
+fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
+    let result = serde_json::json!({
+        "format": "nvector-result/1", "mission": "u", "status": "consistent",
+        "options": {"contractor": "best"},
+        "trajectory": [[["-inf", "inf"], ["-inf", "inf"]], [[-1e308, 1e308], [0, 1]],
+                       [[1e300, 1.7e308], [-1.7e308, -1e300]], "empty"],
+        "detections": [[[-1e308, 1e308], [5, 6]]],
+        "landmarks": [[[0, 0], [0, 0]]],
+        "matching": [[0]],
+        "metrics": {"max_trajectory_diameter": "inf", "mean_trajectory_diameter": "inf"}
+    });
+    let mission = serde_json::json!({
+        "name": "u", "steps": 3,
+        "truth": {"positions": [[0, 0], [1e308, -1e308], [5, 5], [-1.7e308, 1.7e308]],
+                  "landmarks": [[0, 0]]}
+    });
+    let empty = serde_json::json!({
+        "format": "nvector-result/1", "trajectory": [], "detections": [],
+        "landmarks": [], "matching": []
+    });
+    for (name, r, m) in [
+        ("huge", &result, &mission),
+        ("empty", &empty, &serde_json::json!({})),
+    ] {
+        let rp = tmp(&format!("{name}-r.json"));
+        let mp = tmp(&format!("{name}-m.json"));
+        std::fs::write(&rp, r.to_string()).unwrap();
+        std::fs::write(&mp, m.to_string()).unwrap();
+        for ext in ["svg", "png"] {
+            let out = tmp(&format!("{name}.{ext}"));
+            ok(&nvector(&[
+                "plot",
+                rp.to_str().unwrap(),
+                "--mission",
+                mp.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ]));
+            assert!(std::fs::metadata(&out).unwrap().len() > 1000);
+        }
+    }
+    let svg = svg_words(&std::fs::read_to_string(tmp("huge.svg")).unwrap());
+    assert!(svg.contains("max trajectory diameter unbounded"), "{svg}");
+    assert!(
+        svg.contains("trajectory: 2 position boxes (2 more unbounded or empty, not drawn)"),
+        "{svg}"
+    );
 }

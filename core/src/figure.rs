@@ -160,6 +160,12 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
         .iter()
         .filter_map(rect)
         .collect();
+    let undrawn = list(&result["trajectory"]).len() - trajectory.len();
+    let undrawn = match undrawn {
+        0 => String::new(),
+        1 => " (1 more unbounded or empty, not drawn)".to_string(),
+        u => format!(" ({u} more unbounded or empty, not drawn)"),
+    };
     let detections: Vec<[f64; 4]> = list(&result["detections"])
         .iter()
         .filter_map(rect)
@@ -225,7 +231,7 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
         layers.push(match envelope {
             Some(rects) => Layer {
                 name: "trajectory",
-                label: format!("trajectory: envelope of the {n} position boxes"),
+                label: format!("trajectory: envelope of the {n} position boxes{undrawn}"),
                 kind: Kind::Rects,
                 colour: TRAJECTORY,
                 fill_alpha: 0.35,
@@ -242,9 +248,9 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
                     rects.push(trajectory[n - 1]);
                 }
                 let label = if stride == 1 {
-                    format!("trajectory: {n} position boxes")
+                    format!("trajectory: {n} position boxes{undrawn}")
                 } else {
-                    format!("trajectory: every {stride}th of {n} position boxes")
+                    format!("trajectory: every {stride}th of {n} position boxes{undrawn}")
                 };
                 Layer {
                     name: "trajectory",

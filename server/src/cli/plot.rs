@@ -201,7 +201,7 @@ fn draw<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     for layer in &fig.layers {
-        draw_layer(&mut chart, layer)?;
+        draw_layer(&mut chart, layer, v)?;
     }
     let (xs, ys) = chart.plotting_area().get_pixel_range();
     legend(&legend_area, &fig.layers)?;
@@ -215,7 +215,15 @@ fn draw_layer<DB: DrawingBackend>(
         Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
     >,
     layer: &Layer,
+    view: [f64; 4],
 ) -> Result<(), CliError> {
+    // Coordinates far outside the view (up to the float limits) are
+    // brought to one view's span beyond it: plotters maps them to i32
+    // pixels, which must not overflow; what lies outside is clipped anyway.
+    let (sx, sy) = (view[1] - view[0], view[3] - view[2]);
+    let cx = |x: f64| x.clamp(view[0] - sx, view[1] + sx);
+    let cy = |y: f64| y.clamp(view[2] - sy, view[3] + sy);
+    let corners = |r: &[f64; 4]| [(cx(r[0]), cy(r[2])), (cx(r[1]), cy(r[3]))];
     let c = colour(layer.colour);
     match layer.kind {
         Kind::Rects => {
@@ -226,7 +234,7 @@ fn draw_layer<DB: DrawingBackend>(
                         layer
                             .rects
                             .iter()
-                            .map(|r| Rectangle::new([(r[0], r[2]), (r[1], r[3])], style)),
+                            .map(|r| Rectangle::new(corners(r), style)),
                     )
                     .map_err(err)?;
             }
@@ -242,7 +250,7 @@ fn draw_layer<DB: DrawingBackend>(
                         layer
                             .rects
                             .iter()
-                            .map(|r| Rectangle::new([(r[0], r[2]), (r[1], r[3])], style)),
+                            .map(|r| Rectangle::new(corners(r), style)),
                     )
                     .map_err(err)?;
             }
@@ -250,7 +258,7 @@ fn draw_layer<DB: DrawingBackend>(
         Kind::Path => {
             chart
                 .draw_series(LineSeries::new(
-                    layer.points.iter().map(|p| (p[0], p[1])),
+                    layer.points.iter().map(|p| (cx(p[0]), cy(p[1]))),
                     c.stroke_width(layer.line_width.ceil() as u32),
                 ))
                 .map_err(err)?;
@@ -261,7 +269,7 @@ fn draw_layer<DB: DrawingBackend>(
                     layer
                         .points
                         .iter()
-                        .map(|p| Circle::new((p[0], p[1]), 5, c.filled())),
+                        .map(|p| Circle::new((cx(p[0]), cy(p[1])), 5, c.filled())),
                 )
                 .map_err(err)?;
         }
