@@ -21,6 +21,9 @@ from . import _nvector
 
 PathLike = Union[str, "os.PathLike[str]"]
 
+#: Largest magnitude of a drawn bound (as the CLI's figures).
+LIMIT = 1e300
+
 
 def _read(obj: Any) -> Any:
     if isinstance(obj, (str, os.PathLike)):
@@ -68,6 +71,18 @@ def plot(
     if ax is None:
         _, ax = plt.subplots(figsize=(11, 7), layout="constrained")
 
+    # The view within +-1e300 and every coordinate within one view's span
+    # beyond it, as the CLI does: values near the float limits would
+    # overflow matplotlib's transforms; what lies outside is clipped anyway.
+    x0, x1, y0, y1 = (min(max(float(v), -LIMIT), LIMIT) for v in fig_desc["view"])
+    sx, sy = x1 - x0, y1 - y0
+
+    def cx(x: float) -> float:
+        return min(max(x, x0 - sx), x1 + sx)
+
+    def cy(y: float) -> float:
+        return min(max(y, y0 - sy), y1 + sy)
+
     # Pixels of the CLI's figures to points (matplotlib's line unit).
     pt = 0.75
     handles: list[Any] = []
@@ -78,7 +93,7 @@ def plot(
         alpha = float(layer["fill_alpha"])
         width = float(layer["line_width"]) * pt
         if layer["kind"] == "rects":
-            shapes = [Rectangle((x0, y0), x1 - x0, y1 - y0) for x0, x1, y0, y1 in layer["rects"]]
+            shapes = [Rectangle((cx(a), cy(c)), cx(b) - cx(a), cy(d) - cy(c)) for a, b, c, d in layer["rects"]]
             face: Any = (*_rgb(colour), alpha) if alpha > 0 else "none"
             edge: Any = colour if width > 0 else "none"
             if width > 0 and width < pt:
@@ -88,14 +103,14 @@ def plot(
             )
             handles.append(Patch(facecolor=face, edgecolor=edge, linewidth=max(width, pt) if width > 0 else 0, label=layer["label"]))
         elif layer["kind"] == "path":
-            xs = [p[0] for p in layer["points"]]
-            ys = [p[1] for p in layer["points"]]
+            xs = [cx(p[0]) for p in layer["points"]]
+            ys = [cy(p[1]) for p in layer["points"]]
             (line,) = ax.plot(xs, ys, color=colour, linewidth=width, zorder=1 + z, label=layer["label"])
             handles.append(line)
         else:
             ax.scatter(
-                [p[0] for p in layer["points"]],
-                [p[1] for p in layer["points"]],
+                [cx(p[0]) for p in layer["points"]],
+                [cy(p[1]) for p in layer["points"]],
                 s=30,
                 color=colour,
                 zorder=1 + z,
@@ -103,10 +118,12 @@ def plot(
             )
             handles.append(Line2D([], [], color=colour, marker="o", linestyle="none", label=layer["label"]))
 
-    x0, x1, y0, y1 = fig_desc["view"]
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
-    ax.set_aspect("equal", adjustable="box")
+    # One scale on x and y, unless the view is too thin or too wide for it
+    # (a figure of unbounded or huge values).
+    if sx > 0 and sy > 0 and 1e-3 < sy / sx < 1e3 and sx < 1e150 and sy < 1e150:
+        ax.set_aspect("equal", adjustable="box")
     ax.set_title(f"{fig_desc['title']}\n{fig_desc['subtitle']}", fontsize="medium")
     ax.set_xlabel(fig_desc["x_label"])
     ax.set_ylabel(fig_desc["y_label"])

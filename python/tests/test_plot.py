@@ -121,6 +121,26 @@ def test_plot_skips_unbounded_and_empty_boxes() -> None:
     plt.close(ax.figure)
 
 
+def test_plot_huge_values_and_nothing_to_draw(tmp_path: Path) -> None:
+    result = {
+        "mission": "u",
+        "trajectory": [[["-inf", "inf"], ["-inf", "inf"]], [[-1e308, 1e308], [0, 1]], [[1e300, 1.7e308], [-1.7e308, -1e300]]],
+        "detections": [[[-1e308, 1e308], [5, 6]]],
+        "landmarks": [[[0, 0], [0, 0]]],
+        "matching": [[0]],
+        "metrics": {"max_trajectory_diameter": "inf", "mean_trajectory_diameter": "inf"},
+    }
+    mission = {"truth": {"positions": [[0, 0], [1e308, -1e308], [-1.7e308, 1.7e308]], "landmarks": [[0, 0]]}}
+    ax = nvector.plot(result, mission)
+    assert "unbounded" in ax.get_title()
+    ax.figure.savefig(tmp_path / "huge.png")
+    plt.close(ax.figure)
+    ax = nvector.plot({"trajectory": [], "detections": [], "landmarks": [], "matching": []})
+    ax.figure.savefig(tmp_path / "empty.png")
+    assert ax.get_legend() is None
+    plt.close(ax.figure)
+
+
 def test_example_script(tmp_path: Path) -> None:
     out = tmp_path / "slam.png"
     done = subprocess.run(

@@ -184,7 +184,9 @@ fn progress_message(p: &Progress) -> String {
         format!("{} pass {}/{}", p.pass, p.detections_done, p.detections)
     };
     format!(
-        "round {} ({pass}){moving}, max trajectory diameter {:.4} (dead reckoning {:.4})",
-        p.round, p.max_trajectory_diameter, p.initial_max_trajectory_diameter
+        "round {} ({pass}){moving}, max trajectory diameter {} (dead reckoning {})",
+        p.round,
+        metres(Some(p.max_trajectory_diameter)),
+        metres(Some(p.initial_max_trajectory_diameter))
     )
 }
