@@ -67,13 +67,15 @@ fn simulate_run_plot() {
     assert!(result["metrics"]["elapsed_ms"].as_f64().unwrap() > 0.0);
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.starts_with("<svg"));
-    // Every detection and landmark box of the result is drawn.
-    let drawn = text.matches("class=\"detection\"").count();
-    assert_eq!(drawn, result["detections"].as_array().unwrap().len());
-    assert_eq!(
-        text.matches("class=\"landmark\"").count(),
-        result["landmarks"].as_array().unwrap().len()
-    );
+    // Axes in metres, a legend naming the layers, the title in metres.
+    for wanted in ["x (m)", "y (m)", "Legend", "true path", "true landmarks"] {
+        assert!(text.contains(wanted), "the SVG lacks '{wanted}'");
+    }
+    let groups = result["matching"].as_array().unwrap().len();
+    assert!(groups > 0);
+    assert!(text.contains(&format!("{groups} proved groups of at most 4")));
+    assert!(text.contains("max trajectory diameter "));
+    assert!(text.contains(" m, mean "));
     let png = tmp("fig.png");
     let out = nvector(&[
         "plot",

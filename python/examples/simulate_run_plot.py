@@ -24,17 +24,17 @@ def main() -> None:
     args = parser.parse_args()
 
     mission = nvector.simulate("paper", seed=args.seed, steps=args.steps)
-    fig, axes = plt.subplots(1, 2, figsize=(14, 6))
+    # Each panel fitted to its own result (axes in metres, a legend each).
+    fig, axes = plt.subplots(1, 2, figsize=(16, 6), layout="constrained")
     for ax, contractor in zip(axes, ["none", "best"]):
         result = nvector.run(mission, contractor=contractor, progress=True)
         metrics = result["metrics"]
         print(
             f"{contractor:>5}: {result['status']}, max trajectory diameter "
-            f"{metrics['max_trajectory_diameter']:.3f}, {metrics['matched_detections']} "
+            f"{metrics['max_trajectory_diameter']:.3f} m, {metrics['matched_detections']} "
             f"detections matched, truth inside: {result['score']['truth_inside']}"
         )
         nvector.plot(result, mission, ax=ax)
-    fig.tight_layout()
     fig.savefig(args.out, dpi=120)
     print(f"wrote {args.out}")
 

@@ -7,7 +7,8 @@ the service, so the same bits), a client of an nvector service, and figures:
 - :func:`simulate`: a simulated mission with ground truth (a dict);
 - :func:`run`: one SLAM job on a mission (dict or file) -> the result (a dict);
 - :class:`Client`: missions and jobs on a running ``nvector serve``;
-- :func:`plot`: a result drawn with matplotlib, like the CLI's figures.
+- :func:`plot`: a result drawn with matplotlib, the picture of the CLI's
+  figures (:func:`figure`: its description, shared with the CLI).
 
 Missions and results are the JSON documents of the nvector formats
 (``nvector-mission/1``, ``nvector-result/1``) as plain Python objects: a
@@ -38,7 +39,7 @@ from . import _nvector
 from ._errors import InputError, JobError, ServiceError
 from ._progress import ProgressBar
 from ._client import Client
-from ._plot import plot
+from ._plot import figure, plot
 
 __all__ = [
     "contract",
@@ -49,6 +50,7 @@ __all__ = [
     "boxes",
     "Client",
     "plot",
+    "figure",
     "ContractResult",
     "MinDistinct",
     "InputError",

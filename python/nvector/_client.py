@@ -190,12 +190,17 @@ class Client:
         bar = ProgressBar(f"job {job_id}") if progress else None
         try:
             job = self._follow(job_id, bar, deadline)
+            if job.get("state") != "done":
+                raise JobError(job)
+            result = cast("dict[str, Any]", self.result(job_id))
+            if bar is not None:
+                # The bar ends on the result's figures, not on the last
+                # progress event (which may be rounds behind).
+                bar.update(1.0, final_message(result))
         finally:
             if bar is not None:
                 bar.close()
-        if job.get("state") != "done":
-            raise JobError(job)
-        return cast("dict[str, Any]", self.result(job_id))
+        return result
 
     def _follow(self, job_id: str, bar: ProgressBar | None, deadline: float | None) -> dict[str, Any]:
         def check_deadline(job: dict[str, Any]) -> None:
@@ -257,8 +262,37 @@ def _show(bar: ProgressBar | None, job: dict[str, Any]) -> None:
     diameter = p.get("max_trajectory_diameter")
     text = f"{job.get('state')}, round {p.get('round', 0)}"
     if isinstance(diameter, (int, float)):
-        text += f", max trajectory diameter {diameter:.4g}"
+        text += f", max trajectory diameter {metres(diameter)}"
     bar.update(fraction, text)
+
+
+def metres(x: Any) -> str:
+    """A length in metres rounded as the figures' titles show it
+    (``nvector_core::figure::metres``): "73.0 m", "0.412 m", "612 m"."""
+    if x == "inf" or (isinstance(x, float) and x == float("inf")):
+        return "unbounded"
+    if not isinstance(x, (int, float)) or x != x:
+        return "?"
+    a = abs(x)
+    if a >= 100:
+        return f"{x:.0f} m"
+    if a >= 1:
+        return f"{x:.1f} m"
+    if x == 0:
+        return "0 m"
+    if a >= 0.01:
+        return f"{x:.3f} m"
+    return f"{x:.2e} m"
+
+
+def final_message(result: dict[str, Any]) -> str:
+    """The progress bar's last words: the result's status, rounds and
+    diameters (what the job ended on)."""
+    m = result.get("metrics") or {}
+    return (
+        f"{result.get('status')}, {m.get('rounds', '?')} rounds, max trajectory diameter "
+        f"{metres(m.get('max_trajectory_diameter'))} (mean {metres(m.get('mean_trajectory_diameter'))})"
+    )
 
 
 def _service_error(e: urllib.error.HTTPError) -> ServiceError:

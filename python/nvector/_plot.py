@@ -1,25 +1,28 @@
 """Figures of SLAM results with matplotlib (imported only when drawing).
 
-The same picture as ``nvector plot`` and the service's SVG (the paper's
-Figure 9): trajectory boxes in blue, detection boxes coloured by proved
-group (grey when in none), landmark boxes in red, and the truth (path and
-landmarks) in black, on the first two axes, y up.
+The same picture as ``nvector plot`` and ``nvector run --plot``: both draw
+the one description of the picture that the compiled core computes
+(``nvector._nvector.figure``, Rust ``nvector_core::figure``): the
+trajectory's boxes translucent (their envelope past 400 boxes), the
+tightest proved groups outlined with their landmark regions, the truth
+(path and landmarks) on top; axes in metres at one scale, the diameters in
+metres in the title, and a legend. Each call fits the axes to its own
+result, so panels side by side each show their result at its own scale.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import textwrap
 from typing import Any, Union
+
+from . import _nvector
 
 PathLike = Union[str, "os.PathLike[str]"]
 
-#: Colours of matching groups, as the CLI's figures.
-PALETTE = ("#e6194b", "#3cb44b", "#4363d8", "#f58231", "#911eb4", "#42d4f4", "#f032e6", "#9a6324")
-TRAJECTORY = "#4a90d9"
-UNGROUPED = "#888888"
-LANDMARK_EDGE = "#b00000"
-LANDMARK_FILL = (200 / 255, 0.0, 0.0, 0.25)
+#: Largest magnitude of a drawn bound (as the CLI's figures).
+LIMIT = 1e300
 
 
 def _read(obj: Any) -> Any:
@@ -29,90 +32,108 @@ def _read(obj: Any) -> Any:
     return obj
 
 
-def _rect(box: Any) -> tuple[float, float, float, float] | None:
-    """(x0, y0, x1, y1) of a box's first two axes, when bounded."""
-    if not isinstance(box, (list, tuple)) or len(box) < 2:
-        return None
-    try:
-        x0, x1 = float(box[0][0]), float(box[0][1])
-        y0, y1 = float(box[1][0]), float(box[1][1])
-    except (TypeError, ValueError, IndexError):
-        return None
-    bounds = (x0, x1, y0, y1)
-    if any(b != b or b in (float("inf"), float("-inf")) for b in bounds):
-        return None
-    return x0, y0, x1, y1
+def figure(result: dict[str, Any] | PathLike, mission: dict[str, Any] | PathLike | None = None) -> dict[str, Any]:
+    """The description of a result's picture (a dict), as the CLI draws it:
+    ``title``, ``subtitle``, ``x_label``, ``y_label``, ``view`` ([x0, x1,
+    y0, y1] in metres) and ``layers``, bottom first, each with ``name``,
+    ``label`` (the legend's text), ``kind`` (``rects``, ``path`` or
+    ``points``), ``colour``, ``fill_alpha``, ``line_width`` (pixels),
+    ``rects`` ([x0, x1, y0, y1]) and ``points`` ([x, y])."""
+    res = _read(result)
+    mis = _read(mission) if mission is not None else None
+    out: dict[str, Any] = json.loads(_nvector.figure(res, mis))
+    return out
 
 
 def plot(
     result: dict[str, Any] | PathLike,
     mission: dict[str, Any] | PathLike | None = None,
     ax: Any = None,
-    max_boxes: int = 1500,
+    legend: bool = True,
 ) -> Any:
     """Draws a result (``nvector-result/1`` dict or file) on ``ax`` (a new
     figure's axes when None) and returns the axes.
 
-    ``mission`` (dict or file), when given, adds the truth it holds. At most
-    ``max_boxes`` trajectory boxes are drawn (every k-th and the last), as
-    the CLI does. Needs matplotlib (``pip install matplotlib``).
+    ``mission`` (dict or file), when given, adds the truth it holds. The
+    axes are fitted to this result (x and y in metres, one scale), titled
+    with the diameters in metres, and get a legend (``legend=False``: none)
+    to the right of the axes. Needs matplotlib (``pip install matplotlib``).
     """
     try:
         import matplotlib.pyplot as plt
         from matplotlib.collections import PatchCollection
-        from matplotlib.patches import Rectangle
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Patch, Rectangle
     except ImportError as e:  # pragma: no cover - depends on the machine
         raise ImportError("nvector.plot needs matplotlib: pip install matplotlib") from e
 
-    res: dict[str, Any] = _read(result)
-    mis: dict[str, Any] = _read(mission) if mission is not None else {}
+    fig_desc = figure(result, mission)
     if ax is None:
-        _, ax = plt.subplots(figsize=(9, 6))
+        _, ax = plt.subplots(figsize=(11, 7), layout="constrained")
 
-    def patches(rects: list[tuple[float, float, float, float]], **style: Any) -> None:
-        if rects:
-            shapes = [Rectangle((x0, y0), x1 - x0, y1 - y0) for x0, y0, x1, y1 in rects]
-            ax.add_collection(PatchCollection(shapes, **style))
+    # The view within +-1e300 and every coordinate within one view's span
+    # beyond it, as the CLI does: values near the float limits would
+    # overflow matplotlib's transforms; what lies outside is clipped anyway.
+    x0, x1, y0, y1 = (min(max(float(v), -LIMIT), LIMIT) for v in fig_desc["view"])
+    sx, sy = x1 - x0, y1 - y0
 
-    trajectory = list(res.get("trajectory") or [])
-    stride = max(1, -(-len(trajectory) // max(1, max_boxes)))
-    drawn = trajectory[::stride] + trajectory[-1:]
-    patches([r for r in map(_rect, drawn) if r], facecolor="none", edgecolor=TRAJECTORY, linewidth=0.6, label="trajectory")
+    def cx(x: float) -> float:
+        return min(max(x, x0 - sx), x1 + sx)
 
-    detections = list(res.get("detections") or [])
-    group_of = [-1] * len(detections)
-    for g, members in enumerate(res.get("matching") or []):
-        for m in members:
-            if isinstance(m, int) and 0 <= m < len(group_of):
-                group_of[m] = g
-    by_colour: dict[str, list[tuple[float, float, float, float]]] = {}
-    for box, g in zip(detections, group_of):
-        r = _rect(box)
-        if r:
-            by_colour.setdefault(UNGROUPED if g < 0 else PALETTE[g % len(PALETTE)], []).append(r)
-    for colour, rects in by_colour.items():
-        patches(rects, facecolor="none", edgecolor=colour, linewidth=0.8)
+    def cy(y: float) -> float:
+        return min(max(y, y0 - sy), y1 + sy)
 
-    landmarks = [r for r in map(_rect, res.get("landmarks") or []) if r]
-    patches(landmarks, facecolor=LANDMARK_FILL, edgecolor=LANDMARK_EDGE, linewidth=0.8)
+    # Pixels of the CLI's figures to points (matplotlib's line unit).
+    pt = 0.75
+    handles: list[Any] = []
+    for z, layer in enumerate(fig_desc["layers"]):
+        # Long legend labels on several lines, as the CLI's legend.
+        layer = {**layer, "label": textwrap.fill(layer["label"], 38)}
+        colour = layer["colour"]
+        alpha = float(layer["fill_alpha"])
+        width = float(layer["line_width"]) * pt
+        if layer["kind"] == "rects":
+            shapes = [Rectangle((cx(a), cy(c)), cx(b) - cx(a), cy(d) - cy(c)) for a, b, c, d in layer["rects"]]
+            face: Any = (*_rgb(colour), alpha) if alpha > 0 else "none"
+            edge: Any = colour if width > 0 else "none"
+            if width > 0 and width < pt:
+                edge = (*_rgb(colour), 0.5)
+            ax.add_collection(
+                PatchCollection(shapes, facecolor=face, edgecolor=edge, linewidth=max(width, pt) if width > 0 else 0, zorder=1 + z, label=layer["label"])
+            )
+            handles.append(Patch(facecolor=face, edgecolor=edge, linewidth=max(width, pt) if width > 0 else 0, label=layer["label"]))
+        elif layer["kind"] == "path":
+            xs = [cx(p[0]) for p in layer["points"]]
+            ys = [cy(p[1]) for p in layer["points"]]
+            (line,) = ax.plot(xs, ys, color=colour, linewidth=width, zorder=1 + z, label=layer["label"])
+            handles.append(line)
+        else:
+            ax.scatter(
+                [cx(p[0]) for p in layer["points"]],
+                [cy(p[1]) for p in layer["points"]],
+                s=30,
+                color=colour,
+                zorder=1 + z,
+                label=layer["label"],
+            )
+            handles.append(Line2D([], [], color=colour, marker="o", linestyle="none", label=layer["label"]))
 
-    truth = mis.get("truth") or {}
-    path = [p for p in truth.get("positions") or [] if len(p) >= 2]
-    if path:
-        step = max(1, len(path) // 5000)
-        xs = [float(p[0]) for p in path[::step]]
-        ys = [float(p[1]) for p in path[::step]]
-        ax.plot(xs, ys, color="black", linewidth=0.8, label="truth")
-    marks = [p for p in truth.get("landmarks") or [] if len(p) >= 2]
-    if marks:
-        ax.scatter([float(p[0]) for p in marks], [float(p[1]) for p in marks], s=12, color="black", zorder=3)
-
-    ax.autoscale_view()
-    ax.set_aspect("equal", adjustable="datalim")
-    diameter = (res.get("metrics") or {}).get("max_trajectory_diameter")
-    shown = f"{diameter:.4g}" if isinstance(diameter, (int, float)) else str(diameter)
-    contractor = (res.get("options") or {}).get("contractor", "")
-    ax.set_title(f"{res.get('mission', '')} — {contractor} — max trajectory diameter {shown}")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    # One scale on x and y, unless the view is too thin or too wide for it
+    # (a figure of unbounded or huge values).
+    if sx > 0 and sy > 0 and 1e-3 < sy / sx < 1e3 and sx < 1e150 and sy < 1e150:
+        ax.set_aspect("equal", adjustable="box")
+    ax.set_title(f"{fig_desc['title']}\n{fig_desc['subtitle']}", fontsize="medium")
+    ax.set_xlabel(fig_desc["x_label"])
+    ax.set_ylabel(fig_desc["y_label"])
+    ax.grid(True, color="#ebebeb", linewidth=0.6, zorder=0)
+    ax.set_axisbelow(True)
+    if legend and handles:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize="small", frameon=False)
     return ax
+
+
+def _rgb(hex_colour: str) -> tuple[float, float, float]:
+    h = hex_colour.lstrip("#")
+    return (int(h[0:2], 16) / 255, int(h[2:4], 16) / 255, int(h[4:6], 16) / 255)

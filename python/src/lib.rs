@@ -401,6 +401,27 @@ fn dumps(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<String> {
     Ok(value.to_string())
 }
 
+/// The picture of a result (`nvector_core::figure::describe`, what the
+/// CLI's figures draw) as JSON text: layers, thinning, colours, legend
+/// labels, title and view. `mission` (or None) adds its truth.
+#[pyfunction]
+#[pyo3(signature = (result, mission=None))]
+fn figure(
+    py: Python<'_>,
+    result: &Bound<'_, PyAny>,
+    mission: Option<&Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let result = to_value(result, "result", 0).map_err(|e| input_error(py, &e))?;
+    let mission = match mission {
+        Some(m) if !m.is_none() => {
+            Some(to_value(m, "mission", 0).map_err(|e| input_error(py, &e))?)
+        }
+        _ => None,
+    };
+    let fig = nvector_core::figure::describe(&result, mission.as_ref());
+    serde_json::to_string(&fig).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
 /// The compiled part of the `nvector` package (use `import nvector`).
 #[pymodule]
 fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -408,6 +429,7 @@ fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(dumps, m)?)?;
+    m.add_function(wrap_pyfunction!(figure, m)?)?;
     m.add("MAX_STEPS", MAX_STEPS)?;
     Ok(())
 }

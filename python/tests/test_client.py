@@ -38,7 +38,7 @@ def test_submit_wait_result_equals_local_run_and_cli(service: Service, cli: Cli,
     first = [float(x) for x in lines[1].split(",")[1:]]
     assert first == [b for axis in result["trajectory"][0] for b in axis]
     svg = client.result(job, format="svg")
-    assert svg.lstrip().startswith("<svg") and 'class="trajectory"' in svg
+    assert svg.lstrip().startswith("<svg") and "x (m)" in svg and "Legend" in svg
     # The job as the service reports it.
     state = client.job(job)
     assert state["state"] == "done" and state["contractor"] == "best"
@@ -62,7 +62,17 @@ def test_events_and_progress_bar(service: Service, mission: dict, capsys: pytest
     job = client.submit(mission, contractor="projection")
     result = client.wait(job, progress=True, timeout=120)
     assert result["options"]["contractor"] == "projection"
-    assert job in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert job in err
+    # The bar ends on the result's own figures (not on a stale progress
+    # event): status, rounds, diameters in metres.
+    from nvector._client import final_message, metres
+
+    last = [seg for seg in err.replace("\n", "\r").split("\r") if seg.strip()][-1]
+    final = final_message(result)
+    assert final in last, (final, last)
+    assert f"{result['metrics']['rounds']} rounds" in final
+    assert metres(result["metrics"]["max_trajectory_diameter"]) in final
     events = list(client.events(job))  # a finished job: one end event
     assert events[-1][0] == "end" and events[-1][1]["state"] == "done"
 

@@ -1,4 +1,5 @@
-"""nvector.plot draws what the CLI's figures draw, and the example runs."""
+"""nvector.plot draws the CLI's picture (one description, nvector.figure),
+each panel at its own scale, and the example runs."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -15,7 +17,6 @@ import pytest
 from matplotlib.colors import to_rgba
 
 import nvector
-from nvector import _plot
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "simulate_run_plot.py"
 
@@ -26,32 +27,75 @@ def solved() -> tuple[dict, dict]:
     return mission, nvector.run(mission, contractor="best")
 
 
-def test_plot_draws_every_kind_of_box(solved: tuple[dict, dict], tmp_path: Path) -> None:
+def test_plot_draws_the_shared_description(solved: tuple[dict, dict], tmp_path: Path) -> None:
     mission, result = solved
+    desc = nvector.figure(result, mission)
+    names = [layer["name"] for layer in desc["layers"]]
+    assert names[0] == "trajectory" and names[-2:] == ["truth_path", "truth_landmarks"]
+    # 2001 boxes: drawn as their envelope, under the truth.
+    assert "envelope of the 2001 position boxes" in desc["layers"][0]["label"]
+    groups = next(layer for layer in desc["layers"] if layer["name"] == "groups")
+    assert groups["label"].startswith(f"{len(result['matching'])} proved group")
+    assert "of at most 4 landmarks" in groups["label"]
+
     fig, ax = plt.subplots()
     assert nvector.plot(result, mission, ax=ax) is ax
-    collections = ax.collections
-    sizes = [len(c.get_paths()) for c in collections]
-    # Trajectory: every box (2001 > 1500, so every 2nd and the last).
-    assert sizes[0] == len(result["trajectory"][::2]) + 1
-    assert collections[0].get_edgecolor()[0].tolist() == list(to_rgba(_plot.TRAJECTORY))
-    # Detections by group colour, then the landmarks in red.
-    grouped = {i for g in result["matching"] for i in g}
-    assert sum(sizes[1:-2]) == len(result["detections"])
-    group_colours = {to_rgba(_plot.PALETTE[g]) for g in range(len(result["matching"]))}
-    drawn = {tuple(c.get_edgecolor()[0]) for c in collections[1:-2]}
-    assert group_colours <= drawn
-    assert (len(grouped) == len(result["detections"])) == (to_rgba(_plot.UNGROUPED) not in drawn)
-    landmarks = collections[-2]
-    assert len(landmarks.get_paths()) == len(result["landmarks"])
-    assert tuple(landmarks.get_facecolor()[0]) == pytest.approx(_plot.LANDMARK_FILL)
-    # Truth: the path and the landmarks in black.
-    assert len(ax.lines) == 1 and len(ax.lines[0].get_xdata()) == len(mission["truth"]["positions"])
-    assert len(collections[-1].get_offsets()) == len(mission["truth"]["landmarks"])
+    rect_layers = [layer for layer in desc["layers"] if layer["kind"] == "rects"]
+    assert [len(c.get_paths()) for c in ax.collections[: len(rect_layers)]] == [len(layer["rects"]) for layer in rect_layers]
+    trajectory = ax.collections[0]
+    assert tuple(trajectory.get_facecolor()[0][:3]) == pytest.approx(to_rgba(_plot_colour(desc, "trajectory"))[:3])
+    assert trajectory.get_facecolor()[0][3] == pytest.approx(desc["layers"][0]["fill_alpha"])
+    # The truth path on top of every box, every point of the description.
+    (line,) = ax.lines
+    path = next(layer for layer in desc["layers"] if layer["name"] == "truth_path")
+    assert len(line.get_xdata()) == len(path["points"])
+    assert line.get_zorder() > max(c.get_zorder() for c in ax.collections[: len(rect_layers)])
+    # Axes in metres, the diameters in metres in the title, a legend of every layer.
+    assert ax.get_xlabel() == "x (m)" and ax.get_ylabel() == "y (m)"
+    d = result["metrics"]["max_trajectory_diameter"]
+    assert f"max trajectory diameter {d:.1f} m" in ax.get_title() or f"{d:.3f} m" in ax.get_title()
     assert "best" in ax.get_title()
+    legend = ax.get_legend()
+    assert legend is not None
+    assert [t.get_text().replace("\n", " ") for t in legend.get_texts()] == [layer["label"] for layer in desc["layers"]]
     fig.savefig(tmp_path / "fig.png")
     assert (tmp_path / "fig.png").stat().st_size > 1000
     plt.close(fig)
+
+
+def _plot_colour(desc: dict, name: str) -> str:
+    return str(next(layer for layer in desc["layers"] if layer["name"] == name)["colour"])
+
+
+def test_each_panel_at_its_own_scale(solved: tuple[dict, dict]) -> None:
+    mission, best = solved
+    basic = nvector.run(mission, contractor="none")
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5))
+    nvector.plot(basic, mission, ax=left)
+    nvector.plot(best, mission, ax=right)
+    fig.canvas.draw()
+    for ax, result in ((left, basic), (right, best)):
+        x0, x1, y0, y1 = nvector.figure(result, mission)["view"]
+        lo, hi = ax.get_xlim()
+        assert lo <= x0 + 1e-9 and x1 - 1e-9 <= hi
+        # Fitted: no more than twice the result's own span (one scale on x
+        # and y may widen one axis).
+        assert hi - lo <= 2.5 * max(x1 - x0, y1 - y0)
+    span = lambda ax: ax.get_xlim()[1] - ax.get_xlim()[0]  # noqa: E731
+    assert basic["metrics"]["max_trajectory_diameter"] > best["metrics"]["max_trajectory_diameter"]
+    assert span(left) != pytest.approx(span(right))
+    plt.close(fig)
+
+
+def test_python_and_cli_figures_share_their_description(solved: tuple[dict, dict], cli: Any, tmp_path: Path) -> None:
+    mission, result = solved
+    (tmp_path / "m.json").write_text(nvector.dumps(mission), encoding="utf-8")
+    (tmp_path / "r.json").write_text(nvector.dumps(result), encoding="utf-8")
+    cli.run("plot", str(tmp_path / "r.json"), "--mission", str(tmp_path / "m.json"), "--out", str(tmp_path / "f.svg"))
+    svg = (tmp_path / "f.svg").read_text(encoding="utf-8")
+    desc = nvector.figure(tmp_path / "r.json", tmp_path / "m.json")
+    assert desc["title"] in svg and desc["subtitle"] in svg
+    assert desc["x_label"] in svg and desc["y_label"] in svg
 
 
 def test_plot_from_files_without_truth(solved: tuple[dict, dict], tmp_path: Path) -> None:
@@ -60,6 +104,8 @@ def test_plot_from_files_without_truth(solved: tuple[dict, dict], tmp_path: Path
     path.write_text(nvector.dumps(result), encoding="utf-8")
     ax = nvector.plot(path)
     assert len(ax.lines) == 0
+    labels = [t.get_text().replace("\n", " ") for t in ax.get_legend().get_texts()]
+    assert "true path" not in labels and any("proved group" in t for t in labels)
     plt.close(ax.figure)
 
 
@@ -72,6 +118,26 @@ def test_plot_skips_unbounded_and_empty_boxes() -> None:
     }
     ax = nvector.plot(result)
     assert len(ax.collections[0].get_paths()) == 1
+    plt.close(ax.figure)
+
+
+def test_plot_huge_values_and_nothing_to_draw(tmp_path: Path) -> None:
+    result = {
+        "mission": "u",
+        "trajectory": [[["-inf", "inf"], ["-inf", "inf"]], [[-1e308, 1e308], [0, 1]], [[1e300, 1.7e308], [-1.7e308, -1e300]]],
+        "detections": [[[-1e308, 1e308], [5, 6]]],
+        "landmarks": [[[0, 0], [0, 0]]],
+        "matching": [[0]],
+        "metrics": {"max_trajectory_diameter": "inf", "mean_trajectory_diameter": "inf"},
+    }
+    mission = {"truth": {"positions": [[0, 0], [1e308, -1e308], [-1.7e308, 1.7e308]], "landmarks": [[0, 0]]}}
+    ax = nvector.plot(result, mission)
+    assert "unbounded" in ax.get_title()
+    ax.figure.savefig(tmp_path / "huge.png")
+    plt.close(ax.figure)
+    ax = nvector.plot({"trajectory": [], "detections": [], "landmarks": [], "matching": []})
+    ax.figure.savefig(tmp_path / "empty.png")
+    assert ax.get_legend() is None
     plt.close(ax.figure)
 
 

@@ -173,10 +173,95 @@ pub fn clustered_boxes(
         .collect()
 }
 
+/// The measures of the table, by name (without the `_quick` suffix).
+pub const MEASURES: [&str; 9] = [
+    "nvalue_1e6",
+    "nvector_projection_1e5_3d",
+    "nvector_independent_1e4_2d",
+    "exact_max_k_1s",
+    "sweep_1e6_2d",
+    "paper_fixpoint",
+    "auv_60k_total",
+    "propagate_1e6",
+    "paper_seeds_1_10",
+];
+
+/// Whether a line meets its goal, and the goal in words: `ratio <= goal`
+/// (`goal` with a `ratio`), `ms <= goal_ms`, `ratio <= goal_ratio`,
+/// `ms <= aim_ms`, and for `paper_seeds_*` the median ratio basic /
+/// projection `>= goal`. `None` when the line has no goal.
+pub fn judge(v: &Value) -> Option<(bool, String)> {
+    let f = |k: &str| v[k].as_f64();
+    let name = v["name"].as_str().unwrap_or("");
+    let mut met = true;
+    let mut words = Vec::new();
+    let mut check = |ok: bool, text: String| {
+        met &= ok;
+        words.push(text);
+    };
+    if name.starts_with("paper_seeds") {
+        if let (Some(g), Some(r)) = (f("goal"), f("median_ratio_basic_over_projection")) {
+            check(
+                r >= g,
+                format!("median ratio basic / projection {r:.2} >= {g}"),
+            );
+        }
+    } else if let (Some(g), Some(r)) = (f("goal"), f("ratio")) {
+        check(r <= g, format!("ratio {r:.2} <= {g}"));
+    }
+    if let (Some(g), Some(r)) = (f("goal_ratio"), f("ratio")) {
+        check(r <= g, format!("ratio {r:.2} <= {g}"));
+    }
+    if let (Some(g), Some(ms)) = (f("goal_ms"), f("ms")) {
+        check(ms <= g, format!("{ms:.1} ms <= {g} ms"));
+    }
+    if let (Some(g), Some(ms)) = (f("aim_ms"), f("ms")) {
+        check(ms <= g, format!("{ms:.1} ms <= {g} ms (aim)"));
+    }
+    (!words.is_empty()).then(|| (met, words.join(", ")))
+}
+
+/// Adds `meets_goal` to a line that has a goal and says on stderr how the
+/// line stands against it.
+fn mark(mut v: Value, quick: bool) -> Value {
+    let name = v["name"].as_str().unwrap_or("?").to_string();
+    match judge(&v) {
+        Some((met, words)) => {
+            v["meets_goal"] = json!(met);
+            let quick = if quick {
+                " (quick sizes: the goal is set for the full ones)"
+            } else {
+                ""
+            };
+            let verdict = if met { "goal met" } else { "GOAL MISSED" };
+            eprintln!("{name}: {verdict}: {words}{quick}");
+        }
+        None => eprintln!("{name}: no goal"),
+    }
+    v
+}
+
+/// Refuses an `--only` that no measure's name contains: exit 2 (usage),
+/// naming the measures.
+fn check_only(only: Option<&str>, suffix: &str) {
+    if let Some(o) = only {
+        let known = MEASURES.iter().any(|m| format!("{m}{suffix}").contains(o));
+        if !known {
+            eprintln!(
+                "nvector: bench --only '{o}' names no measure{}; the measures are: {}",
+                if suffix.is_empty() { "" } else { " of --quick" },
+                MEASURES.map(|m| format!("{m}{suffix}")).join(", ")
+            );
+            std::process::exit(2);
+        }
+    }
+}
+
 /// Runs the benchmarks.
 pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
-    let mut emit = |v: Value| println!("{v}");
     let suffix = if quick { "_quick" } else { "" };
+    check_only(only, suffix);
+    let mut emit = |v: Value| println!("{}", mark(v, quick));
     let wanted = |name: &str| only.is_none_or(|o| name.contains(o));
     let runs = if quick { 3 } else { 7 };
 

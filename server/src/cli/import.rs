@@ -28,13 +28,15 @@ pub struct Args {
     #[arg(long = "error", value_name = "CHANNEL=E")]
     errors: Vec<String>,
     /// Time step (default: the median spacing of the log's `t`).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     dt: Option<f64>,
     /// Per-step integration error bound.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     motion_error: f64,
     /// Initial position box, as comma-separated lo,hi pairs per axis.
-    #[arg(long, value_name = "LO,HI,LO,HI[,LO,HI]")]
+    /// (A list starting with a negative number is read as the value, not
+    /// as a flag: `--initial -0.1,0.1,-0.1,0.1`.)
+    #[arg(long, value_name = "LO,HI,LO,HI[,LO,HI]", allow_hyphen_values = true)]
     initial: Option<String>,
     /// Number of landmarks (enables atmost_nvector).
     #[arg(long)]

@@ -1,11 +1,25 @@
-//! `nvector plot`: a figure like the paper's Figure 9 — trajectory boxes,
-//! detection boxes, landmark boxes and the truth — as SVG or PNG (first two
-//! axes, y up).
+//! `nvector plot` (and `nvector run --plot`): the figure of a result, as SVG
+//! or PNG, drawn with plotters from core's one description of the picture
+//! (`nvector_core::figure`: layers, thinning, colours, legend labels), the
+//! same as Python's `nvector.plot`. One style for both formats: a two-line
+//! title (mission, contractor, status; the diameters in metres), axes in
+//! metres at one scale on x and y, the layers bottom to top, and a legend
+//! on the right. The font (DejaVu Sans, server/assets) is compiled in, so
+//! no system font is needed.
+//!
+//! The PNG carries a text chunk `nvector-plot-area` = "left top right
+//! bottom x0 x1 y0 y1": the plotting area in pixels and the metres it
+//! shows, so that a reader (the tests) can find a point of the data in the
+//! image.
 
 use crate::CliError;
+use nvector_core::figure::{describe, Figure, Kind, Layer};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
 use serde_json::Value;
-use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// Arguments of `nvector plot`.
 #[derive(clap::Args)]
@@ -20,278 +34,347 @@ pub struct Args {
     out: PathBuf,
 }
 
-/// A rectangle on the first two axes.
-#[derive(Debug, Clone, Copy)]
-struct Rect {
-    x0: f64,
-    x1: f64,
-    y0: f64,
-    y1: f64,
-}
+/// Width of the whole figure in pixels.
+const WIDTH: u32 = 1200;
+/// Width of the legend panel on the right.
+const LEGEND_WIDTH: u32 = 330;
+/// Height of the title band.
+const TITLE_HEIGHT: u32 = 64;
+const MARGIN: u32 = 16;
+const X_LABEL_AREA: u32 = 50;
+const Y_LABEL_AREA: u32 = 80;
+/// Height of the plotting area: between these (the view widens to keep
+/// one scale on both axes).
+const MIN_PLOT_HEIGHT: f64 = 320.0;
+const MAX_PLOT_HEIGHT: f64 = 1100.0;
+/// Largest magnitude of a drawn bound (past it, clamped: plotters' axes
+/// need a finite span).
+const LIMIT: f64 = 1e300;
 
-fn bound(v: &Value) -> Option<f64> {
-    v.as_f64().filter(|x| x.is_finite())
-}
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 
-/// The first two axes of a box, when bounded and non-empty.
-fn rect(b: &Value) -> Option<Rect> {
-    let a = b.as_array()?;
-    let x = a.first()?.as_array()?;
-    let y = a.get(1)?.as_array()?;
-    Some(Rect {
-        x0: bound(&x[0])?,
-        x1: bound(&x[1])?,
-        y0: bound(&y[0])?,
-        y1: bound(&y[1])?,
-    })
-}
-
-/// What a figure shows, extracted from the result and mission JSON.
-struct Scene {
-    trajectory: Vec<Rect>,
-    detections: Vec<(Rect, usize)>,
-    landmarks: Vec<Rect>,
-    truth_path: Vec<(f64, f64)>,
-    truth_landmarks: Vec<(f64, f64)>,
-    view: Rect,
-}
-
-fn scene(result: &Value, mission: &Value) -> Scene {
-    let arr = |v: &Value| v.as_array().cloned().unwrap_or_default();
-    let traj = arr(&result["trajectory"]);
-    // At most 1500 trajectory boxes are drawn (every k-th, plus the last).
-    let stride = traj.len().div_ceil(1500).max(1);
-    let mut trajectory: Vec<Rect> = traj.iter().step_by(stride).filter_map(rect).collect();
-    if let Some(r) = traj.last().and_then(rect) {
-        trajectory.push(r);
+fn font_ready() -> Result<(), CliError> {
+    static READY: OnceLock<bool> = OnceLock::new();
+    let ok = *READY.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(CliError("the figure's font could not be loaded".into()))
     }
-    let mut group_of = vec![usize::MAX; arr(&result["detections"]).len()];
-    for (g, members) in arr(&result["matching"]).iter().enumerate() {
-        for m in arr(members) {
-            if let Some(i) = m
-                .as_u64()
-                .map(|i| i as usize)
-                .filter(|&i| i < group_of.len())
-            {
-                group_of[i] = g;
-            }
+}
+
+/// `#rrggbb` to a colour (black for anything else).
+fn colour(hex: &str) -> RGBColor {
+    let h = hex.trim_start_matches('#');
+    let c = |i: usize| {
+        h.get(i..i + 2)
+            .and_then(|s| u8::from_str_radix(s, 16).ok())
+            .unwrap_or(0)
+    };
+    RGBColor(c(0), c(2), c(4))
+}
+
+/// The layout of a figure: its size and the view widened so that a metre
+/// is as long on x as on y.
+struct Layout {
+    width: u32,
+    height: u32,
+    view: [f64; 4],
+}
+
+fn layout(fig: &Figure) -> Layout {
+    let clamp = |v: f64| v.clamp(-LIMIT, LIMIT);
+    let mut view = fig.view.map(clamp);
+    let pw = f64::from(WIDTH - LEGEND_WIDTH - 2 * MARGIN - Y_LABEL_AREA);
+    let (dx, dy) = (view[1] - view[0], view[3] - view[2]);
+    let mut ph = MIN_PLOT_HEIGHT;
+    if dx.is_finite() && dy.is_finite() && dx > 0.0 && dy > 0.0 {
+        ph = pw * dy / dx;
+        if ph > MAX_PLOT_HEIGHT {
+            // Too tall: widen x.
+            ph = MAX_PLOT_HEIGHT;
+            let grow = (dy * pw / ph - dx) / 2.0;
+            view[0] = clamp(view[0] - grow);
+            view[1] = clamp(view[1] + grow);
+        } else if ph < MIN_PLOT_HEIGHT {
+            // Too flat: widen y.
+            ph = MIN_PLOT_HEIGHT;
+            let grow = (dx * ph / pw - dy) / 2.0;
+            view[2] = clamp(view[2] - grow);
+            view[3] = clamp(view[3] + grow);
         }
     }
-    let detections: Vec<(Rect, usize)> = arr(&result["detections"])
-        .iter()
-        .zip(&group_of)
-        .filter_map(|(b, &g)| rect(b).map(|r| (r, g)))
-        .collect();
-    let landmarks: Vec<Rect> = arr(&result["landmarks"]).iter().filter_map(rect).collect();
-    let point = |p: &Value| Some((bound(p.get(0)?)?, bound(p.get(1)?)?));
-    let truth_path: Vec<(f64, f64)> = arr(&mission["truth"]["positions"])
-        .iter()
-        .filter_map(point)
-        .collect();
-    let truth_landmarks: Vec<(f64, f64)> = arr(&mission["truth"]["landmarks"])
-        .iter()
-        .filter_map(point)
-        .collect();
-    let mut view = Rect {
-        x0: f64::INFINITY,
-        x1: f64::NEG_INFINITY,
-        y0: f64::INFINITY,
-        y1: f64::NEG_INFINITY,
-    };
-    let mut grow = |x: f64, y: f64| {
-        view.x0 = view.x0.min(x);
-        view.x1 = view.x1.max(x);
-        view.y0 = view.y0.min(y);
-        view.y1 = view.y1.max(y);
-    };
-    for r in trajectory
-        .iter()
-        .chain(landmarks.iter())
-        .chain(detections.iter().map(|(r, _)| r))
-    {
-        grow(r.x0, r.y0);
-        grow(r.x1, r.y1);
-    }
-    for &(x, y) in truth_path.iter().chain(&truth_landmarks) {
-        grow(x, y);
-    }
-    if !view.x0.is_finite() {
-        view = Rect {
-            x0: -1.0,
-            x1: 1.0,
-            y0: -1.0,
-            y1: 1.0,
-        };
-    }
-    let pad = 0.03 * (view.x1 - view.x0).max(view.y1 - view.y0).max(1e-9);
-    view = Rect {
-        x0: view.x0 - pad,
-        x1: view.x1 + pad,
-        y0: view.y0 - pad,
-        y1: view.y1 + pad,
-    };
-    Scene {
-        trajectory,
-        detections,
-        landmarks,
-        truth_path,
-        truth_landmarks,
+    Layout {
+        width: WIDTH,
+        height: TITLE_HEIGHT + 2 * MARGIN + X_LABEL_AREA + ph as u32,
         view,
     }
 }
 
-/// Colours of matching groups (detections in no group are grey).
-const PALETTE: [&str; 8] = [
-    "#e6194b", "#3cb44b", "#4363d8", "#f58231", "#911eb4", "#42d4f4", "#f032e6", "#9a6324",
-];
-
-fn group_colour(g: usize) -> &'static str {
-    if g == usize::MAX {
-        "#888888"
+/// Tick labels: as many decimals as the span needs.
+fn tick(span: f64) -> impl Fn(&f64) -> String {
+    let decimals = if span >= 50.0 {
+        0
+    } else if span >= 5.0 {
+        1
+    } else if span >= 0.5 {
+        2
     } else {
-        PALETTE[g % PALETTE.len()]
-    }
-}
-
-/// The figure as SVG text (900 px wide; y up; first two axes).
-pub fn render_svg(result: &Value, mission: &Value) -> String {
-    let s = scene(result, mission);
-    let v = s.view;
-    let width = 900.0;
-    let scale = width / (v.x1 - v.x0);
-    let height = ((v.y1 - v.y0) * scale).clamp(100.0, 4000.0);
-    let tx = |x: f64| (x - v.x0) * scale;
-    let ty = |y: f64| (v.y1 - y) * scale;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.0} {height:.0}">"#
-    );
-    let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let title = result["mission"].as_str().unwrap_or("");
-    let contractor = result["options"]["contractor"].as_str().unwrap_or("");
-    let _ = writeln!(
-        out,
-        r#"<title>{} ({})</title>"#,
-        escape(title),
-        escape(contractor)
-    );
-    let mut rect_svg = |r: &Rect, class: &str, stroke: &str, fill: &str| {
-        let _ = writeln!(
-            out,
-            r#"<rect class="{class}" x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{fill}" stroke="{stroke}" stroke-width="0.6"/>"#,
-            tx(r.x0),
-            ty(r.y1),
-            ((r.x1 - r.x0) * scale).max(0.5),
-            ((r.y1 - r.y0) * scale).max(0.5)
-        );
+        4
     };
-    for r in &s.trajectory {
-        rect_svg(r, "trajectory", "#4a90d9", "none");
-    }
-    for (r, g) in &s.detections {
-        rect_svg(r, "detection", group_colour(*g), "none");
-    }
-    for r in &s.landmarks {
-        rect_svg(r, "landmark", "#b00000", "rgba(200,0,0,0.25)");
-    }
-    if !s.truth_path.is_empty() {
-        let stride = (s.truth_path.len() / 5000).max(1);
-        let pts: Vec<String> = s
-            .truth_path
-            .iter()
-            .step_by(stride)
-            .map(|&(x, y)| format!("{:.2},{:.2}", tx(x), ty(y)))
-            .collect();
-        let _ = writeln!(
-            out,
-            r#"<polyline class="truth" points="{}" fill="none" stroke="black" stroke-width="0.8"/>"#,
-            pts.join(" ")
-        );
-    }
-    for &(x, y) in &s.truth_landmarks {
-        let _ = writeln!(
-            out,
-            r#"<circle class="truth-landmark" cx="{:.2}" cy="{:.2}" r="3" fill="black"/>"#,
-            tx(x),
-            ty(y)
-        );
-    }
-    let _ = writeln!(
-        out,
-        r#"<text x="8" y="18" font-family="sans-serif" font-size="14">{} — {} — max trajectory diameter {}</text>"#,
-        escape(title),
-        escape(contractor),
-        result["metrics"]["max_trajectory_diameter"]
-    );
-    out.push_str("</svg>\n");
-    out
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
-
-/// The figure as a PNG image (rectangle outlines and the truth path).
-pub fn render_png(result: &Value, mission: &Value) -> Result<Vec<u8>, CliError> {
-    let s = scene(result, mission);
-    let v = s.view;
-    let w: usize = 900;
-    let scale = w as f64 / (v.x1 - v.x0);
-    let h = (((v.y1 - v.y0) * scale) as usize).clamp(100, 4000);
-    let mut px = vec![255u8; w * h * 3];
-    let mut put = |x: f64, y: f64, c: [u8; 3]| {
-        let (i, j) = (x.round(), y.round());
-        if i >= 0.0 && j >= 0.0 && (i as usize) < w && (j as usize) < h {
-            let k = (j as usize * w + i as usize) * 3;
-            px[k..k + 3].copy_from_slice(&c);
+    move |v: &f64| {
+        if span >= 1e7 {
+            format!("{v:.2e}")
+        } else {
+            format!("{v:.decimals$}")
         }
-    };
-    let tx = |x: f64| (x - v.x0) * scale;
-    let ty = |y: f64| (v.y1 - y) * scale;
-    let line =
-        |x0: f64, y0: f64, x1: f64, y1: f64, c: [u8; 3], put: &mut dyn FnMut(f64, f64, [u8; 3])| {
-            let n = ((x1 - x0).abs().max((y1 - y0).abs()).ceil() as usize).clamp(1, 20_000);
-            for t in 0..=n {
-                let f = t as f64 / n as f64;
-                put(x0 + f * (x1 - x0), y0 + f * (y1 - y0), c);
+    }
+}
+
+/// Breaks a legend label into lines of at most `width` characters.
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split_whitespace() {
+        let line = lines.last_mut().expect("one line");
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > width {
+            lines.push(word.to_string());
+        } else {
+            if !line.is_empty() {
+                line.push(' ');
             }
-        };
-    let outline = |r: &Rect, c: [u8; 3], put: &mut dyn FnMut(f64, f64, [u8; 3])| {
-        let (x0, x1, y0, y1) = (tx(r.x0), tx(r.x1), ty(r.y1), ty(r.y0));
-        line(x0, y0, x1, y0, c, put);
-        line(x1, y0, x1, y1, c, put);
-        line(x1, y1, x0, y1, c, put);
-        line(x0, y1, x0, y0, c, put);
-    };
-    for r in &s.trajectory {
-        outline(r, [74, 144, 217], &mut put);
-    }
-    for (r, _) in &s.detections {
-        outline(r, [245, 130, 49], &mut put);
-    }
-    for r in &s.landmarks {
-        outline(r, [176, 0, 0], &mut put);
-    }
-    for w2 in s.truth_path.windows(2) {
-        let (a, b) = (w2[0], w2[1]);
-        let n = 2;
-        for t in 0..=n {
-            let f = t as f64 / n as f64;
-            put(
-                tx(a.0 + f * (b.0 - a.0)),
-                ty(a.1 + f * (b.1 - a.1)),
-                [0, 0, 0],
-            );
+            line.push_str(word);
         }
     }
+    lines
+}
+
+type PlotArea = ([i32; 4], [f64; 4]);
+
+fn err<E: std::fmt::Display>(e: E) -> CliError {
+    CliError(format!("drawing the figure: {e}"))
+}
+
+/// Draws `fig` on `root`; returns the plotting area in pixels and the view.
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    lay: &Layout,
+) -> Result<PlotArea, CliError> {
+    root.fill(&WHITE).map_err(err)?;
+    let (top, rest) = root.split_vertically(TITLE_HEIGHT);
+    top.draw_text(
+        &fig.title,
+        &("sans-serif", 20).into_font().color(&BLACK),
+        (MARGIN as i32, 10),
+    )
+    .map_err(err)?;
+    top.draw_text(
+        &fig.subtitle,
+        &("sans-serif", 16).into_font().color(&RGBColor(60, 60, 60)),
+        (MARGIN as i32, 38),
+    )
+    .map_err(err)?;
+    let (chart_area, legend_area) = rest.split_horizontally(WIDTH - LEGEND_WIDTH);
+    let v = lay.view;
+    let mut chart = ChartBuilder::on(&chart_area)
+        .margin(MARGIN)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .build_cartesian_2d(v[0]..v[1], v[2]..v[3])
+        .map_err(err)?;
+    let xf = tick(v[1] - v[0]);
+    let yf = tick(v[3] - v[2]);
+    chart
+        .configure_mesh()
+        .x_desc(&fig.x_label)
+        .y_desc(&fig.y_label)
+        .x_labels(8)
+        .y_labels(8)
+        .x_label_formatter(&xf)
+        .y_label_formatter(&yf)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 15))
+        .light_line_style(WHITE)
+        .bold_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(err)?;
+    for layer in &fig.layers {
+        draw_layer(&mut chart, layer, v)?;
+    }
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    legend(&legend_area, &fig.layers)?;
+    root.present().map_err(err)?;
+    Ok(([xs.start, ys.start, xs.end, ys.end], v))
+}
+
+fn draw_layer<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    layer: &Layer,
+    view: [f64; 4],
+) -> Result<(), CliError> {
+    // Coordinates far outside the view (up to the float limits) are
+    // brought to one view's span beyond it: plotters maps them to i32
+    // pixels, which must not overflow; what lies outside is clipped anyway.
+    let (sx, sy) = (view[1] - view[0], view[3] - view[2]);
+    let cx = |x: f64| x.clamp(view[0] - sx, view[1] + sx);
+    let cy = |y: f64| y.clamp(view[2] - sy, view[3] + sy);
+    let corners = |r: &[f64; 4]| [(cx(r[0]), cy(r[2])), (cx(r[1]), cy(r[3]))];
+    let c = colour(layer.colour);
+    match layer.kind {
+        Kind::Rects => {
+            if layer.fill_alpha > 0.0 {
+                let style = c.mix(layer.fill_alpha).filled();
+                chart
+                    .draw_series(
+                        layer
+                            .rects
+                            .iter()
+                            .map(|r| Rectangle::new(corners(r), style)),
+                    )
+                    .map_err(err)?;
+            }
+            if layer.line_width > 0.0 {
+                // Hairlines (under 1 px) as 1 px at half strength.
+                let style = if layer.line_width < 1.0 {
+                    c.mix(0.5).stroke_width(1)
+                } else {
+                    c.stroke_width(layer.line_width.ceil() as u32)
+                };
+                chart
+                    .draw_series(
+                        layer
+                            .rects
+                            .iter()
+                            .map(|r| Rectangle::new(corners(r), style)),
+                    )
+                    .map_err(err)?;
+            }
+        }
+        Kind::Path => {
+            chart
+                .draw_series(LineSeries::new(
+                    layer.points.iter().map(|p| (cx(p[0]), cy(p[1]))),
+                    c.stroke_width(layer.line_width.ceil() as u32),
+                ))
+                .map_err(err)?;
+        }
+        Kind::Points => {
+            chart
+                .draw_series(
+                    layer
+                        .points
+                        .iter()
+                        .map(|p| Circle::new((cx(p[0]), cy(p[1])), 5, c.filled())),
+                )
+                .map_err(err)?;
+        }
+    }
+    Ok(())
+}
+
+fn legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    layers: &[Layer],
+) -> Result<(), CliError> {
+    let font = ("sans-serif", 14).into_font().color(&BLACK);
+    area.draw_text(
+        "Legend",
+        &("sans-serif", 16).into_font().color(&BLACK),
+        (10, MARGIN as i32),
+    )
+    .map_err(err)?;
+    let mut y = MARGIN as i32 + 30;
+    for layer in layers {
+        let c = colour(layer.colour);
+        let (x0, x1, y0, y1) = (10, 40, y + 1, y + 15);
+        match layer.kind {
+            Kind::Rects => {
+                if layer.fill_alpha > 0.0 {
+                    area.draw(&Rectangle::new(
+                        [(x0, y0), (x1, y1)],
+                        c.mix(layer.fill_alpha).filled(),
+                    ))
+                    .map_err(err)?;
+                }
+                if layer.line_width > 0.0 {
+                    area.draw(&Rectangle::new(
+                        [(x0, y0), (x1, y1)],
+                        c.stroke_width(layer.line_width.ceil() as u32),
+                    ))
+                    .map_err(err)?;
+                }
+            }
+            Kind::Path => area
+                .draw(&PathElement::new(
+                    vec![(x0, y + 8), (x1, y + 8)],
+                    c.stroke_width(layer.line_width.ceil() as u32),
+                ))
+                .map_err(err)?,
+            Kind::Points => area
+                .draw(&Circle::new((25, y + 8), 5, c.filled()))
+                .map_err(err)?,
+        }
+        for line in wrap(&layer.label, 34) {
+            area.draw_text(&line, &font, (50, y)).map_err(err)?;
+            y += 18;
+        }
+        y += 10;
+    }
+    Ok(())
+}
+
+/// The figure as SVG text (the service's `?format=svg`): a drawing that
+/// fails (it does not, on a string) gives an SVG stating why.
+pub fn render_svg(result: &Value, mission: &Value) -> String {
+    try_render_svg(result, mission).unwrap_or_else(|CliError(e)| {
+        format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"600\" height=\"40\"><text x=\"8\" y=\"24\">{}</text></svg>\n",
+            e.replace('&', "&amp;").replace('<', "&lt;")
+        )
+    })
+}
+
+/// The figure as SVG text.
+pub fn try_render_svg(result: &Value, mission: &Value) -> Result<String, CliError> {
+    font_ready()?;
+    let fig = describe(result, Some(mission));
+    let lay = layout(&fig);
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (lay.width, lay.height)).into_drawing_area();
+        draw(&root, &fig, &lay)?;
+    }
+    Ok(out)
+}
+
+/// The figure as a PNG image.
+pub fn render_png(result: &Value, mission: &Value) -> Result<Vec<u8>, CliError> {
+    font_ready()?;
+    let fig = describe(result, Some(mission));
+    let lay = layout(&fig);
+    let mut px = vec![255u8; lay.width as usize * lay.height as usize * 3];
+    let (area, view) = {
+        let root = BitMapBackend::with_buffer(&mut px, (lay.width, lay.height)).into_drawing_area();
+        draw(&root, &fig, &lay)?
+    };
     let mut bytes = Vec::new();
     {
-        let mut enc = png::Encoder::new(&mut bytes, w as u32, h as u32);
+        let mut enc = png::Encoder::new(&mut bytes, lay.width, lay.height);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
+        let text = format!(
+            "{} {} {} {} {:e} {:e} {:e} {:e}",
+            area[0], area[1], area[2], area[3], view[0], view[1], view[2], view[3]
+        );
+        enc.add_text_chunk("nvector-plot-area".into(), text)
+            .map_err(|e| CliError(format!("PNG: {e}")))?;
+        enc.add_itxt_chunk("Title".into(), format!("{} — {}", fig.title, fig.subtitle))
+            .map_err(|e| CliError(format!("PNG: {e}")))?;
         let mut writer = enc
             .write_header()
             .map_err(|e| CliError(format!("PNG: {e}")))?;
@@ -303,14 +386,14 @@ pub fn render_png(result: &Value, mission: &Value) -> Result<Vec<u8>, CliError> 
 }
 
 /// Writes the figure to `path` (.svg or .png).
-pub fn write_plot(path: &PathBuf, result: &Value, mission: &Value) -> Result<(), CliError> {
+pub fn write_plot(path: &Path, result: &Value, mission: &Value) -> Result<(), CliError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
     let bytes = match ext.as_str() {
-        "svg" => render_svg(result, mission).into_bytes(),
+        "svg" => try_render_svg(result, mission)?.into_bytes(),
         "png" => render_png(result, mission)?,
         _ => {
             return Err(CliError(format!(
@@ -329,6 +412,43 @@ fn read_json(path: &PathBuf) -> Result<Value, CliError> {
         .map_err(|e| CliError(format!("{}: invalid JSON: {e}", path.display())))
 }
 
+/// Why `result` does not look computed from `mission`, if it does not: the
+/// names differ, or the trajectory or detections do not count as the
+/// mission's steps and detections.
+pub fn mismatch(result: &Value, mission: &Value) -> Option<String> {
+    let mut why = Vec::new();
+    if let (Some(r), Some(m)) = (result["mission"].as_str(), mission["name"].as_str()) {
+        if r != m {
+            why.push(format!(
+                "the result is of mission \"{r}\", the mission is \"{m}\""
+            ));
+        }
+    }
+    if let (Some(t), Some(steps)) = (result["trajectory"].as_array(), mission["steps"].as_u64()) {
+        if t.len() as u64 != steps.saturating_add(1) {
+            why.push(format!(
+                "the result has {} trajectory boxes, the mission {} steps (expected {})",
+                t.len(),
+                steps,
+                steps.saturating_add(1)
+            ));
+        }
+    }
+    if let (Some(d), Some(md)) = (
+        result["detections"].as_array(),
+        mission["detections"].as_array(),
+    ) {
+        if d.len() != md.len() {
+            why.push(format!(
+                "the result has {} detections, the mission {}",
+                d.len(),
+                md.len()
+            ));
+        }
+    }
+    (!why.is_empty()).then(|| why.join("; "))
+}
+
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
     let result = read_json(&a.result)?;
@@ -339,5 +459,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )));
     }
     let mission = read_json(&a.mission)?;
+    if let Some(why) = mismatch(&result, &mission) {
+        eprintln!(
+            "nvector: warning: {} does not look computed from {}: {why} (the truth drawn may not be this result's)",
+            a.result.display(),
+            a.mission.display()
+        );
+    }
     write_plot(&a.out, &result, &mission)
 }

@@ -1,11 +1,13 @@
 //! `nvector run`: one SLAM job, locally, with a progress line on a terminal.
 //! The mission is parsed straight into typed data and the result streamed
-//! out, so memory stays in proportion to the mission (issue 12).
+//! out, so memory stays in proportion to the mission (issue 12). It ends
+//! with a one-line summary on stderr ([`summary`]).
 
 use crate::CliError;
+use nvector_core::figure::metres;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
-use nvector_core::slam::result::{result_json, write_result};
+use nvector_core::slam::result::{result_json, score, write_result, Solution, SolveStatus};
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -24,7 +26,7 @@ pub struct Args {
     #[arg(long, default_value_t = 10_000)]
     max_rounds: u32,
     /// Bounds moving by less than this count as fixed.
-    #[arg(long, default_value_t = 1e-9)]
+    #[arg(long, default_value_t = 1e-9, allow_negative_numbers = true)]
     tolerance: f64,
     /// Output file for the result (default: standard output).
     #[arg(long)]
@@ -102,14 +104,70 @@ pub fn run(a: Args) -> Result<(), CliError> {
         w.write_all(b"\n")?;
         w.flush()
     };
-    match a.out {
-        Some(path) => std::fs::File::create(&path)
+    match &a.out {
+        Some(path) => std::fs::File::create(path)
             .and_then(|mut f| write(&mut f))
             .map_err(|e| CliError(format!("writing {}: {e}", path.display())))?,
         None => write(&mut std::io::stdout().lock())
             .map_err(|e| CliError(format!("writing the result: {e}")))?,
     }
+    eprintln!(
+        "nvector: {}",
+        summary(
+            &mission,
+            &solution,
+            elapsed_ms,
+            a.out.as_deref(),
+            a.plot.as_deref()
+        )
+    );
     Ok(())
+}
+
+/// The line `run` ends with on stderr: status, the trajectory's max and
+/// mean diameter in metres, matched detections, whether the truth (when
+/// the mission has one) is inside, the time, and where the result and
+/// figure went.
+pub fn summary(
+    mission: &Mission,
+    solution: &Solution,
+    elapsed_ms: f64,
+    out: Option<&std::path::Path>,
+    plot: Option<&std::path::Path>,
+) -> String {
+    let status = match &solution.status {
+        SolveStatus::Consistent => "consistent".to_string(),
+        SolveStatus::Infeasible(why) => format!("infeasible ({why})"),
+        SolveStatus::Stopped => "stopped before the fixpoint (boxes still sound)".to_string(),
+    };
+    let (max_d, mean_d) = solution.model.trajectory_diameters();
+    let matched: usize = solution.matching.iter().map(Vec::len).sum();
+    let mut line = format!(
+        "{status}; max trajectory diameter {}, mean {}; {matched} of {} detections matched in {} group{}",
+        metres(Some(max_d)),
+        metres(Some(mean_d)),
+        mission.detections.len(),
+        solution.matching.len(),
+        if solution.matching.len() == 1 { "" } else { "s" },
+    );
+    if let Some((inside, errors, _)) = score(mission, solution) {
+        line.push_str(if inside {
+            "; truth inside"
+        } else {
+            "; TRUTH OUTSIDE (a soundness bug: please report it)"
+        });
+        if errors > 0 {
+            line.push_str(&format!(", {errors} matching errors"));
+        }
+    }
+    line.push_str(&format!("; {:.2} s", elapsed_ms / 1e3));
+    if let Some(p) = out {
+        line.push_str(&format!("; result in {}", p.display()));
+    }
+    if let Some(p) = plot {
+        line.push_str(&format!("; figure in {}", p.display()));
+    }
+    line
 }
 
 /// The progress line: round, pass, detections processed, detections still
@@ -126,7 +184,9 @@ fn progress_message(p: &Progress) -> String {
         format!("{} pass {}/{}", p.pass, p.detections_done, p.detections)
     };
     format!(
-        "round {} ({pass}){moving}, max trajectory diameter {:.4} (dead reckoning {:.4})",
-        p.round, p.max_trajectory_diameter, p.initial_max_trajectory_diameter
+        "round {} ({pass}){moving}, max trajectory diameter {} (dead reckoning {})",
+        p.round,
+        metres(Some(p.max_trajectory_diameter)),
+        metres(Some(p.initial_max_trajectory_diameter))
     )
 }

@@ -2,7 +2,7 @@
 
 use crate::service::{self, Config, PoolConfig};
 use crate::CliError;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `nvector serve`.
 #[derive(clap::Args)]
@@ -39,9 +39,12 @@ pub struct Args {
     /// fails (`worker_crashed`); a job over the memory limit fails at once.
     #[arg(long, default_value_t = 2)]
     job_attempts: u32,
-    /// Directory of the page.
-    #[arg(long, default_value = "web/www")]
-    static_dir: PathBuf,
+    /// Directory of the page (default: the first of ./web/www, the
+    /// repository's web/www beside the binary's target/ directory, www/ or
+    /// ../share/nvector/www beside the binary, that holds index.html; the
+    /// one chosen is logged at start).
+    #[arg(long)]
+    static_dir: Option<PathBuf>,
     /// File with one API key per line (enables authentication).
     #[arg(long)]
     api_key_file: Option<PathBuf>,
@@ -71,6 +74,46 @@ pub struct Args {
     /// contractor is stopped there: 422 work_limit).
     #[arg(long, default_value_t = 10.0)]
     contract_time_limit: f64,
+}
+
+/// Where the page may be, in order: `./web/www` (started from the
+/// repository), the repository's `web/www` seen from the binary
+/// (`REPO/target/PROFILE/nvector`), then `www/` and `../share/nvector/www`
+/// beside the binary (an installed copy).
+pub fn page_candidates(exe: Option<&Path>) -> Vec<PathBuf> {
+    let mut dirs = vec![PathBuf::from("web/www")];
+    if let Some(bin_dir) = exe.and_then(Path::parent) {
+        for up in [2, 3] {
+            // target/debug/nvector -> REPO; target/x86_64-.../release/nvector -> REPO.
+            if let Some(repo) = bin_dir.ancestors().nth(up) {
+                dirs.push(repo.join("web/www"));
+            }
+        }
+        dirs.push(bin_dir.join("www"));
+        dirs.push(bin_dir.join("../share/nvector/www"));
+    }
+    dirs
+}
+
+/// The page's directory: the one given, else the first candidate holding
+/// `index.html`; `Err` lists where it looked (the service then answers `/`
+/// with a short page saying how to build it).
+pub fn resolve_static_dir(given: Option<PathBuf>) -> Result<PathBuf, (PathBuf, Vec<PathBuf>)> {
+    if let Some(dir) = given {
+        return if dir.join("index.html").is_file() {
+            Ok(dir)
+        } else {
+            Err((dir.clone(), vec![dir]))
+        };
+    }
+    let exe = std::env::current_exe()
+        .ok()
+        .and_then(|p| p.canonicalize().ok());
+    let candidates = page_candidates(exe.as_deref());
+    match candidates.iter().find(|d| d.join("index.html").is_file()) {
+        Some(d) => Ok(d.canonicalize().unwrap_or_else(|_| d.clone())),
+        None => Err((candidates[0].clone(), candidates)),
+    }
 }
 
 /// Runs the subcommand.
@@ -147,13 +190,32 @@ pub fn run(a: Args) -> Result<(), CliError> {
         attempts: a.job_attempts,
         short_cost: a.short_job_cost,
     };
+    let static_dir = match resolve_static_dir(a.static_dir) {
+        Ok(dir) => {
+            tracing::info!(
+                "serving the page from {} (the API reference at /api/docs)",
+                dir.display()
+            );
+            dir
+        }
+        Err((dir, looked)) => {
+            let looked: Vec<String> = looked.iter().map(|d| d.display().to_string()).collect();
+            tracing::warn!(
+                "the page is missing: no index.html in {}; build it with `make run` (or \
+                 scripts/web.sh build) or pass --static-dir; / answers with a note, the API \
+                 and /api/docs are served",
+                looked.join(", ")
+            );
+            dir
+        }
+    };
     let config = Config {
         max_body: a.max_body,
         max_steps: a.max_steps,
         max_detections: a.max_detections,
         max_queue: a.max_queue,
         job_time_limit_s: a.job_time_limit,
-        static_dir: a.static_dir,
+        static_dir,
         api_keys,
         cors_origins: a.cors_origins,
         job_lease: std::time::Duration::from_secs_f64(a.job_lease),

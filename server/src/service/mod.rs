@@ -13,6 +13,7 @@
 
 pub mod config;
 mod contract;
+mod docs_page;
 mod error;
 mod formats;
 pub mod job_runner;
@@ -106,6 +107,7 @@ pub fn app(state: AppState) -> Router {
     let (router, api) = routes().split_for_parts();
     let doc = Arc::new(openapi::finish(api, &state.config));
     let mut router = router
+        .merge(docs_page::router())
         .layer(Extension(doc))
         .layer(DefaultBodyLimit::max(state.config.max_body));
     let dir = state.config.static_dir.clone();
