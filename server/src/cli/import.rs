@@ -45,6 +45,9 @@ pub struct Args {
     /// Import the CMU Plaza 1 dataset from this directory instead.
     #[arg(long, value_name = "DIR")]
     cmu_plaza: Option<PathBuf>,
+    /// Import the UTIAS Lost in the Woods data set from this directory (docs/utias-woods.md).
+    #[arg(long, value_name = "DIR", conflicts_with = "cmu_plaza")]
+    utias_woods: Option<PathBuf>,
     /// With --cmu-plaza: keep the beacon ids as the operator's matching.
     #[arg(long)]
     operator: bool,
@@ -303,6 +306,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         return Err(CliError(format!(
             "--false-detections must be at most {most}"
         )));
+    }
+    if let Some(dir) = &a.utias_woods {
+        return crate::cli::import_woods::run(dir, a.operator, a.out.as_deref());
     }
     let mission = match &a.cmu_plaza {
         Some(dir) => {
