@@ -314,3 +314,57 @@ fn woods_import_names_a_missing_file() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("odometry.csv"), "{err}");
 }
+
+#[test]
+fn simulate_woods_through_the_cli() {
+    let run = |operator: bool, name: &str| {
+        let out = tmp(name);
+        let mut args = vec![
+            "simulate",
+            "--scenario",
+            "woods",
+            "--seed",
+            "4",
+            "--steps",
+            "500",
+            "--landmarks",
+            "9",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if operator {
+            args.push("--operator");
+        }
+        let o = nvector_tests::nvector().args(&args).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_str::<Value>(&std::fs::read_to_string(&out).unwrap()).unwrap()
+    };
+    let (a, b, hidden) = (
+        run(true, "sim-a.json"),
+        run(true, "sim-b.json"),
+        run(false, "sim-c.json"),
+    );
+    assert_eq!(a, b, "deterministic for a seed");
+    assert_eq!(a["model"], "odometry2d");
+    assert_eq!(a["steps"].as_u64(), Some(500));
+    assert_eq!(a["truth"]["headings"].as_array().unwrap().len(), 501);
+    assert_eq!(a["truth"]["landmarks"].as_array().unwrap().len(), 9);
+    let dets = a["detections"].as_array().unwrap();
+    assert!(
+        !dets.is_empty()
+            && dets
+                .iter()
+                .all(|d| d["landmark"].is_u64() && d["scan"].is_u64())
+    );
+    assert!(hidden["detections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|d| d.get("landmark").is_none()));
+    let o = nvector_tests::nvector()
+        .args(["simulate", "--scenario", "forest"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("woods"));
+}
