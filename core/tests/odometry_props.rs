@@ -17,6 +17,7 @@ use nvector_core::odometry::angle::{box_angle, contract_periodic};
 use nvector_core::odometry::chain::OdometryChain;
 use nvector_core::odometry::sector::Sector;
 use nvector_core::odometry::sensor::OffsetDetection;
+use nvector_core::slam::motion_chain::Sweep;
 use nvector_core::Interval;
 use proptest::prelude::*;
 
@@ -159,10 +160,18 @@ proptest! {
         pos[0] = [around(&mut rng, p[0][0], 0.0), around(&mut rng, p[0][1], 0.0)];
         hd[0] = around(&mut rng, th[0], 0.0);
         for _ in 0..3 {
-            let r = if rng.chance(0.5) {
-                chain.contract(&mut pos, &mut hd)
-            } else {
-                chain.backward(&mut pos, &mut hd, n).and_then(|_| chain.forward(&mut pos, &mut hd, 0))
+            let r = match rng.below(3) {
+                0 => chain.contract(&mut pos, &mut hd),
+                1 => chain.backward(&mut pos, &mut hd, n).and_then(|_| chain.forward(&mut pos, &mut hd, 0)),
+                _ => {
+                    // Stopping sweeps from a random state, with a random
+                    // tolerance.
+                    let (k, tol) = (rng.below(n + 1), [0.0, 1e-9, 1e-3][rng.below(3)]);
+                    let a = chain.sweep_forward(&mut pos, &mut hd, k, tol);
+                    let b = chain.sweep_backward(&mut pos, &mut hd, k, tol);
+                    prop_assert!(!matches!(a, Sweep::Empty(_)) && !matches!(b, Sweep::Empty(_)), "{a:?} {b:?}");
+                    Ok(true)
+                }
             };
             prop_assert!(r.is_ok(), "emptied: {r:?}");
         }

@@ -41,6 +41,7 @@
 
 use crate::interval::Interval;
 use crate::odometry::angle::contract_heading;
+use crate::slam::motion_chain::{shrinkage, Sweep};
 
 /// The inputs of an odometry2d chain of N steps, precomputed as intervals.
 #[derive(Debug, Clone, PartialEq)]
@@ -221,6 +222,68 @@ impl OdometryChain {
         Ok(changed)
     }
 
+    /// How far the bounds of state k moved from `old` (see
+    /// [`shrinkage`]).
+    fn moved(old: ([Interval; 2], Interval), pos: &[Interval; 2], heading: Interval) -> f64 {
+        shrinkage(old.0[0], pos[0])
+            .max(shrinkage(old.0[1], pos[1]))
+            .max(shrinkage(old.1, heading))
+    }
+
+    /// Forward sweep from state `from` (steps from..N), stopping at the
+    /// first state that does not change, or whose bounds move by at most
+    /// `tol` (as [`crate::slam::motion_chain::sweep_forward`] does: what
+    /// lies beyond would only move by that much; stopping early is sound,
+    /// it only contracts less). `Sweep::Done(steps visited)` or
+    /// `Sweep::Empty(state)`.
+    pub fn sweep_forward(
+        &self,
+        pos: &mut [[Interval; 2]],
+        heading: &mut [Interval],
+        from: usize,
+        tol: f64,
+    ) -> Sweep {
+        self.check_len(pos, heading);
+        let n = self.steps();
+        for i in from..n {
+            let old = (pos[i + 1], heading[i + 1]);
+            match self.forward_step(pos, heading, i) {
+                Err(e) => return Sweep::Empty(e.step),
+                Ok(changed) => {
+                    if !changed || Self::moved(old, &pos[i + 1], heading[i + 1]) <= tol {
+                        return Sweep::Done(i + 1 - from);
+                    }
+                }
+            }
+        }
+        Sweep::Done(n.saturating_sub(from))
+    }
+
+    /// Backward sweep from state `from` (at most N): steps from-1 down to
+    /// 0, stopping like [`OdometryChain::sweep_forward`].
+    pub fn sweep_backward(
+        &self,
+        pos: &mut [[Interval; 2]],
+        heading: &mut [Interval],
+        from: usize,
+        tol: f64,
+    ) -> Sweep {
+        self.check_len(pos, heading);
+        let from = from.min(self.steps());
+        for i in (0..from).rev() {
+            let old = (pos[i], heading[i]);
+            match self.backward_step(pos, heading, i) {
+                Err(e) => return Sweep::Empty(e.step),
+                Ok(changed) => {
+                    if !changed || Self::moved(old, &pos[i], heading[i]) <= tol {
+                        return Sweep::Done(from - i);
+                    }
+                }
+            }
+        }
+        Sweep::Done(from)
+    }
+
     /// A forward sweep over the whole chain, then a backward one.
     /// `Ok(changed)`; `Err` names the first step found empty.
     pub fn contract(
@@ -268,6 +331,39 @@ mod tests {
         assert!(chain.contract(&mut pos, &mut heading).unwrap());
         assert!(pos[n][0].contains(1.0) && pos[n][0].width() < 0.021);
         assert!(heading[n].contains(0.0) && heading[n].width() < 1e-12);
+    }
+
+    #[test]
+    fn a_sweep_stops_where_nothing_changes() {
+        let n = 50;
+        let chain = OdometryChain::new(
+            0.1,
+            &vec![Interval::point(1.0); n],
+            &vec![Interval::point(0.1); n],
+            &[0.01],
+            &[0.001],
+        );
+        let mut pos = vec![[Interval::ENTIRE; 2]; n + 1];
+        let mut heading = vec![Interval::ENTIRE; n + 1];
+        pos[0] = [Interval::ZERO, Interval::ZERO];
+        heading[0] = Interval::ZERO;
+        assert_eq!(
+            chain.sweep_forward(&mut pos, &mut heading, 0, 0.0),
+            Sweep::Done(n)
+        );
+        // Already contracted: the next sweep stops at its first state.
+        assert_eq!(
+            chain.sweep_forward(&mut pos, &mut heading, 0, 0.0),
+            Sweep::Done(1)
+        );
+        // A tighter heading at state 20 travels forward to the end.
+        heading[20] = heading[20].intersect(Interval::new(0.19, 0.21));
+        assert_eq!(
+            chain.sweep_forward(&mut pos, &mut heading, 20, 0.0),
+            Sweep::Done(n - 20)
+        );
+        // 0.02 wide at state 20, 0.02 more per step (was 1.0 at state n).
+        assert!(heading[n].width() < 0.02 + 0.02 * 30.0 + 1e-9);
     }
 
     #[test]
