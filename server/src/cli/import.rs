@@ -48,7 +48,8 @@ pub struct Args {
     /// Import the UTIAS Lost in the Woods data set from this directory (docs/utias-woods.md).
     #[arg(long, value_name = "DIR", conflicts_with = "cmu_plaza")]
     utias_woods: Option<PathBuf>,
-    /// With --cmu-plaza: keep the beacon ids as the operator's matching.
+    /// With --cmu-plaza or --utias-woods: keep the data set's landmark ids as
+    /// the operator's matching.
     #[arg(long)]
     operator: bool,
     /// With --cmu-plaza: plant this many false ranges (random steps, ranges
@@ -308,6 +309,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )));
     }
     if let Some(dir) = &a.utias_woods {
+        if a.false_detections > 0 {
+            return Err(CliError(
+                "--false-detections applies to --cmu-plaza only".into(),
+            ));
+        }
         return crate::cli::import_woods::run(dir, a.operator, a.out.as_deref());
     }
     let mission = match &a.cmu_plaza {
