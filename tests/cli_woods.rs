@@ -271,6 +271,29 @@ fn check_truth_satisfies_mission(m: &Value, operator: bool) {
         let (r, b) = (iv(&d["range"]), iv(&d["bearing"]));
         assert!(r.1 - r.0 < 0.30 && b.1 - b.0 < 0.36, "{d}");
     }
+    // The range-dependent bands are narrower on average than the constant
+    // ones (which they are intersected with; the loop above checked that
+    // every true range and bearing is inside).
+    let mean = |key: &str| {
+        dets.iter()
+            .map(|d| iv(&d[key]).1 - iv(&d[key]).0)
+            .sum::<f64>()
+            / dets.len() as f64
+    };
+    let constant = |key: &str, margin: &str| {
+        let b = iv(&m["meta"][key]);
+        b.1 - b.0 + 2.0 * f(&m["meta"][margin])
+    };
+    assert!(
+        mean("bearing") < 0.6 * constant("bearing_error_bounds", "bearing_margin"),
+        "{}",
+        mean("bearing")
+    );
+    assert!(
+        mean("range") < constant("range_error_bounds", "range_margin"),
+        "{}",
+        mean("range")
+    );
     let he = m["heading_error"].as_array().unwrap();
     let ordinary = he.iter().filter(|e| f(e) < 0.03).count();
     assert!(

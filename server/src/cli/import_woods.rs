@@ -19,8 +19,10 @@
 //!   are ordinary and share the largest ordinary residual plus a margin;
 //!   the others are flagged and get their own residual × 1.5 plus a margin
 //!   (the flagged-steps model of docs/cmu-plaza1.md);
-//! - ranges and bearings: the band of (measured - true) over every
-//!   detection at a valid step, widened by a margin;
+//! - ranges and bearings: (measured - true) over every detection at a
+//!   valid step bounded on each side by the narrowest line (in the measured
+//!   range r for ranges, in 1/r for bearings) that holds every residual,
+//!   intersected with the constant band, widened by a margin;
 //! - `landmark_min_separation`: the smallest true distance between two
 //!   tubes less a margin; `scan`: detections at the same time.
 
@@ -53,6 +55,8 @@ pub mod bounds {
     pub const BEARING_MARGIN: f64 = 0.01;
     /// Margin taken off the smallest true distance between tubes (m).
     pub const SEPARATION_MARGIN: f64 = 0.05;
+    /// The bearing band in 1/r takes r at least this (m).
+    pub const MIN_RANGE_FOR_BEARING_MODEL: f64 = 0.1;
     /// Half-width of the initial position box around the truth (m).
     pub const INITIAL_POSITION_ERROR: f64 = 0.01;
     /// Half-width of the initial heading around the truth (rad).
@@ -103,6 +107,32 @@ fn flagged_bounds(residual: &[f64], flag: f64, margin: f64) -> (Vec<f64>, f64, u
         .collect();
     let flagged = residual.iter().filter(|&&r| r > flag).count();
     (per_step, ordinary, flagged)
+}
+
+/// The line `y <= a + b·x` over every point `(x, y)` with the smallest mean
+/// `a + b·mean(x)` (the bound's mean over the points): for a slope b the
+/// least a is `max(y - b·x)`, and the mean is convex in b (a maximum of
+/// linear functions plus a linear one), so a ternary search over
+/// b in [-2, 2] finds it. Returns `(a, b)`.
+fn fit_upper_line(points: &[(f64, f64)]) -> (f64, f64) {
+    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len().max(1) as f64;
+    let a_of = |b: f64| {
+        points
+            .iter()
+            .fold(f64::NEG_INFINITY, |m, &(x, y)| m.max(y - b * x))
+    };
+    let cost = |b: f64| a_of(b) + b * mean_x;
+    let (mut lo, mut hi) = (-2.0f64, 2.0f64);
+    for _ in 0..200 {
+        let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+        if cost(m1) <= cost(m2) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    let b = (lo + hi) / 2.0;
+    (a_of(b), b)
 }
 
 /// The Lost in the Woods data set in `dir` as a mission (tube labels kept
@@ -296,6 +326,8 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
         f64::NEG_INFINITY,
     );
     let mut checked = 0usize;
+    // (measured range, range residual, bearing residual) at valid steps.
+    let mut residuals: Vec<(f64, f64, f64)> = Vec::with_capacity(meas.rows.len());
     for (i, r) in meas.rows.iter().enumerate() {
         let line = i + 2;
         let step = ((r[mt] - t0) / dt).round();
@@ -331,6 +363,7 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
             let be = wrap(bearing - (dy.atan2(dx) - h));
             (rmin, rmax) = (rmin.min(re), rmax.max(re));
             (bmin, bmax) = (bmin.min(be), bmax.max(be));
+            residuals.push((range, re, be));
             checked += 1;
         }
         dets.push((step, id, range, bearing));
@@ -341,15 +374,44 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
             meas_p.display()
         )));
     }
+    // Residual bands that depend on the measured range r: the range
+    // residual between two lines in r, the bearing residual between two
+    // lines in 1/r (a lateral error of the truth or of the tube's centre
+    // turns into a bearing error that shrinks with the range), each the
+    // narrowest on average over the detections ([`fit_upper_line`]), and
+    // intersected with the constant bands (both hold every residual).
+    let inverse = |r: f64| 1.0 / r.max(MIN_RANGE_FOR_BEARING_MODEL);
+    let range_hi = fit_upper_line(&residuals.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>());
+    let range_lo = fit_upper_line(&residuals.iter().map(|p| (p.0, -p.1)).collect::<Vec<_>>());
+    let bearing_hi = fit_upper_line(
+        &residuals
+            .iter()
+            .map(|p| (inverse(p.0), p.2))
+            .collect::<Vec<_>>(),
+    );
+    let bearing_lo = fit_upper_line(
+        &residuals
+            .iter()
+            .map(|p| (inverse(p.0), -p.2))
+            .collect::<Vec<_>>(),
+    );
+    let band = |x: f64, hi: (f64, f64), lo: (f64, f64), bounds: (f64, f64)| {
+        (
+            bounds.0.max(-(lo.0 + lo.1 * x)),
+            bounds.1.min(hi.0 + hi.1 * x),
+        )
+    };
     let detections: Vec<Value> = dets
         .iter()
         .map(|&(step, id, range, bearing)| {
-            let lo = (range - rmax - RANGE_MARGIN).max(0.0);
-            let hi = range - rmin + RANGE_MARGIN;
+            let (elo, ehi) = band(range, range_hi, range_lo, (rmin, rmax));
+            let (blo, bhi) = band(inverse(range), bearing_hi, bearing_lo, (bmin, bmax));
+            let lo = (range - ehi - RANGE_MARGIN).max(0.0);
+            let hi = range - elo + RANGE_MARGIN;
             let mut d = json!({
                 "step": step,
                 "range": [lo, hi],
-                "bearing": [bearing - bmax - BEARING_MARGIN, bearing - bmin + BEARING_MARGIN],
+                "bearing": [bearing - bhi - BEARING_MARGIN, bearing - blo + BEARING_MARGIN],
                 "scan": step,
             });
             if operator {
@@ -382,12 +444,14 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
         "landmark_min_separation": separation - SEPARATION_MARGIN,
         "meta": {
             "source": "UTIAS Lost in the Woods (dataset2.mat of T. D. Barfoot's AER1513 course, utiasASRL/aer1513, Apache-2.0), as CSV in ../shared/data/utias-lost-in-the-woods",
-            "method": "every bound from the data against the motion-capture truth (docs/utias-woods.md): per-step residuals of the truth, completed across its gaps by linear interpolation, against the odometry2d model; steps above a threshold flagged with their own residual x 1.5 + margin; ranges and bearings: the band of measured - true over every detection at a valid step, plus a margin",
+            "method": "every bound from the data against the motion-capture truth (docs/utias-woods.md): per-step residuals of the truth, completed across its gaps by linear interpolation, against the odometry2d model; steps above a threshold flagged with their own residual x 1.5 + margin; ranges and bearings: measured - true over every detection at a valid step, bounded by the narrowest lines in r (ranges) and 1/r (bearings) holding every residual, within the constant band, plus a margin",
             "heading_error": {"ordinary": heading_ordinary, "flag_above": HEADING_FLAG, "margin": HEADING_MARGIN, "flagged_steps": heading_flagged, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
             "motion_error": {"ordinary": motion_ordinary, "flag_above": MOTION_FLAG, "margin": MOTION_MARGIN, "flagged_steps": motion_flagged, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
             "speed_error": 0.0,
             "turn_rate_error": 0.0,
             "range_error_bounds": [rmin, rmax],
+            "range_error_model": {"residual": "measured - true range, between -(lower[0] + lower[1] r) and upper[0] + upper[1] r (r the measured range), and within range_error_bounds", "upper": [range_hi.0, range_hi.1], "lower": [range_lo.0, range_lo.1]},
+            "bearing_error_model": {"residual": "measured - true bearing (wrapped), between -(lower[0] + lower[1] / r) and upper[0] + upper[1] / r (r the measured range, at least 0.1 m), and within bearing_error_bounds", "upper": [bearing_hi.0, bearing_hi.1], "lower": [bearing_lo.0, bearing_lo.1]},
             "range_margin": RANGE_MARGIN,
             "bearing_error_bounds": [bmin, bmax],
             "bearing_margin": BEARING_MARGIN,
