@@ -175,9 +175,8 @@ mod tests {
     #[test]
     fn a_landmark_ahead_fixes_the_heading() {
         // Robot at the origin, laser 0.2 m ahead, landmark at (3.2, 0):
-        // range 3, bearing 0; heading unknown in [-10, 10]: the heading
-        // must come back near 0, -2pi or 2pi (three copies), hull [-2pi,
-        // 2pi] widened only by the bounds.
+        // range 3, bearing 0; heading in [-1, 1]: it comes back to about
+        // ±0.01 (the landmark's direction from the robot).
         let det = OffsetDetection::new(
             Interval::centered(3.0, 0.01),
             Some(Interval::centered(0.0, 0.01)),
