@@ -391,3 +391,52 @@ fn simulate_woods_through_the_cli() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("woods"));
 }
+
+#[test]
+fn woods_import_plants_false_ranges() {
+    let out = tmp("woods-false.json");
+    let dir = woods_dir();
+    let o = nvector_tests::nvector()
+        .args([
+            "import",
+            "--utias-woods",
+            dir.to_str().unwrap(),
+            "--false-detections",
+            "30",
+            "--seed",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let plain = import(false);
+    assert_eq!(m["max_outliers"].as_u64(), Some(30));
+    let (dets, truth) = (
+        m["detections"].as_array().unwrap(),
+        m["truth"]["matching"].as_array().unwrap(),
+    );
+    // The planted ones: null in the truth, a range only (no bearing, no
+    // scan: a false detection is in no scan of the laser).
+    let planted: Vec<&Value> = dets
+        .iter()
+        .zip(truth)
+        .filter(|(_, t)| t.is_null())
+        .map(|(d, _)| d)
+        .collect();
+    assert_eq!(planted.len(), 30);
+    assert!(planted
+        .iter()
+        .all(|d| d.get("bearing").is_none() && d.get("scan").is_none()));
+    // The real ones are the plain import's, in the same order.
+    let real: Vec<&Value> = dets
+        .iter()
+        .zip(truth)
+        .filter(|(_, t)| !t.is_null())
+        .map(|(d, _)| d)
+        .collect();
+    let plain_dets: Vec<&Value> = plain["detections"].as_array().unwrap().iter().collect();
+    assert_eq!(real, plain_dets);
+}

@@ -52,7 +52,7 @@ pub struct Args {
     /// the operator's matching.
     #[arg(long)]
     operator: bool,
-    /// With --cmu-plaza: plant this many false ranges (random steps, ranges
+    /// With --cmu-plaza or --utias-woods: plant this many false ranges (random steps, ranges
     /// drawn over the measured span, `truth.matching` null) and set
     /// `max_outliers` to it.
     #[arg(long, default_value_t = 0)]
@@ -309,12 +309,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )));
     }
     if let Some(dir) = &a.utias_woods {
+        let mut m = crate::cli::import_woods::utias_woods(dir, a.operator)?;
         if a.false_detections > 0 {
-            return Err(CliError(
-                "--false-detections applies to --cmu-plaza only".into(),
-            ));
+            plant_false_ranges(&mut m, a.false_detections, a.seed);
         }
-        return crate::cli::import_woods::run(dir, a.operator, a.out.as_deref());
+        return crate::cli::import_woods::write(&m, a.out.as_deref());
     }
     let mission = match &a.cmu_plaza {
         Some(dir) => {

@@ -473,15 +473,14 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
     }))
 }
 
-/// Runs `nvector import --utias-woods DIR`: writes the mission to `out`
-/// (standard output when `None`).
+/// Writes a mission to `out` (standard output when `None`).
 ///
-/// The mission is not yet read back through core's `Mission` parser (the
-/// odometry2d fields are parsed by another branch): once it is, the caller
-/// validates it like every other import.
-pub fn run(dir: &Path, operator: bool, out: Option<&Path>) -> Result<(), CliError> {
-    let mission = utias_woods(dir, operator)?;
-    let text = serde_json::to_string(&mission)?;
+/// The mission is not read back through core's `Mission` parser here (the
+/// odometry2d fields are parsed by another branch; the imported and
+/// simulated missions were checked to parse there): once merged, the
+/// caller validates it like every other import.
+pub fn write(mission: &Value, out: Option<&Path>) -> Result<(), CliError> {
+    let text = serde_json::to_string(mission)?;
     match out {
         Some(p) => std::fs::write(p, text + "\n")
             .map_err(|e| CliError(format!("writing {}: {e}", p.display())))?,
