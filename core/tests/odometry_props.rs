@@ -41,10 +41,11 @@ fn heading(rng: &mut Rng) -> f64 {
     }
 }
 
-/// A coordinate: zero, small, or large.
+/// A coordinate: zero, small, large, or huge (near overflow).
 fn coord(rng: &mut Rng) -> f64 {
-    match rng.below(6) {
+    match rng.below(7) {
         0 => 0.0,
+        6 => rng.range(-1e300, 1e300),
         1 => rng.range(-1.0, 1.0),
         2 => rng.range(-1e6, 1e6),
         3 => rng.range(-1e12, 1e12),
@@ -115,7 +116,7 @@ proptest! {
         let mut th = vec![heading(&mut rng)];
         let mut p = vec![[coord(&mut rng), coord(&mut rng)]];
         let (mut v, mut w) = (Vec::new(), Vec::new());
-        let scale = match rng.below(4) { 0 => 0.0, 1 => 1e-9, 2 => 1.0, _ => 1e6 };
+        let scale = match rng.below(5) { 0 => 0.0, 1 => 1e-9, 2 => 1.0, 3 => 1e300, _ => 1e6 };
         for i in 0..n {
             let vi = if rng.chance(0.1) { 0.0 } else { rng.range(-2.0, 2.0) * scale };
             let wi = if rng.chance(0.1) { 0.0 } else { rng.range(-3.0, 3.0) };
