@@ -12,6 +12,7 @@ pub mod ibox;
 pub mod interval;
 pub mod json;
 pub mod nvector;
+pub mod odometry;
 pub mod radix;
 pub mod shapes;
 pub mod slam;

@@ -47,10 +47,14 @@ pub struct Args {
     /// Import the CMU Plaza 1 dataset from this directory instead.
     #[arg(long, value_name = "DIR")]
     cmu_plaza: Option<PathBuf>,
-    /// With --cmu-plaza: keep the beacon ids as the operator's matching.
+    /// Import the UTIAS Lost in the Woods data set from this directory (docs/utias-woods.md).
+    #[arg(long, value_name = "DIR", conflicts_with = "cmu_plaza")]
+    utias_woods: Option<PathBuf>,
+    /// With --cmu-plaza or --utias-woods: keep the data set's landmark ids as
+    /// the operator's matching.
     #[arg(long)]
     operator: bool,
-    /// With --cmu-plaza: plant this many false ranges (random steps, ranges
+    /// With --cmu-plaza or --utias-woods: plant this many false ranges (random steps, ranges
     /// drawn over the measured span, `truth.matching` null) and set
     /// `max_outliers` to it.
     #[arg(long, default_value_t = 0)]
@@ -305,6 +309,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
         return Err(CliError(format!(
             "--false-detections must be at most {most}"
         )));
+    }
+    if let Some(dir) = &a.utias_woods {
+        let mut m = crate::cli::import_woods::utias_woods(dir, a.operator)?;
+        if a.false_detections > 0 {
+            plant_false_ranges(&mut m, a.false_detections, a.seed);
+        }
+        return crate::cli::import_woods::write(&m, a.out.as_deref());
     }
     let mission = match &a.cmu_plaza {
         Some(dir) => {

@@ -1,6 +1,7 @@
 //! `nvector simulate`: a simulated mission with truth.
 
 use crate::CliError;
+use nvector_core::odometry::simulate::WoodsOptions;
 use nvector_core::slam::mission::MAX_STEPS;
 use nvector_core::slam::simulate::{
     simulate, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS, MAX_LANDMARKS,
@@ -11,9 +12,10 @@ use std::path::PathBuf;
 /// Arguments of `nvector simulate`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// paper (the paper's section 6 experiment) or auv (Redermor-scale survey).
+    /// paper (the paper's section 6 experiment), auv (Redermor-scale survey)
+    /// or woods (an odometry2d robot among identical landmarks, with scans).
     #[arg(long, value_parser = parse_scenario)]
-    scenario: Scenario,
+    scenario: Which,
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -47,8 +49,21 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-fn parse_scenario(s: &str) -> Result<Scenario, String> {
-    Scenario::parse(s).ok_or_else(|| format!("unknown scenario '{s}' (expected paper or auv)"))
+/// A scenario of core's `slam::simulate`, or `woods`
+/// (core/src/odometry/simulate.rs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Which {
+    Slam(Scenario),
+    Woods,
+}
+
+fn parse_scenario(s: &str) -> Result<Which, String> {
+    match s {
+        "woods" => Ok(Which::Woods),
+        _ => Scenario::parse(s)
+            .map(Which::Slam)
+            .ok_or_else(|| format!("unknown scenario '{s}' (expected paper, auv or woods)")),
+    }
 }
 
 fn parse_layout(s: &str) -> Result<Layout, String> {
@@ -73,7 +88,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "--landmarks must be at most {MAX_LANDMARKS}"
         )));
     }
-    if a.scenario != Scenario::Paper
+    if a.scenario != Which::Slam(Scenario::Paper)
         && (a.layout != Layout::Line || a.range_only || a.false_detections > 0)
     {
         return Err(CliError(
@@ -85,8 +100,17 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "--false-detections must be at most {MAX_FALSE_DETECTIONS}"
         )));
     }
+    let Which::Slam(scenario) = a.scenario else {
+        let mission = nvector_core::odometry::simulate::simulate_woods(&WoodsOptions {
+            seed: a.seed,
+            steps: a.steps,
+            landmarks: a.landmarks,
+            operator: a.operator,
+        });
+        return write_mission(&mission, a.out);
+    };
     let options = SimulateOptions {
-        scenario: a.scenario,
+        scenario,
         seed: a.seed,
         steps: a.steps,
         landmarks: a.landmarks,
@@ -97,6 +121,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
         false_detections: a.false_detections,
     };
     let mission = simulate(&options);
+    write_mission(&mission, a.out)
+}
+
+/// Writes the mission to `out` (standard output when `None`).
+fn write_mission(mission: &serde_json::Value, out: Option<PathBuf>) -> Result<(), CliError> {
     // Written as it is serialized: a 2,000,000-step mission's text is
     // hundreds of megabytes more, on top of its JSON value.
     let write = |w: &mut dyn Write| -> std::io::Result<()> {
@@ -105,7 +134,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         w.write_all(b"\n")?;
         w.flush()
     };
-    match a.out {
+    match out {
         Some(path) => std::fs::File::create(&path)
             .and_then(|mut f| write(&mut f))
             .map_err(|e| CliError(format!("writing {}: {e}", path.display())))?,

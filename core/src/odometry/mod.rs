@@ -1,0 +1,25 @@
+//! The `odometry2d` model's pieces (issue 20): a ground robot whose heading
+//! is not measured but integrated from its odometry.
+//!
+//! - [`angle`]: sound angle arithmetic on the real line (the direction arc
+//!   of a box, and the contraction of a heading to the copies `arc + 2πk`
+//!   of an arc);
+//! - [`chain`]: the odometry2d motion chain (state x, y, heading per step),
+//!   forward and backward;
+//! - [`sensor`]: a range (and bearing) detection measured from a point fixed
+//!   in the body frame (`sensor_offset`) under an uncertain heading;
+//! - [`sector`]: the detection's landmark set with an uncertain heading (an
+//!   annulus sector whose direction is uncertain), its outer box, a sound
+//!   `meets(box)`, a sound disjointness test between two of them, and the
+//!   heading contraction from "the landmark is in box B";
+//! - [`simulate`]: the `woods` scenario (an odometry2d robot among
+//!   identical landmarks, with scans and a stated minimum separation).
+//!
+//! Headings are real numbers, never wrapped into [-π, π]: every angle
+//! contraction here works with all the copies `α + 2πk` of an arc.
+
+pub mod angle;
+pub mod chain;
+pub mod sector;
+pub mod sensor;
+pub mod simulate;
