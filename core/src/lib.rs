@@ -11,6 +11,7 @@ pub mod ibox;
 pub mod interval;
 pub mod json;
 pub mod nvector;
+pub mod outline;
 pub mod radix;
 pub mod shapes;
 pub mod slam;
