@@ -64,7 +64,7 @@
 //! `shape_outline`: O(ARC_STEPS) vertices and time per shape, no allocation
 //! sized by an input number. `union_boundary`: O(n² · s) for n boxes, s
 //! the pieces a side is cut into (at most n + 1); above `MAX_UNION_BOXES`
-//! boxes, O(n): every box's sides, uncut.
+//! boxes it declines (`None`, O(n)).
 
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
@@ -327,16 +327,18 @@ fn clip_rect(pts: &[Point], r: &Rect) -> Vec<Point> {
 /// The boundary of the union of the boxes' first two axes, as segments
 /// `[a, b]` (axis-aligned; none inside the union, every boundary point on
 /// one). Boxes that are empty, unbounded or of fewer than 2 axes are left
-/// out. Above [`MAX_UNION_BOXES`] boxes, every box's four sides (the
-/// union's boundary lies on them; some inner sides are drawn too).
-pub fn union_boundary(boxes: &[IntervalBox]) -> Vec<[Point; 2]> {
+/// out. `None` above [`MAX_UNION_BOXES`] boxes (every box's sides would
+/// draw a grid, not an outline: the caller draws the union's fill alone).
+pub fn union_boundary(boxes: &[IntervalBox]) -> Option<Vec<[Point; 2]>> {
     let mut rects: Vec<[f64; 4]> = Vec::with_capacity(boxes.len());
     for b in boxes {
         if b.dim() >= 2 && !b.is_empty() && b[0].is_bounded() && b[1].is_bounded() {
             rects.push([b[0].lo(), b[0].hi(), b[1].lo(), b[1].hi()]);
         }
     }
-    let exact = rects.len() <= MAX_UNION_BOXES;
+    if rects.len() > MAX_UNION_BOXES {
+        return None;
+    }
     let mut out = Vec::new();
     let (mut pieces, mut next) = (Vec::new(), Vec::new());
     for r in &rects {
@@ -351,7 +353,7 @@ pub fn union_boundary(boxes: &[IntervalBox]) -> Vec<[Point; 2]> {
         ] {
             pieces.clear();
             pieces.push([lo, hi]);
-            for q in rects.iter().take(if exact { rects.len() } else { 0 }) {
+            for q in &rects {
                 let (a0, a1, s0, s1) = if axis == 0 {
                     (q[0], q[1], q[2], q[3])
                 } else {
@@ -387,7 +389,7 @@ pub fn union_boundary(boxes: &[IntervalBox]) -> Vec<[Point; 2]> {
             }
         }
     }
-    out
+    Some(out)
 }
 
 #[cfg(test)]
@@ -611,7 +613,7 @@ mod tests {
                 })
                 .collect();
             let covered = |q: Point| boxes.iter().any(|b| b.contains(&q));
-            let segs = union_boundary(&boxes);
+            let segs = union_boundary(&boxes).unwrap();
             for s in &segs {
                 let m = [(s[0][0] + s[1][0]) / 2.0, (s[0][1] + s[1][1]) / 2.0];
                 let (l, r) = if s[0][0] == s[1][0] {
@@ -652,11 +654,16 @@ mod tests {
                 }
             }
         }
-        assert!(union_boundary(&[]).is_empty());
-        assert!(union_boundary(&[IntervalBox::entire(2)]).is_empty());
+        assert_eq!(union_boundary(&[]), Some(vec![]));
+        assert_eq!(union_boundary(&[IntervalBox::entire(2)]), Some(vec![]));
+        let many = vec![IntervalBox::new(&[iv(0.0, 1.0), iv(0.0, 1.0)]); MAX_UNION_BOXES + 1];
+        assert_eq!(union_boundary(&many), None);
         // A flat box is a line, drawn on both its sides; a point is not drawn.
         let flat = union_boundary(&[IntervalBox::new(&[iv(0.0, 2.0), iv(1.0, 1.0)])]);
-        assert_eq!(flat, vec![[[0.0, 1.0], [2.0, 1.0]]; 2]);
-        assert!(union_boundary(&[IntervalBox::point(&[1.0, 1.0])]).is_empty());
+        assert_eq!(flat, Some(vec![[[0.0, 1.0], [2.0, 1.0]]; 2]));
+        assert_eq!(
+            union_boundary(&[IntervalBox::point(&[1.0, 1.0])]),
+            Some(vec![])
+        );
     }
 }

@@ -226,7 +226,9 @@ pub fn shape_outlines(input: &[f64]) -> Result<Vec<f64>, InputError> {
 /// The boundaries of landmark regions (unions of boxes), computed by core
 /// (core/src/outline.rs), from flat numbers. Per region: the number of
 /// boxes, then per box x lo, x hi, y lo, y hi. The answer, per region: the
-/// number of segments, then per segment x0, y0, x1, y1.
+/// number of segments, then per segment x0, y0, x1, y1; -1 (and nothing
+/// after it) for a region of too many boxes to trace (core's
+/// `MAX_UNION_BOXES`: the page draws its fill alone).
 pub fn region_boundaries(input: &[f64]) -> Result<Vec<f64>, InputError> {
     let mut r = Numbers {
         what: "regions",
@@ -240,9 +242,13 @@ pub fn region_boundaries(input: &[f64]) -> Result<Vec<f64>, InputError> {
         for _ in 0..n {
             boxes.push(r.boxed(i, "boxes", 2)?);
         }
-        let segments = union_boundary(&boxes);
-        out.push(segments.len() as f64);
-        out.extend(segments.iter().flatten().flatten());
+        match union_boundary(&boxes) {
+            Some(segments) => {
+                out.push(segments.len() as f64);
+                out.extend(segments.iter().flatten().flatten());
+            }
+            None => out.push(-1.0),
+        }
         i += 1;
     }
     Ok(out)

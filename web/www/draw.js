@@ -454,7 +454,7 @@ function regionPaths(result) {
     const req = [rects.length];
     for (const r of rects) req.push(r.x0, r.x1, r.y0, r.y1);
     const flat = core.boundaries(Float64Array.from(req));
-    segments = flat[0];
+    segments = Math.max(flat[0], 0); // -1: too many boxes to trace, the fill alone
     for (let k = 0, at = 1; k < segments; k++, at += 4) parts.push(`M${flat[at]} ${flat[at + 1]}L${flat[at + 2]} ${flat[at + 3]}`);
   }
   const out = { count, rects, segments, path: parts.length ? new Path2D(parts.join('')) : null };
