@@ -15,6 +15,7 @@ use nvector_core::slam::simulate::{
 };
 use nvector_core::{InputError, Interval, IntervalBox};
 use serde_json::{json, Value};
+use std::cmp::Ordering;
 use std::sync::atomic::AtomicBool;
 use wasm_bindgen::prelude::*;
 
@@ -140,7 +141,8 @@ impl Numbers<'_> {
 
     fn interval(&mut self, item: usize, field: &str) -> Result<Interval, InputError> {
         let (lo, hi) = (self.take(item, field)?, self.take(item, field)?);
-        if !(lo <= hi) || lo == f64::INFINITY || hi == f64::NEG_INFINITY {
+        let ordered = matches!(lo.partial_cmp(&hi), Some(Ordering::Less | Ordering::Equal));
+        if !ordered || lo == f64::INFINITY || hi == f64::NEG_INFINITY {
             return Err(InputError::new(
                 format!("{}[{item}].{field}", self.what),
                 "not an interval: the lower bound is above the upper one, infinite \
