@@ -21,6 +21,8 @@ export function loadPreset(name) {
   pg.boxes = p.boxes.map((b) => ({ x0: b[0][0], x1: b[0][1], y0: b[1][0], y1: b[1][1] }));
   $('pg-n').value = p.n;
   pg.view.fit(hull(pg.boxes));
+  // Room for the legend in the top right corner.
+  pg.view.zoom(0.85, pg.view.canvas.width * 0.4, pg.view.canvas.height * 0.6);
   contractAndDraw();
 }
 
@@ -65,7 +67,7 @@ function hit(px, py) {
   return null;
 }
 
-/** Wires the playground's controls; `handle` is the WASM handle (null until loaded). */
+/** Wires the playground's controls (the WASM handle comes later: playgroundReady). */
 export function initPlayground() {
   const c = $('pg-canvas');
   pg.view = new View(c);
