@@ -338,7 +338,7 @@ export function shapePaths(result, mission) {
     if (!range) return;
     const pbox = traj[d.step];
     const centre = Array.isArray(pbox) && pbox.length <= 3 ? pbox.map(interval) : null;
-    if (!rect(pbox) || !centre.every((a) => a && a.every(Number.isFinite))) return;
+    if (!centre || !rect(pbox) || !centre.every((a) => a && a.every(Number.isFinite))) return;
     const dim = centre.length;
     if (off) for (const k of [0, 1]) centre[k] = [centre[k][0] - off, centre[k][1] + off];
     const cut = cutAxes(d.region, mission.landmark_region, dim);
