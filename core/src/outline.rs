@@ -29,17 +29,18 @@
 //! - hole ⊆ {x : max_{p∈P} |x - p| < lo}: the intersection of the four disks
 //!   of radius lo around P's corners, each arc replaced by its inscribed
 //!   polygon (chords lie inside a disk, and the hole is convex);
-//! - with a sector narrower than π, both are clipped by P ⊕ C with C the
+//! - with a sector narrower than π, both are clipped by P ⊕ K with K the
 //!   infinite cone of directions S (which holds the sector): for a box P
-//!   and a convex cone C that is the intersection of the half-planes
-//!   n · x <= max_{p∈P} n · p over the normals n of C's two edges and the
-//!   axis directions between them (the box's support function is linear
-//!   between axis directions). Only normals strictly inside C's dual cone
-//!   are used, so that rounding never adds a cut; leaving one out only
-//!   makes the region larger;
-//! - both clipped by C (Sutherland–Hodgman, convex clip polygons).
+//!   and a convex cone K, P ⊕ K is the intersection of the half-planes
+//!   n · x <= max_{p∈P} n · p over the outward normals n of K's two edges
+//!   and the axis directions between them (the box's support function is
+//!   linear between axis directions). An axis direction is used only when
+//!   it is inside K's dual cone by a margin, so that rounding never adds a
+//!   cut (leaving one out only makes the region larger), and every
+//!   half-plane is moved out by the slack;
+//! - both clipped by the cut box C (Sutherland–Hodgman half-planes).
 //!
-//! Filled: (outer \ hole) ∩ cone ∩ C ⊇ A. In 3-D the horizontal distance is
+//! Filled: (outer \ hole) ∩ (P ⊕ K) ∩ C ⊇ A. In 3-D the horizontal distance is
 //! at least sqrt(lo² - dz²) with dz the largest depth difference between P
 //! and C, which replaces lo (hi stays: the horizontal distance is at most the
 //! distance).
@@ -250,7 +251,7 @@ fn hole_polygon(b: &Rect, r: f64) -> Option<Vec<Point>> {
     Some(pts)
 }
 
-/// The cone P ⊕ C (module doc) as half-planes n · x <= c: the outward
+/// The cone P ⊕ K (module doc) as half-planes n · x <= c: the outward
 /// normals of C's two edges, and the axis directions between them (where
 /// the box's support function bends), each at the box's support value plus
 /// the slack.
