@@ -2,10 +2,13 @@
 //! (WebDriver over HTTP on loopback), against the real `nvector serve` on a
 //! fresh SQLite database: the playground's Figure 8 preset, the offline SLAM
 //! demo (range + bearing, and the range-only preset with the `shapes`
-//! contractor), the detection shapes' polygons checked against planted
-//! points, the legend's toggles, a mission uploaded through the page and
-//! drawn, the CMU Plaza 1 result drawn and its redraw timed, and the
-//! browser's results compared bit for bit with the native binary.
+//! contractor), the legend's toggles, a mission uploaded through the page and
+//! drawn, the CMU Plaza 1 result drawn (the truth path visible in its
+//! pixels) and its redraw timed, the legends and axes of every canvas, the
+//! favicon and the API reference link, and the browser's results compared
+//! bit for bit with the native binary. (The shapes' outlines are computed
+//! by core, core/src/outline.rs, whose property tests plant true points in
+//! them.)
 //! Screenshots go to target/screenshots/. Under CI (CI=true) a missing browser is a failure;
 //! elsewhere the test is skipped, saying so loudly.
 
@@ -276,6 +279,36 @@ fn the_page_in_headless_chromium() {
     );
     assert_eq!(groups, "[[0,1],[2],[3,4],[5],[6]]");
     d.screenshot("playground-fig8");
+    // The playground's legend and axes (drawn in the canvas; the canvas's
+    // dataset says what), and the page's header: the API reference link
+    // and a favicon that is served.
+    legend_and_axes(
+        &d,
+        "pg-canvas",
+        &[
+            "input box",
+            "contracted, in a group",
+            "alone (singleton)",
+            "kernel on an axis",
+        ],
+        "",
+    );
+    assert_eq!(
+        d.js("return document.querySelector('header a[href=\"/api/docs\"]')?.textContent"),
+        "API reference"
+    );
+    let icons = d.js_async(
+        "const done = arguments[arguments.length - 1]; \
+         Promise.all(['/favicon.ico', '/favicon.svg'].map((u) => fetch(u).then((r) => r.status + ' ' + r.headers.get('content-type')))).then(done, (e) => done(String(e)));",
+    );
+    let icons: Vec<&str> = icons
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert!(icons[0].starts_with("200 image/"), "{icons:?}");
+    assert!(icons[1].starts_with("200 image/svg+xml"), "{icons:?}");
     // Redraw time with 200 boxes (measured in the page): the median of 7
     // batch means of 20 contractions.
     let ms = d.js(
@@ -318,8 +351,25 @@ fn the_page_in_headless_chromium() {
         "shapes {shapes}, sectors {sectors}"
     );
     assert_eq!(Some(shapes), detections.as_f64());
+    // Each panel has axes in metres and a legend naming what it shows; each
+    // is fitted to its own result (the basic model's panel covers more
+    // metres per pixel than nvector's, not the same zoom).
+    let slam_legend = ["truth path", "trajectory boxes", "detection shapes"];
+    legend_and_axes(&d, "sl-basic", &slam_legend, "m");
+    legend_and_axes(&d, "sl-nv", &slam_legend, "m");
+    let nv_legend = d.js("return document.getElementById('sl-nv').dataset.legend");
+    assert!(
+        nv_legend.as_str().unwrap().contains("proved groups ("),
+        "{nv_legend}"
+    );
+    let scales = d.js("return window.nvectorPage.sl.shown.map((s) => s.view.scale)");
+    assert_ne!(scales[0], scales[1], "both panels share one zoom: {scales}");
+    assert!(d
+        .js("return document.getElementById('sl-summary').textContent")
+        .as_str()
+        .unwrap()
+        .contains("proved groups of at most 4 landmarks"));
 
-    shape_polygons_hold_the_truth(&d);
     range_only_preset(&d, &base);
 
     // Same bits as native: the paper scenario simulated and run in WASM
@@ -525,60 +575,30 @@ fn painted(d: &Driver, canvas: &str) -> f64 {
     .unwrap()
 }
 
-/// The page's shape polygons (web/www/shapes.js), filled as the page fills
-/// them (a Path2D, nonzero rule), hold every point of the true set: random
-/// boxes, ranges, sectors and cuts, with points p + r u(phi) planted from
-/// the box, the range and the sector. They also leave out what must be out:
-/// the box's centre when the annulus has a hole, and a point behind the box
-/// opposite a sector.
-fn shape_polygons_hold_the_truth(d: &Driver) {
-    let out = d.js_async(
-        "const done = arguments[arguments.length - 1]; \
-         import('/shapes.js').then((m) => { \
-           const ctx = document.createElement('canvas').getContext('2d'); \
-           let seed = 11; const rnd = () => (seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648; \
-           const r = { points: 0, missed: [], holes: 0, holeFilled: 0, cones: 0, coneFilled: 0 }; \
-           for (let c = 0; c < 4000; c++) { \
-             const x0 = rnd() * 20 - 10, y0 = rnd() * 20 - 10; \
-             const P = { x0, x1: x0 + rnd() * rnd() * 8, y0, y1: y0 + rnd() * rnd() * 8 }; \
-             const lo = rnd() * 15, hi = lo + rnd() * 3; \
-             const a = rnd() * 12 - 6, sector = rnd() < 0.5 ? null : [a, a + rnd() * 3.3]; \
-             const cx0 = rnd() * 30 - 20, cy0 = rnd() * 30 - 20; \
-             const cut = rnd() < 0.5 ? null : { x0: cx0, x1: cx0 + rnd() * 25, y0: cy0, y1: cy0 + rnd() * 25 }; \
-             const poly = m.shapePolygons(P, [lo, hi], cut, sector); \
-             const parts = []; if (poly) { m.addPolygon(parts, poly.outer); if (poly.hole) m.addPolygon(parts, poly.hole); } \
-             const path = new Path2D(parts.join('')); \
-             const filled = (x, y) => ctx.isPointInPath(path, x, y, 'nonzero'); \
-             for (let k = 0; k < 30; k++) { \
-               const px = P.x0 + rnd() * (P.x1 - P.x0), py = P.y0 + rnd() * (P.y1 - P.y0), rr = lo + rnd() * (hi - lo); \
-               const phi = sector ? sector[0] + rnd() * (sector[1] - sector[0]) : rnd() * 2 * Math.PI; \
-               const x = px + rr * Math.cos(phi), y = py + rr * Math.sin(phi); \
-               if (cut && !(x >= cut.x0 && x <= cut.x1 && y >= cut.y0 && y <= cut.y1)) continue; \
-               r.points++; if (!filled(x, y)) r.missed.push([c, x, y]); \
-             } \
-             const mx = (P.x0 + P.x1) / 2, my = (P.y0 + P.y1) / 2; \
-             const inCut = (x, y) => !cut || (x >= cut.x0 && x <= cut.x1 && y >= cut.y0 && y <= cut.y1); \
-             if (poly && poly.hole && inCut(mx, my)) { r.holes++; if (filled(mx, my)) r.holeFilled++; } \
-             if (poly && sector && sector[1] - sector[0] < 3) { \
-               const back = (sector[0] + sector[1]) / 2 + Math.PI, dist = Math.hypot(P.x1 - P.x0, P.y1 - P.y0) / 2 + 1; \
-               const bx = mx + dist * Math.cos(back), by = my + dist * Math.sin(back); \
-               if (inCut(bx, by)) { r.cones++; if (filled(bx, by)) r.coneFilled++; } \
-             } \
-           } \
-           r.missed = r.missed.slice(0, 5); done(r); \
-         }, (e) => done({ error: String(e) }));",
+/// A canvas's legend (drawn in it) names at least `labels`, and its axes
+/// have ticks on both edges and the unit (`m`, or none in the playground).
+fn legend_and_axes(d: &Driver, canvas: &str, labels: &[&str], unit: &str) {
+    let data = d.js(&format!(
+        "const c = document.getElementById('{canvas}').dataset; return [c.legend || '', c.axes || '', c.unit ?? 'none'];"
+    ));
+    let legend: Vec<&str> = data[0].as_str().unwrap().split('|').collect();
+    for l in labels {
+        assert!(
+            legend.iter().any(|x| x.starts_with(l)),
+            "{canvas}: no \"{l}\" in the legend {legend:?}"
+        );
+    }
+    let axes: Vec<f64> = data[1]
+        .as_str()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap_or(0.0))
+        .collect();
+    assert!(
+        axes.len() == 3 && axes[0] >= 2.0 && axes[1] >= 2.0 && axes[2] > 0.0,
+        "{canvas}: axes (ticks x, ticks y, step) = {axes:?}"
     );
-    assert!(out.get("error").is_none(), "{out}");
-    assert!(out["points"].as_u64().unwrap() > 20_000, "{out}");
-    assert_eq!(
-        out["missed"],
-        json!([]),
-        "true points outside their drawn shape"
-    );
-    assert!(out["holes"].as_u64().unwrap() > 100, "{out}");
-    assert_eq!(out["holeFilled"], 0, "a hole drawn filled: {out}");
-    assert!(out["cones"].as_u64().unwrap() > 100, "{out}");
-    assert_eq!(out["coneFilled"], 0, "a sector drawn behind its box: {out}");
+    assert_eq!(data[2], unit, "{canvas}: unit");
 }
 
 /// The SLAM demo's range-only preset (the paper's P'': ranges and a rough
@@ -692,12 +712,78 @@ fn cmu_plaza_drawn(d: &Driver, s: &Server) {
         "{}",
         d.js("return document.getElementById('ms-state').textContent")
     );
-    assert_eq!(canvas_data(d, "rv-0", "shapes"), 3529.0);
     assert_eq!(
         d.js("return document.getElementById('rv-summary').dataset.truthInside"),
         "true"
     );
+    // The summary counts proved groups, not landmarks.
+    let summary = d.js("return document.getElementById('rv-summary').textContent");
+    assert!(
+        summary
+            .as_str()
+            .unwrap()
+            .contains("proved groups of at most 4 landmarks"),
+        "{summary}"
+    );
+    // Legend and axes in metres; the panels each fitted to their own
+    // result (Plaza is hundreds of metres, the simulated mission beside it
+    // tens).
+    legend_and_axes(
+        d,
+        "rv-0",
+        &["truth path", "trajectory boxes", "proved groups"],
+        "m",
+    );
+    legend_and_axes(d, "rv-1", &["truth path", "trajectory boxes"], "m");
+    let scales = d.js("return window.nvectorPage.shown.map((s) => s.view.scale)");
+    assert_ne!(scales[0], scales[1], "both panels share one zoom: {scales}");
+    // Thousands of shapes are not drawn by default (they washed the picture
+    // purple and grey); the proved groups are outlines, nested ones left
+    // out: a handful, not 83.
+    assert_eq!(canvas_data(d, "rv-0", "shapes"), 0.0);
+    let groups = canvas_data(d, "rv-0", "groups");
+    assert!((1.0..=12.0).contains(&groups), "{groups} group outlines");
+    eprintln!(
+        "BROWSER cmu plaza: {groups} group outlines, landmark regions of {} boxes, {} boundary segments",
+        canvas_data(d, "rv-0", "regions"),
+        canvas_data(d, "rv-0", "regionSegments")
+    );
     d.screenshot("missions-cmu-plaza-shapes");
+
+    // What a person sees: the truth path (black over a white halo) is
+    // visible along its length, no colour floods the picture, and the
+    // basic model's panel is not a grey wash.
+    let truth = truth_visible(d, 0);
+    eprintln!("BROWSER cmu plaza truth path: {truth}");
+    assert!(
+        truth["seen"].as_f64().unwrap() >= 0.9 * truth["samples"].as_f64().unwrap()
+            && truth["samples"].as_f64().unwrap() > 100.0,
+        "the truth path is hidden on CMU Plaza 1: {truth}"
+    );
+    let stats = pixel_stats(d, "rv-0");
+    assert!(stats["red"].as_f64().unwrap() < 0.1, "a red flood: {stats}");
+    let basic = pixel_stats(d, "rv-1");
+    assert!(
+        basic["grey"].as_f64().unwrap() < 0.3,
+        "the `none` panel is a grey wash: {basic}"
+    );
+    // The check can fail: with the truth layer hidden, the path's pixels
+    // are not dark any more.
+    let truth_box = "#rv-legend input[data-layer='truth']";
+    d.click(truth_box);
+    let hidden = truth_visible(d, 0);
+    assert!(
+        hidden["seen"].as_f64().unwrap() < 0.2 * hidden["samples"].as_f64().unwrap(),
+        "dark pixels along the truth path without it: {hidden}"
+    );
+    d.click(truth_box);
+
+    // The timings below draw every shape, the unmatched ones too.
+    let unmatched_box = "#rv-legend input[data-layer='unmatched']";
+    d.click("#rv-legend input[data-layer='shapes']");
+    d.click(unmatched_box);
+    assert_eq!(canvas_data(d, "rv-0", "shapes"), 3529.0);
+    d.screenshot("missions-cmu-plaza-all-shapes");
     let t = d.js(
         "const p = window.nvectorPage, s = p.shown[0], c = document.getElementById('rv-0'), ctx = c.getContext('2d'); \
          const batch = (f) => { const means = []; for (let b = 0; b < 7; b++) { const t = performance.now(); \
@@ -713,8 +799,44 @@ fn cmu_plaza_drawn(d: &Driver, s: &Server) {
          return { full, moving, slider, bare, shapes: Number(c.dataset.shapes), regions: Number(c.dataset.regions) };",
     );
     assert_eq!(t["shapes"], 3529, "{t}");
+    d.click(unmatched_box);
     eprintln!(
         "BENCH browser cmu_plaza_redraw_ms full {} moving {} time_slider {} without_shapes {} (shapes {}, region boxes {})",
         t["full"], t["moving"], t["slider"], t["bare"], t["shapes"], t["regions"]
     );
+}
+
+/// Samples the truth path of the result shown in panel `k` (every 10th
+/// position in view, away from the axis labels and the legend) and counts
+/// those with a dark pixel (the truth colour) within one pixel.
+fn truth_visible(d: &Driver, k: usize) -> Value {
+    d.js(&format!(
+        "const s = window.nvectorPage.shown[{k}], c = document.getElementById('rv-{k}'), w = c.width, h = c.height; \
+         const px = c.getContext('2d').getImageData(0, 0, w, h).data; \
+         const lb = (c.dataset.legendBox || '0,0,0,0').split(',').map(Number); \
+         let samples = 0, seen = 0; const pos = s.mission.truth.positions; \
+         for (let i = 0; i < pos.length; i += 10) {{ const p = pos[i]; if (!p) continue; \
+           const x = Math.round(s.view.tx(p[0])), y = Math.round(s.view.ty(p[1])); \
+           if (x < 45 || y < 4 || x >= w - 4 || y >= h - 30) continue; \
+           if (x >= lb[0] - 2 && x <= lb[0] + lb[2] + 2 && y >= lb[1] - 2 && y <= lb[1] + lb[3] + 2) continue; \
+           samples++; let dark = false; \
+           for (let dy = -1; dy <= 1; dy++) for (let dx = -1; dx <= 1; dx++) {{ const o = ((y + dy) * w + x + dx) * 4; \
+             if (px[o + 3] > 200 && px[o] < 90 && px[o + 1] < 90 && px[o + 2] < 90) dark = true; }} \
+           if (dark) seen++; }} \
+         return {{ samples, seen }};"
+    ))
+}
+
+/// Fractions of a canvas's pixels, as seen over the page's white, that are
+/// strongly red, or grey (a wash: painted, r = g = b within 6, below 250).
+fn pixel_stats(d: &Driver, canvas: &str) -> Value {
+    d.js(&format!(
+        "const c = document.getElementById('{canvas}'), px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; \
+         let red = 0, grey = 0; const n = px.length / 4; \
+         for (let i = 0; i < px.length; i += 4) {{ const a = px[i + 3] / 255; if (!a) continue; \
+           const [r, g, b] = [0, 1, 2].map((k) => px[i + k] * a + 255 * (1 - a)); \
+           if (r > 150 && g < 90 && b < 90) red++; \
+           if (Math.abs(r - g) < 6 && Math.abs(g - b) < 6 && r < 250) grey++; }} \
+         return {{ red: red / n, grey: grey / n }};"
+    ))
 }

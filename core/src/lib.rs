@@ -13,6 +13,7 @@ pub mod interval;
 pub mod json;
 pub mod nvector;
 pub mod odometry;
+pub mod outline;
 pub mod radix;
 pub mod shapes;
 pub mod slam;
