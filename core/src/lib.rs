@@ -6,6 +6,7 @@
 //! (`libm` only), so native and wasm32 builds give the same bits.
 #![warn(missing_docs)]
 
+pub mod contractors;
 pub mod error;
 pub mod ibox;
 pub mod interval;

@@ -43,10 +43,9 @@
 use super::chain_sums::ChainSums;
 use super::distinct::Uf;
 use super::region::Paving;
-use super::shape::{Shape, MAX_DIM};
+use super::shape::{Shape, Sighting, MAX_DIM};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::slam::mission::Mission;
 
 /// Tuning of the local frames.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,14 +96,14 @@ pub struct Frames {
 /// The shape of detection j in the frame of step s (cut by nothing: the
 /// piece regions are cached, so they depend on the group alone).
 fn relative_shape(
-    mission: &Mission,
+    dets: &[Sighting],
     sums: &ChainSums,
     heading_at: &[Interval],
     dim: usize,
     s: usize,
     j: usize,
 ) -> Shape {
-    let d = &mission.detections[j];
+    let d = &dets[j];
     let centre = sums.delta(s, d.step);
     Shape::new(
         IntervalBox::new(&centre[..dim]),
@@ -141,7 +140,7 @@ impl Frames {
     #[allow(clippy::too_many_arguments)]
     pub fn pairs(
         &mut self,
-        mission: &Mission,
+        dets: &[Sighting],
         order: &[usize],
         dim: usize,
         sums: &ChainSums,
@@ -150,11 +149,10 @@ impl Frames {
         opts: &FrameOptions,
         out: &mut Vec<(u32, u32)>,
     ) -> Result<u64, String> {
-        let k = mission.detections.len();
+        let k = dets.len();
         if self.cache.len() != k {
             self.cache = vec![None; k];
         }
-        let dets = &mission.detections;
         let mut work = 0u64;
         // Pieces of every group, (re)built when the group changed.
         let groups = uf.groups();
@@ -174,7 +172,7 @@ impl Frames {
                         members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
                     {
                         pieces.extend(build_pieces(
-                            mission, sums, heading_at, dim, chunk, opts, &mut work,
+                            dets, sums, heading_at, dim, chunk, opts, &mut work,
                         )?);
                     }
                     pieces
@@ -209,7 +207,7 @@ impl Frames {
                 if p.tested {
                     continue;
                 }
-                let shape = relative_shape(mission, sums, heading_at, dim, s, x);
+                let shape = relative_shape(dets, sums, heading_at, dim, s, x);
                 work += p.region.boxes().len() as u64;
                 // An empty relative shape (an empty displacement between
                 // the steps) proves no distinct pair.
@@ -248,7 +246,7 @@ impl Frames {
 /// The pieces of one chunk of a group's members (sorted by step).
 #[allow(clippy::too_many_arguments)]
 fn build_pieces(
-    mission: &Mission,
+    dets: &[Sighting],
     sums: &ChainSums,
     heading_at: &[Interval],
     dim: usize,
@@ -259,7 +257,6 @@ fn build_pieces(
     if chunk.len() < 2 {
         return Ok(Vec::new());
     }
-    let dets = &mission.detections;
     // Anchors: members at least `anchor_gap` steps apart (the middle one
     // when the chunk is shorter), each the frame of one piece.
     let mut anchors: Vec<usize> = Vec::new();
@@ -279,7 +276,7 @@ fn build_pieces(
         let s = dets[anchor].step;
         let shapes: Vec<Shape> = chunk
             .iter()
-            .map(|&j| relative_shape(mission, sums, heading_at, dim, s, j))
+            .map(|&j| relative_shape(dets, sums, heading_at, dim, s, j))
             .collect();
         let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
         // Ties in slice order (the references point into one slice, so their

@@ -3,7 +3,7 @@
 //! variables d(j) (the landmark position seen by detection j).
 
 use super::mission::{Mission, Model as MotionModel};
-use super::motion_chain::{auv_displacement, unicycle_displacement};
+use crate::contractors::motion_chain::{auv_displacement, unicycle_displacement};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 

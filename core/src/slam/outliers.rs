@@ -81,14 +81,13 @@
 //! beyond the model (recorded sums and key snapshots; past 2^24 keys the
 //! merge is given up and the one-sided bounds stay).
 
-use super::bearing::contract_bearing;
-use super::distance::contract_distance;
 use super::kept::{kept, refine, sure_groups};
 use super::mission::Mission;
 use super::model::Model;
-use super::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
-use super::propagator::{Progress, SolveOptions, WorkEstimate};
-use super::result::{Solution, SolveStatus};
+use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
+use crate::contractors::bearing::contract_bearing;
+use crate::contractors::distance::contract_distance;
+use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
 use crate::ibox::IntervalBox;
 use crate::interval::{pred, succ, Interval};
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -5,14 +5,14 @@
 //! # Constraint
 //!
 //! The detection constraints (range, bearing, region, depth: the shapes of
-//! [`super::shape`]) with atmost_nvector(n, {d(1)..d(k)}) and the proved
+//! [`crate::shapes::shape`]) with atmost_nvector(n, {d(1)..d(k)}) and the proved
 //! groups (detections known to see one landmark).
 //!
 //! # Math
 //!
 //! A round, given the current boxes of p(0..=N) and d(1..k):
 //! 1. **Landmark regions.** Each group of size >= 2 keeps a [`Paving`] of
-//!    its landmark ([`super::region`]): cut by every member's shape whose
+//!    its landmark ([`crate::shapes::region`]): cut by every member's shape whose
 //!    centre box changed since it last cut it, bisected down to a bounded
 //!    count (halves cut by the thinnest members). Each member is then
 //!    contracted by [`branch`] against its group's region alone: d(j) and
@@ -74,19 +74,19 @@
 //! coarsened to c boxes, B paving boxes of p(step)). Memory O(k + g · m)
 //! for g groups.
 
-use super::branch::{branch, Branches};
-use super::chain_sums::ChainSums;
-use super::distinct::{Distinct, Uf};
-use super::frames::{FrameOptions, Frames};
-use super::region::Paving;
-use super::registration::{register, LocalGroup, RegisterOptions};
-use super::relative::relative_pairs;
-use super::shape::Shape;
-use super::witnesses::{find_witnesses, Item};
+use super::mission::Mission;
+use crate::contractors::motion_chain::shrinkage;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::slam::mission::Mission;
-use crate::slam::motion_chain::shrinkage;
+use crate::shapes::branch::{branch, Branches};
+use crate::shapes::chain_sums::ChainSums;
+use crate::shapes::distinct::{Distinct, Uf};
+use crate::shapes::frames::{FrameOptions, Frames};
+use crate::shapes::region::Paving;
+use crate::shapes::registration::{register, LocalGroup, RegisterOptions};
+use crate::shapes::relative::relative_pairs;
+use crate::shapes::shape::{Shape, Sighting};
+use crate::shapes::witnesses::{find_witnesses, Item};
 
 /// Tuning of the shapes round.
 #[derive(Debug, Clone, PartialEq)]
@@ -105,7 +105,7 @@ pub struct ShapesOptions {
     pub max_ahead: usize,
     /// Node budget of each pass of the clique rule.
     pub clique_budget: usize,
-    /// Local frames ([`super::frames`]).
+    /// Local frames ([`crate::shapes::frames`]).
     pub frames: FrameOptions,
     /// Most frame/inference passes in one round.
     pub frame_passes: usize,
@@ -276,6 +276,19 @@ impl RegKey {
     }
 }
 
+/// What the pure shapes need of the mission's detections.
+pub fn sightings(mission: &Mission) -> Vec<Sighting> {
+    mission
+        .detections
+        .iter()
+        .map(|d| Sighting {
+            step: d.step,
+            range: d.range,
+            bearing: d.bearing,
+        })
+        .collect()
+}
+
 fn shape_of(mission: &Mission, dom: &Domains, j: usize) -> Shape {
     let det = &mission.detections[j];
     let dim = dom.dim;
@@ -353,12 +366,13 @@ impl ShapesState {
         let mut order: Vec<usize> = (0..k).collect();
         order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
         let steps: Vec<usize> = mission.detections.iter().map(|d| d.step).collect();
+        let sightings = sightings(mission);
         let sums = ChainSums::new(dom.disp, dom.dim).with_steps(&steps);
         if !self.relative_done {
             self.relative_done = true;
             let mut pairs = Vec::new();
             relative_pairs(
-                mission,
+                &sightings,
                 &order,
                 dom.dim,
                 &sums,
@@ -375,7 +389,7 @@ impl ShapesState {
             if pass > 0 {
                 let mut pairs = Vec::new();
                 match self.frames.pairs(
-                    mission,
+                    &sightings,
                     &order,
                     dom.dim,
                     &sums,
@@ -765,7 +779,7 @@ impl ShapesState {
 
 impl ShapesState {
     /// Step 5: registration of the local frames on the witness regions
-    /// ([`super::registration`]) at the steps of the groups' pieces: p(s)
+    /// ([`crate::shapes::registration`]) at the steps of the groups' pieces: p(s)
     /// shrinks, and a group left with one witness joins it.
     #[allow(clippy::too_many_arguments)]
     fn register_anchors(
