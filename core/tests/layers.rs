@@ -545,7 +545,8 @@ fn the_graph_holds_known_imports() {
         ("slam::solve", "slam::diagnose"),
         ("slam::fixpoint", "slam::outliers"),
         ("shapes::shape", "contractors::distance"),
-        ("slam::association", "shapes::frames"),
+        ("slam::association::state", "shapes::frames"),
+        ("slam::association", "slam::association::round"),
         ("json", "interval"),
     ] {
         assert!(

@@ -149,6 +149,7 @@ pub fn contract_json_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::nvector::hitting_set::WorkLimit;
 
     #[test]
     fn spec_example_round_trip() {
