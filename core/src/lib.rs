@@ -17,6 +17,7 @@ pub mod shapes;
 pub mod slam;
 #[cfg(test)]
 mod test_rng;
+pub mod union_find;
 
 pub use error::InputError;
 pub use ibox::IntervalBox;

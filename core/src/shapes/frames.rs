@@ -41,11 +41,11 @@
 //! (the answers depend on the pieces and the measurements alone).
 
 use super::chain_sums::ChainSums;
-use super::distinct::Uf;
 use super::region::Paving;
 use super::shape::{Shape, Sighting, MAX_DIM};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use crate::union_find::Uf;
 
 /// Tuning of the local frames.
 #[derive(Debug, Clone, PartialEq)]

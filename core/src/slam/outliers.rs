@@ -83,11 +83,11 @@
 
 use super::kept::{kept, refine, sure_groups};
 use super::mission::Mission;
-use super::model::Model;
+use super::model::{operator_groups, Model};
 use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
-use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
+use crate::contractors::motion_chain::shrinkage;
 use crate::ibox::IntervalBox;
 use crate::interval::{pred, succ, Interval};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -389,6 +389,92 @@ fn kth_merged(
     Some(last)
 }
 
+/// Which way a relaxed pass runs along the chain: every place where the
+/// two passes differ is one method here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Way {
+    Forward,
+    Backward,
+}
+
+impl Way {
+    fn forward(self) -> bool {
+        self == Way::Forward
+    }
+
+    /// The `x`-th step the pass visits, of 0..=n.
+    fn step(self, x: usize, n: usize) -> usize {
+        match self {
+            Way::Forward => x,
+            Way::Backward => n - x,
+        }
+    }
+
+    /// The chain step carried into step `t`, and its (from, to) ends.
+    fn link(self, t: usize, n: usize) -> Option<(usize, usize, usize)> {
+        match self {
+            Way::Forward => t.checked_sub(1).map(|s| (s, s, s + 1)),
+            Way::Backward => (t < n).then_some((t, t + 1, t)),
+        }
+    }
+
+    /// p(to) from p(from) over the displacement `d`.
+    fn carry(self, q: Interval, d: Interval) -> Interval {
+        match self {
+            Way::Forward => q + d,
+            Way::Backward => q - d,
+        }
+    }
+
+    /// The keys of an evidence box's axis `m` on `side`. Forward: p(t') >=
+    /// M.lo + S(t') - S(t_j), S the sum of lower displacement bounds;
+    /// backward: p(t') >= M.lo - (V(t') - V(t_j)), V the suffix sum of
+    /// upper bounds. Mirror for the upper bound of p.
+    fn keys(self, m: Interval, side: &Side) -> (f64, f64) {
+        match self {
+            Way::Forward => (
+                add_lo(m.lo(), -side.sum_lo.hi()),
+                add_hi(m.hi(), -side.sum_hi.lo()),
+            ),
+            Way::Backward => (
+                add_lo(m.lo(), side.sum_hi.lo()),
+                add_hi(m.hi(), side.sum_lo.hi()),
+            ),
+        }
+    }
+}
+
+/// The detections of a pass in its order: `order` (by step) walked from
+/// its start (forward) or its end (backward) along with the steps.
+struct Cursor<'a> {
+    order: &'a [usize],
+    next: usize,
+    way: Way,
+}
+
+impl Cursor<'_> {
+    /// The next detection of the pass if it is at step `t`.
+    fn at(&mut self, mission: &Mission, t: usize) -> Option<usize> {
+        let (i, after) = match self.way {
+            Way::Forward => (self.next, self.next + 1),
+            Way::Backward => (self.next.checked_sub(1)?, self.next - 1),
+        };
+        let j = *self.order.get(i)?;
+        (mission.detections[j].step == t).then(|| {
+            self.next = after;
+            j
+        })
+    }
+}
+
+/// The keys of every side, for the record.
+fn snapshot(sides: &[Side]) -> Vec<[Vec<f64>; 2]> {
+    sides
+        .iter()
+        .map(|s| [s.lower.keys.clone(), s.upper.keys.clone()])
+        .collect()
+}
+
 /// One relaxed pass over the chain (forward or backward), applying the
 /// chain step and the q-relaxed evidence bounds. The forward pass fills
 /// `record` (when given); the backward pass merges it. Returns the largest
@@ -402,63 +488,28 @@ fn relaxed_pass(
     forward: bool,
     record: &mut Option<Record>,
 ) -> Result<f64, usize> {
-    let dim = model.dim;
-    let n = model.steps;
+    let way = if forward { Way::Forward } else { Way::Backward };
+    let (dim, n) = (model.dim, model.steps);
     let mut sides: Vec<Side> = (0..dim).map(|_| Side::new(keep)).collect();
     let mut moved = 0.0f64;
-    let snapshot = |sides: &[Side]| -> Vec<[Vec<f64>; 2]> {
-        sides
-            .iter()
-            .map(|s| [s.lower.keys.clone(), s.upper.keys.clone()])
-            .collect()
-    };
-    if forward {
+    if way.forward() {
         if let Some(r) = record.as_mut() {
             *r = Record::default();
             r.lists.push(snapshot(&sides));
         }
     }
-    // Detections sorted by step; walk them along with t.
-    let mut next = if forward { 0 } else { order.len() };
-    let steps: Box<dyn Iterator<Item = usize>> = if forward {
-        Box::new(0..=n)
-    } else {
-        Box::new((0..=n).rev())
+    let mut cursor = Cursor {
+        order,
+        next: if way.forward() { 0 } else { order.len() },
+        way,
     };
-    for t in steps {
-        // Chain step into t, and the running sums over the displacement of
-        // that step.
-        let link = if forward {
-            t.checked_sub(1)
-        } else {
-            (t < n).then_some(t)
+    for x in 0..=n {
+        let t = way.step(x, n);
+        let changed_lists = match way.link(t, n) {
+            Some(link) => chain_step(model, &mut sides, link, way, keep)?,
+            None => false,
         };
-        let mut changed_lists = false;
-        if let Some(s) = link {
-            for (a, side) in sides.iter_mut().enumerate() {
-                let d = model.disp[s * dim + a];
-                if !d.lo().is_finite() || !d.hi().is_finite() {
-                    *side = Side::new(keep);
-                    changed_lists = true;
-                    continue;
-                }
-                side.sum_lo = side.sum_lo + Interval::point(d.lo());
-                side.sum_hi = side.sum_hi + Interval::point(d.hi());
-            }
-            let (from, to) = if forward { (s, s + 1) } else { (s + 1, s) };
-            for a in 0..dim {
-                let q = model.pos[from * dim + a];
-                let d = model.disp[s * dim + a];
-                let old = model.pos[to * dim + a];
-                let new = if forward { q + d } else { q - d };
-                let new = old.intersect(new);
-                if new.is_empty() {
-                    return Err(to);
-                }
-                model.pos[to * dim + a] = new;
-            }
-        }
-        if forward {
+        if way.forward() {
             if let Some(r) = record.as_mut() {
                 if changed_lists {
                     r.lists.push(snapshot(&sides));
@@ -470,50 +521,19 @@ fn relaxed_pass(
         }
         // Evidence of the detections at step t joins the lists.
         let mut joined = false;
-        loop {
-            let j = if forward {
-                match order.get(next) {
-                    Some(&j) if mission.detections[j].step == t => {
-                        next += 1;
-                        j
-                    }
-                    _ => break,
-                }
-            } else {
-                match next.checked_sub(1).map(|i| order[i]) {
-                    Some(j) if mission.detections[j].step == t => {
-                        next -= 1;
-                        j
-                    }
-                    _ => break,
-                }
-            };
+        while let Some(j) = cursor.at(mission, t) {
             let m = &ev.boxes[j];
             if ev.proved_false[j] || m.is_empty() {
                 continue;
             }
             joined = true;
             for (a, side) in sides.iter_mut().enumerate() {
-                // Forward: p(t') >= M.lo + S(t') - S(t_j), S the sum of
-                // lower displacement bounds; backward: p(t') >= M.lo -
-                // (V(t') - V(t_j)), V the suffix sum of upper bounds.
-                // Mirror for the upper bound of p.
-                let (key_lo, key_hi) = if forward {
-                    (
-                        add_lo(m[a].lo(), -side.sum_lo.hi()),
-                        add_hi(m[a].hi(), -side.sum_hi.lo()),
-                    )
-                } else {
-                    (
-                        add_lo(m[a].lo(), side.sum_hi.lo()),
-                        add_hi(m[a].hi(), side.sum_lo.hi()),
-                    )
-                };
+                let (key_lo, key_hi) = way.keys(m[a], side);
                 side.lower.push(key_lo);
                 side.upper.push(-key_hi);
             }
         }
-        if forward && joined {
+        if way.forward() && joined {
             if let Some(r) = record.as_mut() {
                 r.lists.push(snapshot(&sides));
                 if r.lists.len() * dim * 2 * keep > RECORD_KEYS {
@@ -521,45 +541,97 @@ fn relaxed_pass(
                 }
             }
         }
-        // The q-relaxed bounds at t (backward: over both sides).
-        for (a, side) in sides.iter().enumerate() {
-            let old = model.pos[t * dim + a];
-            let (mut lo, mut hi) = (old.lo(), old.hi());
-            let own = (side.sum_lo, side.sum_hi);
-            // Backward: the forward keys of the detections before t, at
-            // the forward sums of step t.
-            let (keys, fwd): (&[Vec<f64>; 2], Option<(Interval, Interval)>) =
-                match (&*record, forward) {
-                    (Some(r), false) => (&r.lists[r.at[t] as usize][a], Some(r.sums[t * dim + a])),
-                    _ => (&NO_KEYS, None),
-                };
-            let f_lo = |k: f64| fwd.map_or(f64::NEG_INFINITY, |f| lower_at(f, k, true));
-            let f_hi = |k: f64| -fwd.map_or(f64::INFINITY, |f| upper_at(f, k, true));
-            if let Some(b) = kth_merged(
-                &side.lower.keys,
-                |k| lower_at(own, k, forward),
-                &keys[0],
-                f_lo,
-                keep,
-            ) {
-                lo = lo.max(b);
-            }
-            if let Some(b) = kth_merged(
-                &side.upper.keys,
-                |k| -upper_at(own, k, forward),
-                &keys[1],
-                f_hi,
-                keep,
-            ) {
-                hi = hi.min(-b);
-            }
-            let new = Interval::new(lo, hi);
-            if new.is_empty() {
-                return Err(t);
-            }
-            moved = moved.max(shrinkage(old, new));
-            model.pos[t * dim + a] = new;
+        let m = relaxed_bounds(model, &sides, t, record.as_ref(), way, keep)?;
+        moved = moved.max(m);
+    }
+    Ok(moved)
+}
+
+/// The chain step `(s, from, to)` of a relaxed pass: p(to) ∩= p(from) ± D(s),
+/// and the running sums of the sides over D(s) (a side restarts when D(s)
+/// is unbounded). Returns whether a side restarted; `Err(to)` when p(to)
+/// becomes empty.
+fn chain_step(
+    model: &mut Model,
+    sides: &mut [Side],
+    (s, from, to): (usize, usize, usize),
+    way: Way,
+    keep: usize,
+) -> Result<bool, usize> {
+    let dim = model.dim;
+    let mut changed_lists = false;
+    for (a, side) in sides.iter_mut().enumerate() {
+        let d = model.disp[s * dim + a];
+        if !d.lo().is_finite() || !d.hi().is_finite() {
+            *side = Side::new(keep);
+            changed_lists = true;
+            continue;
         }
+        side.sum_lo = side.sum_lo + Interval::point(d.lo());
+        side.sum_hi = side.sum_hi + Interval::point(d.hi());
+    }
+    for a in 0..dim {
+        let q = model.pos[from * dim + a];
+        let d = model.disp[s * dim + a];
+        let old = model.pos[to * dim + a];
+        let new = old.intersect(way.carry(q, d));
+        if new.is_empty() {
+            return Err(to);
+        }
+        model.pos[to * dim + a] = new;
+    }
+    Ok(changed_lists)
+}
+
+/// The q-relaxed bounds of p(t) from the sides' keys (backward: merged
+/// with the forward keys of the detections before t, at the forward sums
+/// of step t, from `record`). Returns the largest move; `Err(t)` when p(t)
+/// becomes empty.
+fn relaxed_bounds(
+    model: &mut Model,
+    sides: &[Side],
+    t: usize,
+    record: Option<&Record>,
+    way: Way,
+    keep: usize,
+) -> Result<f64, usize> {
+    let dim = model.dim;
+    let forward = way.forward();
+    let mut moved = 0.0f64;
+    for (a, side) in sides.iter().enumerate() {
+        let old = model.pos[t * dim + a];
+        let (mut lo, mut hi) = (old.lo(), old.hi());
+        let own = (side.sum_lo, side.sum_hi);
+        let (keys, fwd): (&[Vec<f64>; 2], Option<(Interval, Interval)>) = match (record, way) {
+            (Some(r), Way::Backward) => (&r.lists[r.at[t] as usize][a], Some(r.sums[t * dim + a])),
+            _ => (&NO_KEYS, None),
+        };
+        let f_lo = |k: f64| fwd.map_or(f64::NEG_INFINITY, |f| lower_at(f, k, true));
+        let f_hi = |k: f64| -fwd.map_or(f64::INFINITY, |f| upper_at(f, k, true));
+        if let Some(b) = kth_merged(
+            &side.lower.keys,
+            |k| lower_at(own, k, forward),
+            &keys[0],
+            f_lo,
+            keep,
+        ) {
+            lo = lo.max(b);
+        }
+        if let Some(b) = kth_merged(
+            &side.upper.keys,
+            |k| -upper_at(own, k, forward),
+            &keys[1],
+            f_hi,
+            keep,
+        ) {
+            hi = hi.min(-b);
+        }
+        let new = Interval::new(lo, hi);
+        if new.is_empty() {
+            return Err(t);
+        }
+        moved = moved.max(shrinkage(old, new));
+        model.pos[t * dim + a] = new;
     }
     Ok(moved)
 }
@@ -585,7 +657,7 @@ pub fn solve_robust(
     let dim = model.dim;
     let tol = options.tolerance.max(0.0);
     let prior = model.det.clone();
-    let groups = label_groups(mission);
+    let groups = operator_groups(mission);
     let mut order: Vec<usize> = (0..k).collect();
     order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
     let mut ev = Evidence {
@@ -603,19 +675,8 @@ pub fn solve_robust(
         contractions,
         model,
     };
-    let chain_empty = |s: usize| {
-        format!(
-            "motion chain: the position of step {s} is empty (the inputs cannot join the initial and final positions)"
-        )
-    };
-    if let Sweep::Empty(s) = sweep_forward(&mut model.pos, &model.disp, dim, 0, 0.0) {
-        return infeasible(model, chain_empty(s), 0, 0);
-    }
-    if mission.final_position.is_some() {
-        if let Sweep::Empty(s) = sweep_backward(&mut model.pos, &model.disp, dim, model.steps, 0.0)
-        {
-            return infeasible(model, chain_empty(s), 0, 0);
-        }
+    if let Err(reason) = model.dead_reckoning(mission.final_position.is_some()) {
+        return infeasible(model, reason, 0, 0);
     }
     let initial_max_trajectory_diameter = model.trajectory_diameters().0;
     let proof = loop {
@@ -741,26 +802,6 @@ pub fn solve_robust(
         SolveStatus::Infeasible(reason) => infeasible(model, reason, rounds, contractions),
         status => finish(model, status, r.matching, rounds, contractions),
     }
-}
-
-/// The operator's groups: detections by `landmark` label, each sorted.
-fn label_groups(mission: &Mission) -> Vec<Vec<usize>> {
-    let mut by_landmark: Vec<(usize, usize)> = mission
-        .detections
-        .iter()
-        .enumerate()
-        .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
-        .collect();
-    by_landmark.sort_unstable();
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    for (x, &(l, j)) in by_landmark.iter().enumerate() {
-        if x > 0 && by_landmark[x - 1].0 == l {
-            groups.last_mut().expect("a group was opened").push(j);
-        } else {
-            groups.push(vec![j]);
-        }
-    }
-    groups
 }
 
 /// The solution, its groups proved (members kept in every reading), so

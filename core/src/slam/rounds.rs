@@ -63,48 +63,15 @@
 
 use super::association::{Chain, Domains, ShapesState};
 use super::mission::Mission;
-use super::model::Model;
+use super::model::{operator_groups, Model};
 use super::types::{Association, Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
 use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
 use crate::interval::Interval;
 use crate::nvector::{atmost_nvector, Mode, Status};
+use crate::union_find::Uf;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// Union-find over detections (proved same landmark).
-struct Matching {
-    parent: Vec<usize>,
-}
-
-impl Matching {
-    fn find(&mut self, i: usize) -> usize {
-        let mut r = i;
-        while self.parent[r] != r {
-            r = self.parent[r];
-        }
-        self.parent[i] = r;
-        r
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.parent[ra.max(rb)] = ra.min(rb);
-        }
-    }
-
-    /// Groups of size >= 2, sorted, by smallest index.
-    fn groups(&mut self) -> Vec<Vec<usize>> {
-        let k = self.parent.len();
-        let mut by_root: Vec<Vec<usize>> = vec![Vec::new(); k];
-        for i in 0..k {
-            let r = self.find(i);
-            by_root[r].push(i);
-        }
-        by_root.into_iter().filter(|g| g.len() >= 2).collect()
-    }
-}
 
 /// Why propagation ended before its fixpoint: the one way out of every
 /// step of a round.
@@ -128,7 +95,8 @@ struct Propagation<'a> {
     mission: &'a Mission,
     options: &'a SolveOptions,
     model: Model,
-    matching: Matching,
+    /// Detections proved to see one landmark.
+    matching: Uf,
     tol: f64,
     round: u32,
     contractions: u64,
@@ -165,20 +133,11 @@ impl<'a> Propagation<'a> {
     ) -> Propagation<'a> {
         let model = Model::new(mission);
         let k = mission.detections.len();
-        let mut matching = Matching {
-            parent: (0..k).collect(),
-        };
+        let mut matching = Uf::new(k);
         // Operator matching: detections of one landmark share one variable.
-        let mut by_landmark: Vec<(usize, usize)> = mission
-            .detections
-            .iter()
-            .enumerate()
-            .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
-            .collect();
-        by_landmark.sort_unstable();
-        for w in by_landmark.windows(2) {
-            if w[0].0 == w[1].0 {
-                matching.union(w[0].1, w[1].1);
+        for g in operator_groups(mission) {
+            for &j in &g[1..] {
+                matching.union(g[0], j);
             }
         }
         let mut order: Vec<usize> = (0..k).collect();
@@ -250,21 +209,11 @@ impl<'a> Propagation<'a> {
     /// p(0..=N) from the initial position forward, and back from the final
     /// position when known (tolerance 0: every step).
     fn dead_reckoning(&mut self) -> Result<(), Halt> {
-        let (dim, n) = (self.model.dim, self.model.steps);
-        let chain_empty = |s: usize| {
-            Halt::Infeasible(format!("motion chain: the position of step {s} is empty (the inputs cannot join the initial and final positions)"))
-        };
-        if let Sweep::Empty(s) = sweep_forward(&mut self.model.pos, &self.model.disp, dim, 0, 0.0) {
-            return Err(chain_empty(s));
-        }
-        if self.mission.final_position.is_some() {
-            if let Sweep::Empty(s) =
-                sweep_backward(&mut self.model.pos, &self.model.disp, dim, n, 0.0)
-            {
-                return Err(chain_empty(s));
-            }
-        }
-        self.contractions += 2 * n as u64;
+        let to_final = self.mission.final_position.is_some();
+        self.model
+            .dead_reckoning(to_final)
+            .map_err(Halt::Infeasible)?;
+        self.contractions += 2 * self.model.steps as u64;
         Ok(())
     }
 

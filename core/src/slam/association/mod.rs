@@ -76,7 +76,7 @@
 
 use super::mission::Mission;
 use crate::shapes::chain_sums::ChainSums;
-use crate::shapes::distinct::Uf;
+use crate::union_find::Uf;
 use round::Round;
 
 mod pairs;

@@ -249,7 +249,7 @@ impl ShapesState {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::distinct::Uf;
+    use crate::union_find::Uf;
 
     /// The registration's cache names witnesses by slot: an answer is
     /// carried over only while each slot holds the same landmark (its

@@ -14,9 +14,9 @@ use super::state::{Chain, Domains, ShapesOutcome};
 use crate::contractors::motion_chain::shrinkage;
 use crate::ibox::IntervalBox;
 use crate::shapes::branch::Branches;
-use crate::shapes::distinct::Uf;
 use crate::shapes::shape::{Shape, Sighting};
 use crate::slam::mission::Mission;
+use crate::union_find::Uf;
 
 /// What the pure shapes need of the mission's detections.
 pub fn sightings(mission: &Mission) -> Vec<Sighting> {

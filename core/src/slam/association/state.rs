@@ -7,10 +7,11 @@
 
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::shapes::distinct::{Distinct, Uf};
+use crate::shapes::distinct::Distinct;
 use crate::shapes::frames::{FrameOptions, Frames};
 use crate::shapes::region::Paving;
 use crate::shapes::registration::RegisterOptions;
+use crate::union_find::Uf;
 
 /// Tuning of the shapes round.
 #[derive(Debug, Clone, PartialEq)]
