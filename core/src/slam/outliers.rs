@@ -81,7 +81,7 @@
 //! beyond the model (recorded sums and key snapshots; past 2^24 keys the
 //! merge is given up and the one-sided bounds stay).
 
-use super::kept::{kept, refine, sure_groups};
+use super::kept::{kept, refine, sure_groups, Kept};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
 use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
@@ -654,79 +654,158 @@ pub fn solve_robust(
     let q = q.min(k);
     let mut model = Model::new(mission);
     model.max_outliers = q;
-    let dim = model.dim;
-    let tol = options.tolerance.max(0.0);
-    let prior = model.det.clone();
-    let groups = operator_groups(mission);
-    let mut order: Vec<usize> = (0..k).collect();
-    order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
-    let mut ev = Evidence {
-        proved_false: vec![false; k],
-        boxes: vec![IntervalBox::empty(dim); k],
-    };
-    let mut contractions: u64 = 0;
-    let mut round = 0u32;
-    let mut work = WorkEstimate::new(k);
-    let mut fraction = 0.0f64;
-    let infeasible = |model: Model, reason: String, round: u32, contractions: u64| Solution {
-        status: SolveStatus::Infeasible(reason),
-        matching: Vec::new(),
-        rounds: round,
-        contractions,
-        model,
-    };
     if let Err(reason) = model.dead_reckoning(mission.final_position.is_some()) {
         return infeasible(model, reason, 0, 0);
     }
-    let initial_max_trajectory_diameter = model.trajectory_diameters().0;
+    let mut r = Robust::new(mission, q, options, model);
     let proof = loop {
-        if round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
-            // Stopped: the boxes are sound, and so is what they prove.
-            let status = match kept(&model.det, &ev.proved_false, &groups, q) {
-                Err(reason) => return infeasible(model, reason, round, contractions),
-                Ok(proof) => proof,
-            };
-            let matching = status
-                .as_ref()
-                .map_or_else(Vec::new, |p| sure_groups(&groups, &p.sure));
-            return finish(model, SolveStatus::Stopped, matching, round, contractions);
+        if r.round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
+            return r.stopped();
         }
-        round += 1;
-        let det_before = model.det.clone();
-        let budget = match gather(mission, &mut model, &prior, &groups, q, &mut ev) {
-            Ok(b) => b,
-            Err(reason) => return infeasible(model, reason, round, contractions),
-        };
-        contractions += 2 * k as u64;
-        let mut moved = 0.0f64;
-        let mut record = Some(Record::default());
-        for forward in [true, false] {
-            match relaxed_pass(
-                mission,
-                &mut model,
-                &order,
-                &ev,
-                budget + 1,
-                forward,
-                &mut record,
-            ) {
-                Ok(m) => moved = moved.max(m),
-                Err(t) => {
-                    let reason = format!(
-                        "the position of step {t} is empty: no choice of at most {q} false detections is consistent"
-                    );
-                    return infeasible(model, reason, round, contractions);
-                }
+        match r.round_step(progress) {
+            Ok(None) => {}
+            Ok(Some(proof)) => break proof,
+            Err(reason) => return r.infeasible(reason),
+        }
+    };
+    let proof = match proof {
+        Err(reason) => return r.infeasible(reason),
+        Ok(None) => return r.finish(SolveStatus::Consistent, Vec::new()),
+        Ok(Some(p)) => p,
+    };
+    if r.round >= options.max_rounds {
+        let matching = sure_groups(&r.groups, &proof.sure);
+        return r.finish(SolveStatus::Consistent, matching);
+    }
+    let mut model = r.model;
+    let refined = refine(
+        mission,
+        &mut model,
+        &proof,
+        options,
+        (r.round, r.fraction.min(0.99)),
+        progress,
+        cancel,
+    );
+    let (rounds, contractions) = (
+        r.round + refined.rounds,
+        r.contractions + refined.contractions,
+    );
+    match refined.status {
+        SolveStatus::Infeasible(reason) => infeasible(model, reason, rounds, contractions),
+        status => finish(model, status, refined.matching, rounds, contractions),
+    }
+}
+
+/// An infeasible mission's solution.
+fn infeasible(model: Model, reason: String, rounds: u32, contractions: u64) -> Solution {
+    Solution {
+        status: SolveStatus::Infeasible(reason),
+        matching: Vec::new(),
+        rounds,
+        contractions,
+        model,
+    }
+}
+
+/// The state of the robust rounds of one mission (see the module doc).
+struct Robust<'a> {
+    mission: &'a Mission,
+    options: &'a SolveOptions,
+    /// Most false detections (at most k).
+    q: usize,
+    model: Model,
+    /// The detection boxes before any round.
+    prior: Vec<IntervalBox>,
+    /// The operator's groups.
+    groups: Vec<Vec<usize>>,
+    /// Detections sorted by (step, index).
+    order: Vec<usize>,
+    ev: Evidence,
+    contractions: u64,
+    round: u32,
+    work: WorkEstimate,
+    fraction: f64,
+    initial_max_trajectory_diameter: f64,
+}
+
+impl<'a> Robust<'a> {
+    /// After dead reckoning.
+    fn new(mission: &'a Mission, q: usize, options: &'a SolveOptions, model: Model) -> Robust<'a> {
+        let k = mission.detections.len();
+        let dim = model.dim;
+        let mut order: Vec<usize> = (0..k).collect();
+        order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
+        Robust {
+            mission,
+            options,
+            q,
+            prior: model.det.clone(),
+            groups: operator_groups(mission),
+            order,
+            ev: Evidence {
+                proved_false: vec![false; k],
+                boxes: vec![IntervalBox::empty(dim); k],
+            },
+            contractions: 0,
+            round: 0,
+            work: WorkEstimate::new(k),
+            fraction: 0.0,
+            initial_max_trajectory_diameter: model.trajectory_diameters().0,
+            model,
+        }
+    }
+
+    fn infeasible(self, reason: String) -> Solution {
+        infeasible(self.model, reason, self.round, self.contractions)
+    }
+
+    fn finish(self, status: SolveStatus, matching: Vec<Vec<usize>>) -> Solution {
+        finish(self.model, status, matching, self.round, self.contractions)
+    }
+
+    /// Stopped (`max_rounds` or cancelled): the boxes are sound, and so is
+    /// what they prove.
+    fn stopped(self) -> Solution {
+        match kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q) {
+            Err(reason) => self.infeasible(reason),
+            Ok(proof) => {
+                let matching = proof
+                    .as_ref()
+                    .map_or_else(Vec::new, |p| sure_groups(&self.groups, &p.sure));
+                self.finish(SolveStatus::Stopped, matching)
             }
-            contractions += model.steps as u64;
         }
+    }
+
+    /// One robust round: the evidence gathered, a relaxed pass each way,
+    /// the progress told. Ok(Some): the fixpoint, with what the boxes prove
+    /// of the detections kept in every reading; Err: infeasible.
+    fn round_step(
+        &mut self,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<Option<Result<Option<Kept>, String>>, String> {
+        let k = self.mission.detections.len();
+        let tol = self.options.tolerance.max(0.0);
+        self.round += 1;
+        let det_before = self.model.det.clone();
+        let budget = gather(
+            self.mission,
+            &mut self.model,
+            &self.prior,
+            &self.groups,
+            self.q,
+            &mut self.ev,
+        )?;
+        self.contractions += 2 * k as u64;
+        let mut moved = self.passes(budget)?;
         let mut moving = 0;
-        for (a, b) in det_before.iter().zip(&model.det) {
+        for (a, b) in det_before.iter().zip(&self.model.det) {
             if b.is_empty() {
                 continue;
             }
             let mut m = 0.0f64;
-            for x in 0..dim {
+            for x in 0..self.model.dim {
                 if !a[x].is_empty() {
                     m = m.max(shrinkage(a[x], b[x]));
                 }
@@ -740,67 +819,57 @@ pub fn solve_robust(
         } else {
             moving = 0;
         }
-        let (max_d, _) = model.trajectory_diameters();
-        fraction = fraction.max(work.end_round(moving));
+        let (max_d, _) = self.model.trajectory_diameters();
+        self.fraction = self.fraction.max(self.work.end_round(moving));
         // At the fixpoint: what the boxes prove of the detections kept in
         // every reading, and whether the refinement on them follows (then
         // this is not the end of the work yet).
-        let proof = (moved <= tol).then(|| kept(&model.det, &ev.proved_false, &groups, q));
-        let refines = matches!(proof, Some(Ok(Some(_)))) && round < options.max_rounds;
+        let proof = (moved <= tol)
+            .then(|| kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q));
+        let refines = matches!(proof, Some(Ok(Some(_)))) && self.round < self.options.max_rounds;
         progress(&Progress {
-            round,
+            round: self.round,
             max_trajectory_diameter: max_d,
             fraction: if refines {
-                fraction.min(0.99)
+                self.fraction.min(0.99)
             } else {
-                fraction
+                self.fraction
             },
             pass: "round",
             detections: k,
             detections_done: k,
             moving,
-            initial_max_trajectory_diameter,
+            initial_max_trajectory_diameter: self.initial_max_trajectory_diameter,
         });
-        if let Some(proof) = proof {
-            break proof;
-        }
-    };
-    let proof = match proof {
-        Err(reason) => return infeasible(model, reason, round, contractions),
-        Ok(None) => {
-            return finish(
-                model,
-                SolveStatus::Consistent,
-                Vec::new(),
-                round,
-                contractions,
-            )
-        }
-        Ok(Some(p)) => p,
-    };
-    if round >= options.max_rounds {
-        let matching = sure_groups(&groups, &proof.sure);
-        return finish(
-            model,
-            SolveStatus::Consistent,
-            matching,
-            round,
-            contractions,
-        );
+        Ok(proof)
     }
-    let r = refine(
-        mission,
-        &mut model,
-        &proof,
-        options,
-        (round, fraction.min(0.99)),
-        progress,
-        cancel,
-    );
-    let (rounds, contractions) = (round + r.rounds, contractions + r.contractions);
-    match r.status {
-        SolveStatus::Infeasible(reason) => infeasible(model, reason, rounds, contractions),
-        status => finish(model, status, r.matching, rounds, contractions),
+
+    /// The relaxed passes of a round, forward then backward, with the
+    /// (q+1)-th best evidence (`budget` + 1 kept); the largest move.
+    fn passes(&mut self, budget: usize) -> Result<f64, String> {
+        let mut moved = 0.0f64;
+        let mut record = Some(Record::default());
+        for forward in [true, false] {
+            match relaxed_pass(
+                self.mission,
+                &mut self.model,
+                &self.order,
+                &self.ev,
+                budget + 1,
+                forward,
+                &mut record,
+            ) {
+                Ok(m) => moved = moved.max(m),
+                Err(t) => {
+                    return Err(format!(
+                        "the position of step {t} is empty: no choice of at most {} false detections is consistent",
+                        self.q
+                    ));
+                }
+            }
+            self.contractions += self.model.steps as u64;
+        }
+        Ok(moved)
     }
 }
 
