@@ -149,12 +149,41 @@ impl Frames {
         opts: &FrameOptions,
         out: &mut Vec<(u32, u32)>,
     ) -> Result<u64, String> {
-        let k = dets.len();
+        let view = View {
+            dets,
+            sums,
+            heading_at,
+            dim,
+        };
+        let mut work = self.rebuild(&view, uf, opts)?;
+        // Every piece, by step: (step, root, index).
+        let mut all: Vec<(usize, usize, usize)> = Vec::new();
+        for (root, c) in self.cache.iter().enumerate() {
+            if let Some((_, pieces)) = c {
+                for (i, p) in pieces.iter().enumerate() {
+                    all.push((p.step, root, i));
+                }
+            }
+        }
+        all.sort_unstable();
+        work += self.detections_against_pieces(&view, order, &all, uf, opts, out);
+        work += self.pieces_against_pieces(&view, &all, opts, out);
+        for (_, pieces) in self.cache.iter_mut().flatten() {
+            for p in pieces {
+                p.tested = true;
+            }
+        }
+        Ok(work)
+    }
+
+    /// The pieces of every group, (re)built when the group changed (its
+    /// size); the work done.
+    fn rebuild(&mut self, v: &View, uf: &mut Uf, opts: &FrameOptions) -> Result<u64, String> {
+        let k = v.dets.len();
         if self.cache.len() != k {
             self.cache = vec![None; k];
         }
         let mut work = 0u64;
-        // Pieces of every group, (re)built when the group changed.
         let groups = uf.groups();
         let mut fresh: Vec<Option<(usize, Vec<Piece>)>> = vec![None; k];
         for g in &groups {
@@ -165,6 +194,7 @@ impl Frames {
             let pieces = match cached {
                 Some((_, p)) => p,
                 None => {
+                    let dets = v.dets;
                     let mut members = g.clone();
                     members.sort_unstable_by_key(|&j| (dets[j].step, j));
                     let mut pieces = Vec::new();
@@ -172,7 +202,13 @@ impl Frames {
                         members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
                     {
                         pieces.extend(build_pieces(
-                            dets, sums, heading_at, dim, chunk, opts, &mut work,
+                            dets,
+                            v.sums,
+                            v.heading_at,
+                            v.dim,
+                            chunk,
+                            opts,
+                            &mut work,
                         )?);
                     }
                     pieces
@@ -181,20 +217,24 @@ impl Frames {
             fresh[root] = Some((g.len(), pieces));
         }
         self.cache = fresh;
-        // Every piece, by step.
-        let mut all: Vec<(usize, usize, usize)> = Vec::new(); // (step, root, index)
-        for (root, c) in self.cache.iter().enumerate() {
-            if let Some((_, pieces)) = c {
-                for (i, p) in pieces.iter().enumerate() {
-                    all.push((p.step, root, i));
-                }
-            }
-        }
-        all.sort_unstable();
-        // Detections against nearby pieces.
+        Ok(work)
+    }
+
+    /// Detections (by step, `order`) against the untested pieces of other
+    /// groups within `max_gap` steps; the work done.
+    fn detections_against_pieces(
+        &self,
+        v: &View,
+        order: &[usize],
+        all: &[(usize, usize, usize)],
+        uf: &mut Uf,
+        opts: &FrameOptions,
+        out: &mut Vec<(u32, u32)>,
+    ) -> u64 {
+        let mut work = 0u64;
         let mut lo = 0;
         for &x in order {
-            let t = dets[x].step;
+            let t = v.dets[x].step;
             while lo < all.len() && all[lo].0 + opts.max_gap < t {
                 lo += 1;
             }
@@ -207,7 +247,7 @@ impl Frames {
                 if p.tested {
                     continue;
                 }
-                let shape = relative_shape(dets, sums, heading_at, dim, s, x);
+                let shape = relative_shape(v.dets, v.sums, v.heading_at, v.dim, s, x);
                 work += p.region.boxes().len() as u64;
                 // An empty relative shape (an empty displacement between
                 // the steps) proves no distinct pair.
@@ -216,7 +256,19 @@ impl Frames {
                 }
             }
         }
-        // Pieces against nearby pieces of other groups.
+        work
+    }
+
+    /// Pieces against the nearby pieces of other groups (one of the two
+    /// untested); the work done.
+    fn pieces_against_pieces(
+        &self,
+        v: &View,
+        all: &[(usize, usize, usize)],
+        opts: &FrameOptions,
+        out: &mut Vec<(u32, u32)>,
+    ) -> u64 {
+        let mut work = 0u64;
         for (a, &(s, ra, ia)) in all.iter().enumerate() {
             for &(s2, rb, ib) in all[a + 1..].iter().take_while(|e| e.0 <= s + opts.max_gap) {
                 if ra == rb {
@@ -227,20 +279,24 @@ impl Frames {
                 if pa.tested && pb.tested {
                     continue;
                 }
-                let delta = sums.delta(s, s2);
+                let delta = v.sums.delta(s, s2);
                 work += (pa.region.boxes().len() * pb.region.boxes().len()) as u64;
-                if !meets_translated(&pa.region, &pb.region, &delta[..dim]) {
+                if !meets_translated(&pa.region, &pb.region, &delta[..v.dim]) {
                     out.push((pa.member as u32, pb.member as u32));
                 }
             }
         }
-        for (_, pieces) in self.cache.iter_mut().flatten() {
-            for p in pieces {
-                p.tested = true;
-            }
-        }
-        Ok(work)
+        work
     }
+}
+
+/// What the pieces are built and tested from: the detections, the chain's
+/// sums, the headings at the detections, the dimension.
+struct View<'a> {
+    dets: &'a [Sighting],
+    sums: &'a ChainSums<'a>,
+    heading_at: &'a [Interval],
+    dim: usize,
 }
 
 /// The pieces of one chunk of a group's members (sorted by step).

@@ -236,23 +236,7 @@ fn gather(
 ) -> Result<usize, String> {
     let k = mission.detections.len();
     let dim = model.dim;
-    // Own boxes.
-    let mut own_box: Vec<IntervalBox> = Vec::with_capacity(k);
-    #[allow(clippy::needless_range_loop)] // parallel per-detection arrays
-    for j in 0..k {
-        if ev.proved_false[j] {
-            own_box.push(IntervalBox::empty(dim));
-            continue;
-        }
-        let start = prior[j].intersect(&model.det[j]);
-        match own(mission, model, j, &start) {
-            Some((_, d)) => own_box.push(d),
-            None => {
-                ev.proved_false[j] = true;
-                own_box.push(IntervalBox::empty(dim));
-            }
-        }
-    }
+    let own_box = own_boxes(mission, model, prior, ev);
     let false_count = ev.proved_false.iter().filter(|&&f| f).count();
     if false_count > q {
         let list: Vec<usize> = (0..k).filter(|&j| ev.proved_false[j]).collect();
@@ -279,14 +263,55 @@ fn gather(
             landmark_of[j] = Some(l.clone());
         }
     }
-    // Evidence boxes and the detections' final boxes.
+    evidence_boxes(mission, model, ev, own_box, &landmark_of);
+    Ok(budget)
+}
+
+/// Each detection's own box: its prior box and current box contracted by
+/// its own constraints (empty, and proved false, when they have no
+/// solution).
+fn own_boxes(
+    mission: &Mission,
+    model: &Model,
+    prior: &[IntervalBox],
+    ev: &mut Evidence,
+) -> Vec<IntervalBox> {
+    let (k, dim) = (mission.detections.len(), model.dim);
+    let mut own_box: Vec<IntervalBox> = Vec::with_capacity(k);
+    #[allow(clippy::needless_range_loop)] // parallel per-detection arrays
     for j in 0..k {
+        if ev.proved_false[j] {
+            own_box.push(IntervalBox::empty(dim));
+            continue;
+        }
+        let start = prior[j].intersect(&model.det[j]);
+        match own(mission, model, j, &start) {
+            Some((_, d)) => own_box.push(d),
+            None => {
+                ev.proved_false[j] = true;
+                own_box.push(IntervalBox::empty(dim));
+            }
+        }
+    }
+    own_box
+}
+
+/// The evidence boxes of p(t_j) and the detections' final boxes: each own
+/// box cut by its group's landmark box and contracted again.
+fn evidence_boxes(
+    mission: &Mission,
+    model: &mut Model,
+    ev: &mut Evidence,
+    own_box: Vec<IntervalBox>,
+    landmark_of: &[Option<IntervalBox>],
+) {
+    let dim = model.dim;
+    for (j, mut d) in own_box.into_iter().enumerate() {
         if ev.proved_false[j] {
             ev.boxes[j] = IntervalBox::empty(dim);
             model.det[j].set_empty();
             continue;
         }
-        let mut d = own_box[j].clone();
         if let Some(l) = &landmark_of[j] {
             d.intersect_with(l);
         }
@@ -307,7 +332,6 @@ fn gather(
             }
         }
     }
-    Ok(budget)
 }
 
 /// What the forward pass leaves for the backward one, so that the backward
