@@ -1,6 +1,6 @@
 //! The types every layer of the SLAM pipeline shares: the options of a
 //! job ([`SolveOptions`], [`Association`]), the progress it reports
-//! ([`Progress`], [`WorkEstimate`]) and what it ends with ([`Solution`],
+//! ([`Progress`], `WorkEstimate`) and what it ends with ([`Solution`],
 //! [`SolveStatus`]). They sit at the bottom of the propagation layers so
 //! that the rounds, the robust propagation, the diagnosis and the output
 //! import them from here and never from each other (core/tests/layers.rs).

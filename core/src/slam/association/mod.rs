@@ -11,26 +11,26 @@
 //! # Math
 //!
 //! A round, given the current boxes of p(0..=N) and d(1..k):
-//! 1. **Landmark regions.** Each group of size >= 2 keeps a [`Paving`] of
+//! 1. **Landmark regions.** Each group of size >= 2 keeps a [`Paving`](crate::shapes::region::Paving) of
 //!    its landmark ([`crate::shapes::region`]): cut by every member's shape whose
 //!    centre box changed since it last cut it, bisected down to a bounded
 //!    count (halves cut by the thinnest members). Each member is then
-//!    contracted by [`branch`] against its group's region alone: d(j) and
+//!    contracted by [`branch`](crate::shapes::branch::branch) against its group's region alone: d(j) and
 //!    p(step) shrink to the hulls of the pieces.
 //! 2. **Distinct pairs.** Detections at nearby steps whose shapes are
-//!    disjoint in the frame of the earlier step ([`relative_pairs`]) see
+//!    disjoint in the frame of the earlier step ([`relative_pairs`](crate::shapes::relative::relative_pairs)) see
 //!    distinct landmarks; so do a detection and a region its branch
-//!    excluded (step 4). With n known, [`Distinct::infer`] merges the
+//!    excluded (step 4). With n known, [`Distinct::infer`](crate::shapes::distinct::Distinct::infer) merges the
 //!    common neighbours of every n-1 pairwise-distinct groups and proves
 //!    infeasibility from n+1 of them.
 //! 3. **Witnesses.** Items are the groups' regions and the shapes of the
-//!    detections in no group. [`find_witnesses`] looks for n + 1 pairwise
+//!    detections in no group. [`find_witnesses`](crate::shapes::witnesses::find_witnesses) looks for n + 1 pairwise
 //!    disjoint (or proved distinct) items: n + 1 is infeasible (the items'
 //!    detections are named); n gives n regions R(1..n) (a singleton's
 //!    region is its shape, paved) holding the n distinct landmarks, one
 //!    each.
 //! 4. **Branch contraction.** With n witnesses, every other detection j
-//!    (in step order) is contracted by [`branch`] against R(1..n): its
+//!    (in step order) is contracted by [`branch`](crate::shapes::branch::branch) against R(1..n): its
 //!    landmark is one of the n. A single surviving region proves the
 //!    matching: j (with its group) joins that witness's group, whose region
 //!    is cut by j's shape at once, so later detections meet a smaller
