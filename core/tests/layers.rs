@@ -24,6 +24,9 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("test_rng", 0, "the tests' generator"),
     ("ibox", 1, "interval boxes"),
     ("json", 2, "JSON reading helpers of the formats"),
+    // `figure` and `odometry` are on main (merged while this table was
+    // written): their places from their imports there.
+    ("figure", 2, "the description of a result's picture"),
     (
         "contractors",
         3,
@@ -36,9 +39,15 @@ const LAYERS: &[(&str, u32, &str)] = &[
         4,
         "pure geometry of detection shapes (no mission)",
     ),
+    (
+        "odometry",
+        4,
+        "the odometry2d pieces (angle, chain, sensor, sector)",
+    ),
     ("slam::mission", 5, "the typed, validated mission"),
     ("slam::model", 6, "the domains"),
     ("slam::simulate", 6, "mission writer (beside the pipeline)"),
+    ("odometry::simulate", 6, "the woods scenario writer"),
     ("slam::types", 7, "shared options, progress, solution"),
     (
         "slam::association",
