@@ -6,6 +6,7 @@
 //! (`libm` only), so native and wasm32 builds give the same bits.
 #![warn(missing_docs)]
 
+pub mod contractors;
 pub mod error;
 pub mod figure;
 pub mod ibox;
@@ -19,6 +20,7 @@ pub mod shapes;
 pub mod slam;
 #[cfg(test)]
 mod test_rng;
+pub mod union_find;
 
 pub use error::InputError;
 pub use ibox::IntervalBox;

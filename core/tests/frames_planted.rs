@@ -15,6 +15,7 @@ use num_rational::BigRational;
 use nvector_core::shapes::chain_sums::ChainSums;
 use nvector_core::shapes::distinct::Uf;
 use nvector_core::shapes::frames::{FrameOptions, Frames};
+use nvector_core::slam::association::sightings;
 use nvector_core::slam::model::Model;
 use proptest::prelude::*;
 
@@ -62,7 +63,7 @@ fn check_frames(pm: &PlantedMission, rng: &mut Rng) -> Result<usize, String> {
         let mut out = Vec::new();
         frames
             .pairs(
-                m,
+                &sightings(m),
                 &order,
                 dim,
                 &sums,

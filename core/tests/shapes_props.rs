@@ -21,7 +21,7 @@ use nvector_core::shapes::region::Paving;
 use nvector_core::shapes::relative::relative_pairs;
 use nvector_core::shapes::shape::{disjoint_paved, distance_between, Shape};
 use nvector_core::shapes::witnesses::{find_witnesses, Item};
-use nvector_core::shapes::{Chain, Domains, ShapesState};
+use nvector_core::slam::association::{sightings, Chain, Domains, ShapesState};
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward, Sweep};
 use nvector_core::{Interval, IntervalBox};
@@ -408,7 +408,7 @@ proptest! {
         order.sort_by_key(|&j| (inst.mission.detections[j].step, j));
         let sums = ChainSums::new(&inst.disp, dim);
         let mut pairs = Vec::new();
-        relative_pairs(&inst.mission, &order, dim, &sums, &inst.pos, &inst.det, &inst.heading_at, 64, &mut pairs);
+        relative_pairs(&sightings(&inst.mission), &order, dim, &sums, &inst.pos, &inst.det, &inst.heading_at, 64, &mut pairs);
         for (a, b) in pairs {
             prop_assert_ne!(inst.matching[a as usize], inst.matching[b as usize], "seed {} relative pair {} {}", seed, a, b);
         }

@@ -29,7 +29,7 @@ use nvector_core::shapes::distinct::Uf;
 use nvector_core::shapes::region::Paving;
 use nvector_core::shapes::registration::{register, LocalGroup, RegisterOptions};
 use nvector_core::shapes::shape::{disjoint_paved, distance_between, Shape};
-use nvector_core::shapes::{Chain, Domains, ShapesState};
+use nvector_core::slam::association::{Chain, Domains, ShapesState};
 use nvector_core::slam::bearing::contract_bearing;
 use nvector_core::slam::distance::contract_distance;
 use nvector_core::slam::mission::Mission;

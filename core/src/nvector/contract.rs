@@ -2,7 +2,8 @@
 //! response of spec/formats.md, shared by `nvector contract`,
 //! `POST /api/v1/contract` and the browser.
 
-use super::hitting_set::{Limits, WorkLimit};
+pub use super::error::ContractError;
+use super::hitting_set::Limits;
 use super::{atmost_nvector_with, Mode, Outcome, Status};
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
@@ -13,80 +14,6 @@ use serde_json::{json, Map, Value};
 pub const REQUEST_FORMAT: &str = "nvector-contract/1";
 /// Format tag of a response.
 pub const RESPONSE_FORMAT: &str = "nvector-contract-result/1";
-
-/// Why a contraction gave no response: bad input, or `exact` out of its
-/// work limits. The service answers both with HTTP 422 and the spec's error
-/// body, under the codes of [`ContractError::code`]; the CLI exits 1 with
-/// the message.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum ContractError {
-    /// The request is invalid (the JSON path says where).
-    Input(InputError),
-    /// The exact contractor ran out of its node budget or was cancelled.
-    Limit(WorkLimit),
-}
-
-impl ContractError {
-    /// The error code of the spec's error body: `"invalid_request"` or
-    /// `"work_limit"`.
-    pub fn code(&self) -> &'static str {
-        match self {
-            ContractError::Input(_) => "invalid_request",
-            ContractError::Limit(_) => "work_limit",
-        }
-    }
-
-    /// The JSON path of the offending value (`""` for a work limit: the
-    /// request as a whole).
-    pub fn path(&self) -> &str {
-        match self {
-            ContractError::Input(e) => &e.path,
-            ContractError::Limit(_) => "",
-        }
-    }
-
-    /// What went wrong, without the path.
-    pub fn message(&self) -> String {
-        match self {
-            ContractError::Input(e) => e.message.clone(),
-            ContractError::Limit(l) => l.to_string(),
-        }
-    }
-}
-
-impl std::fmt::Display for ContractError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ContractError::Input(e) => e.fmt(f),
-            ContractError::Limit(l) => l.fmt(f),
-        }
-    }
-}
-
-impl std::error::Error for ContractError {}
-
-impl From<InputError> for ContractError {
-    fn from(e: InputError) -> Self {
-        ContractError::Input(e)
-    }
-}
-
-impl From<WorkLimit> for ContractError {
-    fn from(e: WorkLimit) -> Self {
-        ContractError::Limit(e)
-    }
-}
-
-/// For the callers that know one error type: a work limit becomes an
-/// `InputError` of the whole request (path `""`) naming the limit.
-impl From<ContractError> for InputError {
-    fn from(e: ContractError) -> Self {
-        match e {
-            ContractError::Input(e) => e,
-            ContractError::Limit(l) => InputError::new("", l.to_string()),
-        }
-    }
-}
 
 /// A validated contraction request.
 #[derive(Debug, Clone)]
@@ -222,6 +149,7 @@ pub fn contract_json_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::nvector::hitting_set::WorkLimit;
 
     #[test]
     fn spec_example_round_trip() {

@@ -94,6 +94,13 @@ fn dedup_when_large(masks: &mut Vec<u64>, limit: &mut usize) {
     }
 }
 
+/// Most fixpoint rounds (each round is one pass over the axes and, for
+/// `independent`, one witness pass); a round that changes nothing stops.
+/// Reaching it with work pending sets
+/// [`crate::nvector::Outcome::stopped_early`]. Here, with [`Limits`], so
+/// that this module needs nothing of its parent.
+pub const MAX_ROUNDS: u32 = 64;
+
 /// Limits on the work of one atmost_nvector contraction
 /// ([`crate::nvector::atmost_nvector_with`]): the exact contractor's search
 /// and the fixpoint's rounds.
@@ -116,7 +123,7 @@ impl Default for Limits<'_> {
         Limits {
             node_budget: DEFAULT_NODE_BUDGET,
             cancel: None,
-            max_rounds: crate::nvector::MAX_ROUNDS,
+            max_rounds: MAX_ROUNDS,
         }
     }
 }

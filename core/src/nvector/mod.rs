@@ -22,12 +22,13 @@
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use contract::ContractError;
+use error::ContractError;
 use hitting_set::Limits;
 use independent::IndependentScratch;
 use nvalue::{NValue, NValueScratch};
 
 pub mod contract;
+pub mod error;
 pub mod hitting_set;
 pub mod independent;
 pub mod nvalue;
@@ -111,10 +112,7 @@ pub struct Outcome {
     pub stopped_early: bool,
 }
 
-/// Most fixpoint rounds (each round is one pass over the axes and, for
-/// `independent`, one witness pass); a round that changes nothing stops.
-/// Reaching it with work pending sets [`Outcome::stopped_early`].
-pub const MAX_ROUNDS: u32 = 64;
+pub use hitting_set::MAX_ROUNDS;
 
 /// Union-find over box indices: the groups proved so far.
 struct Groups {

@@ -197,7 +197,28 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
     if m < n {
         return NValue::Slack { m };
     }
-    // Right greedy, by decreasing lower bound: earliest points.
+    earliest_points(domains, lo_image, hi_image, items, bits, radix, earliest);
+    debug_assert_eq!(earliest.len(), m, "both greedies find the minimum");
+    earliest.reverse();
+    for j in 0..m.min(earliest.len()) {
+        kernels.push(Interval::new(earliest[j], latest[j]));
+    }
+    let changed = contract_to_kernels(domains, &image, lo_image, kernels, table, group_of);
+    NValue::Kernels { changed }
+}
+
+/// The right greedy, by decreasing lower bound: the earliest points, into
+/// `earliest` (in decreasing order).
+#[allow(clippy::too_many_arguments)]
+fn earliest_points(
+    domains: &[Interval],
+    lo_image: &[u32],
+    hi_image: &[u32],
+    items: &mut Vec<u64>,
+    bits: u32,
+    radix: &mut RadixScratch,
+    earliest: &mut Vec<f64>,
+) {
     items.clear();
     items.extend(
         lo_image
@@ -224,11 +245,22 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
             }
         }
     }
-    debug_assert_eq!(earliest.len(), m, "both greedies find the minimum");
-    earliest.reverse();
-    for j in 0..m.min(earliest.len()) {
-        kernels.push(Interval::new(earliest[j], latest[j]));
-    }
+}
+
+/// Contracts each domain to the hull of its intersections with the
+/// (sorted, disjoint) kernels; a domain meeting exactly one kernel is in
+/// its group (`group_of`), and every group's members become their common
+/// intersection with its kernel (`kernels` is left holding those
+/// intersections). Returns whether a domain moved.
+fn contract_to_kernels(
+    domains: &mut [Interval],
+    image: &KeyImage,
+    lo_image: &[u32],
+    kernels: &mut [Interval],
+    table: &mut Vec<u32>,
+    group_of: &mut Vec<u32>,
+) -> bool {
+    let k = domains.len();
     // Each domain: hull of its intersections with the kernels; group when it
     // meets exactly one. Kernels are sorted and disjoint, so the kernels a
     // domain meets form a contiguous run; its first kernel (the first whose
@@ -293,7 +325,7 @@ pub fn atmost_nvalue(n: usize, domains: &mut [Interval], scratch: &mut NValueScr
             }
         }
     }
-    NValue::Kernels { changed }
+    changed
 }
 
 /// The length of the prefix of `kernels` where `pred` holds (`pred` true

@@ -34,60 +34,7 @@
 //! enumeration is bounded by the node budget (for n = 4 it lists the
 //! triangles, O(Σ deg^2) with sorted-list intersections); a few passes.
 
-/// Union-find over detections with the smallest index as root.
-#[derive(Debug, Clone)]
-pub struct Uf(Vec<usize>);
-
-impl Uf {
-    /// k singletons.
-    pub fn new(k: usize) -> Uf {
-        Uf((0..k).collect())
-    }
-
-    /// The root (smallest member) of `i`'s group.
-    pub fn find(&mut self, i: usize) -> usize {
-        let mut r = i;
-        while self.0[r] != r {
-            r = self.0[r];
-        }
-        let mut j = i;
-        while self.0[j] != r {
-            let n = self.0[j];
-            self.0[j] = r;
-            j = n;
-        }
-        r
-    }
-
-    /// Merges; returns the new root.
-    pub fn union(&mut self, a: usize, b: usize) -> usize {
-        let (ra, rb) = (self.find(a), self.find(b));
-        let (lo, hi) = (ra.min(rb), ra.max(rb));
-        self.0[hi] = lo;
-        lo
-    }
-
-    /// Number of detections.
-    pub fn len(&self) -> usize {
-        self.0.len()
-    }
-
-    /// Whether there are no detections.
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-
-    /// Groups of size >= 2, members sorted, by smallest member.
-    pub fn groups(&mut self) -> Vec<Vec<usize>> {
-        let k = self.0.len();
-        let mut by: Vec<Vec<usize>> = vec![Vec::new(); k];
-        for i in 0..k {
-            let r = self.find(i);
-            by[r].push(i);
-        }
-        by.into_iter().filter(|g| g.len() >= 2).collect()
-    }
-}
+pub use crate::union_find::Uf;
 
 /// Detection pairs proved distinct, accumulated over rounds.
 #[derive(Debug, Clone, Default)]

@@ -41,12 +41,11 @@
 //! (the answers depend on the pieces and the measurements alone).
 
 use super::chain_sums::ChainSums;
-use super::distinct::Uf;
 use super::region::Paving;
-use super::shape::{Shape, MAX_DIM};
+use super::shape::{Shape, Sighting, MAX_DIM};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::slam::mission::Mission;
+use crate::union_find::Uf;
 
 /// Tuning of the local frames.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,14 +96,14 @@ pub struct Frames {
 /// The shape of detection j in the frame of step s (cut by nothing: the
 /// piece regions are cached, so they depend on the group alone).
 fn relative_shape(
-    mission: &Mission,
+    dets: &[Sighting],
     sums: &ChainSums,
     heading_at: &[Interval],
     dim: usize,
     s: usize,
     j: usize,
 ) -> Shape {
-    let d = &mission.detections[j];
+    let d = &dets[j];
     let centre = sums.delta(s, d.step);
     Shape::new(
         IntervalBox::new(&centre[..dim]),
@@ -141,7 +140,7 @@ impl Frames {
     #[allow(clippy::too_many_arguments)]
     pub fn pairs(
         &mut self,
-        mission: &Mission,
+        dets: &[Sighting],
         order: &[usize],
         dim: usize,
         sums: &ChainSums,
@@ -150,13 +149,41 @@ impl Frames {
         opts: &FrameOptions,
         out: &mut Vec<(u32, u32)>,
     ) -> Result<u64, String> {
-        let k = mission.detections.len();
+        let view = View {
+            dets,
+            sums,
+            heading_at,
+            dim,
+        };
+        let mut work = self.rebuild(&view, uf, opts)?;
+        // Every piece, by step: (step, root, index).
+        let mut all: Vec<(usize, usize, usize)> = Vec::new();
+        for (root, c) in self.cache.iter().enumerate() {
+            if let Some((_, pieces)) = c {
+                for (i, p) in pieces.iter().enumerate() {
+                    all.push((p.step, root, i));
+                }
+            }
+        }
+        all.sort_unstable();
+        work += self.detections_against_pieces(&view, order, &all, uf, opts, out);
+        work += self.pieces_against_pieces(&view, &all, opts, out);
+        for (_, pieces) in self.cache.iter_mut().flatten() {
+            for p in pieces {
+                p.tested = true;
+            }
+        }
+        Ok(work)
+    }
+
+    /// The pieces of every group, (re)built when the group changed (its
+    /// size); the work done.
+    fn rebuild(&mut self, v: &View, uf: &mut Uf, opts: &FrameOptions) -> Result<u64, String> {
+        let k = v.dets.len();
         if self.cache.len() != k {
             self.cache = vec![None; k];
         }
-        let dets = &mission.detections;
         let mut work = 0u64;
-        // Pieces of every group, (re)built when the group changed.
         let groups = uf.groups();
         let mut fresh: Vec<Option<(usize, Vec<Piece>)>> = vec![None; k];
         for g in &groups {
@@ -167,6 +194,7 @@ impl Frames {
             let pieces = match cached {
                 Some((_, p)) => p,
                 None => {
+                    let dets = v.dets;
                     let mut members = g.clone();
                     members.sort_unstable_by_key(|&j| (dets[j].step, j));
                     let mut pieces = Vec::new();
@@ -174,7 +202,13 @@ impl Frames {
                         members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
                     {
                         pieces.extend(build_pieces(
-                            mission, sums, heading_at, dim, chunk, opts, &mut work,
+                            dets,
+                            v.sums,
+                            v.heading_at,
+                            v.dim,
+                            chunk,
+                            opts,
+                            &mut work,
                         )?);
                     }
                     pieces
@@ -183,20 +217,24 @@ impl Frames {
             fresh[root] = Some((g.len(), pieces));
         }
         self.cache = fresh;
-        // Every piece, by step.
-        let mut all: Vec<(usize, usize, usize)> = Vec::new(); // (step, root, index)
-        for (root, c) in self.cache.iter().enumerate() {
-            if let Some((_, pieces)) = c {
-                for (i, p) in pieces.iter().enumerate() {
-                    all.push((p.step, root, i));
-                }
-            }
-        }
-        all.sort_unstable();
-        // Detections against nearby pieces.
+        Ok(work)
+    }
+
+    /// Detections (by step, `order`) against the untested pieces of other
+    /// groups within `max_gap` steps; the work done.
+    fn detections_against_pieces(
+        &self,
+        v: &View,
+        order: &[usize],
+        all: &[(usize, usize, usize)],
+        uf: &mut Uf,
+        opts: &FrameOptions,
+        out: &mut Vec<(u32, u32)>,
+    ) -> u64 {
+        let mut work = 0u64;
         let mut lo = 0;
         for &x in order {
-            let t = dets[x].step;
+            let t = v.dets[x].step;
             while lo < all.len() && all[lo].0 + opts.max_gap < t {
                 lo += 1;
             }
@@ -209,7 +247,7 @@ impl Frames {
                 if p.tested {
                     continue;
                 }
-                let shape = relative_shape(mission, sums, heading_at, dim, s, x);
+                let shape = relative_shape(v.dets, v.sums, v.heading_at, v.dim, s, x);
                 work += p.region.boxes().len() as u64;
                 // An empty relative shape (an empty displacement between
                 // the steps) proves no distinct pair.
@@ -218,7 +256,19 @@ impl Frames {
                 }
             }
         }
-        // Pieces against nearby pieces of other groups.
+        work
+    }
+
+    /// Pieces against the nearby pieces of other groups (one of the two
+    /// untested); the work done.
+    fn pieces_against_pieces(
+        &self,
+        v: &View,
+        all: &[(usize, usize, usize)],
+        opts: &FrameOptions,
+        out: &mut Vec<(u32, u32)>,
+    ) -> u64 {
+        let mut work = 0u64;
         for (a, &(s, ra, ia)) in all.iter().enumerate() {
             for &(s2, rb, ib) in all[a + 1..].iter().take_while(|e| e.0 <= s + opts.max_gap) {
                 if ra == rb {
@@ -229,26 +279,30 @@ impl Frames {
                 if pa.tested && pb.tested {
                     continue;
                 }
-                let delta = sums.delta(s, s2);
+                let delta = v.sums.delta(s, s2);
                 work += (pa.region.boxes().len() * pb.region.boxes().len()) as u64;
-                if !meets_translated(&pa.region, &pb.region, &delta[..dim]) {
+                if !meets_translated(&pa.region, &pb.region, &delta[..v.dim]) {
                     out.push((pa.member as u32, pb.member as u32));
                 }
             }
         }
-        for (_, pieces) in self.cache.iter_mut().flatten() {
-            for p in pieces {
-                p.tested = true;
-            }
-        }
-        Ok(work)
+        work
     }
+}
+
+/// What the pieces are built and tested from: the detections, the chain's
+/// sums, the headings at the detections, the dimension.
+struct View<'a> {
+    dets: &'a [Sighting],
+    sums: &'a ChainSums<'a>,
+    heading_at: &'a [Interval],
+    dim: usize,
 }
 
 /// The pieces of one chunk of a group's members (sorted by step).
 #[allow(clippy::too_many_arguments)]
 fn build_pieces(
-    mission: &Mission,
+    dets: &[Sighting],
     sums: &ChainSums,
     heading_at: &[Interval],
     dim: usize,
@@ -259,7 +313,6 @@ fn build_pieces(
     if chunk.len() < 2 {
         return Ok(Vec::new());
     }
-    let dets = &mission.detections;
     // Anchors: members at least `anchor_gap` steps apart (the middle one
     // when the chunk is shorter), each the frame of one piece.
     let mut anchors: Vec<usize> = Vec::new();
@@ -279,7 +332,7 @@ fn build_pieces(
         let s = dets[anchor].step;
         let shapes: Vec<Shape> = chunk
             .iter()
-            .map(|&j| relative_shape(mission, sums, heading_at, dim, s, j))
+            .map(|&j| relative_shape(dets, sums, heading_at, dim, s, j))
             .collect();
         let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
         // Ties in slice order (the references point into one slice, so their

@@ -13,7 +13,14 @@
 //!   the matching);
 //! - [`registration`]: the landmarks seen around one step, in its frame,
 //!   placed on the n witness regions (the robot position where they fit);
-//! - [`round`]: all of them, one SLAM round.
+//! - [`chain_sums`], [`frames`], [`relative`]: displacements summed along
+//!   the chain, local frames, distinct pairs in the frame of a step;
+//! - [`distinct`]: the union-find and the distinct pairs.
+//!
+//! This module is pure geometry: it never sees a mission (a detection
+//! reaches it as a [`shape::Sighting`]) nor anything of [`crate::slam`].
+//! The SLAM association step that runs all of them over a round's domains
+//! is [`crate::slam::association`].
 
 pub mod branch;
 pub mod chain_sums;
@@ -22,10 +29,8 @@ pub mod frames;
 pub mod region;
 pub mod registration;
 pub mod relative;
-pub mod round;
 pub mod shape;
 pub mod witnesses;
 
 pub use region::Paving;
-pub use round::{Chain, Domains, ShapesOptions, ShapesOutcome, ShapesState};
-pub use shape::Shape;
+pub use shape::{Shape, Sighting};

@@ -139,67 +139,9 @@ pub fn register(
     if p.is_empty() {
         return out;
     }
-    // Difference boxes W(i) - R(g, piece), coarsened.
-    let w: Vec<Vec<Axes>> = witnesses[..n]
-        .iter()
-        .map(|b| coarsen(b.iter().map(to_axes).collect(), dim, opts.coarse))
-        .collect();
-    // diff[g][piece][i]: boxes of W(i) - R.
-    let diff: Vec<Vec<Vec<Vec<Axes>>>> = groups
-        .iter()
-        .map(|g| {
-            g.pieces
-                .iter()
-                .map(|piece| {
-                    let r = coarsen(piece.iter().map(to_axes).collect(), dim, opts.coarse);
-                    (0..n)
-                        .map(|i| {
-                            if g.fixed.is_some_and(|f| f != i) {
-                                return Vec::new();
-                            }
-                            let mut boxes = Vec::with_capacity(w[i].len() * r.len());
-                            for wb in &w[i] {
-                                for rb in &r {
-                                    let mut d = [Interval::ZERO; MAX_DIM];
-                                    for x in 0..dim {
-                                        d[x] = wb[x].sub(rb[x]);
-                                    }
-                                    boxes.push(d);
-                                }
-                            }
-                            boxes
-                        })
-                        .collect()
-                })
-                .collect()
-        })
-        .collect();
+    let diff = differences(witnesses, groups, dim, opts.coarse);
     let all = if n >= 64 { u64::MAX } else { (1u64 << n) - 1 };
-    // Candidate masks of one box S of p(s); None when some group has none.
-    let masks = |s: &Axes, work: &mut u64| -> Option<Vec<u64>> {
-        let mut m = Vec::with_capacity(groups.len());
-        for g in &diff {
-            let mut mask = all;
-            for piece in g {
-                let mut pm = 0u64;
-                for (i, boxes) in piece.iter().enumerate() {
-                    if mask & (1 << i) == 0 {
-                        continue;
-                    }
-                    *work += boxes.len() as u64;
-                    if boxes.iter().any(|b| meets(s, b, dim)) {
-                        pm |= 1 << i;
-                    }
-                }
-                mask &= pm;
-                if mask == 0 {
-                    return None;
-                }
-            }
-            m.push(mask);
-        }
-        Some(m)
-    };
+    let masks = |s: &Axes, work: &mut u64| candidate_masks(&diff, s, all, dim, work);
     // Breadth first: a list read from `head` on, halves appended.
     let mut queue = vec![to_axes(p)];
     let mut head = 0;
@@ -228,18 +170,10 @@ pub fn register(
             // No admissible map: the box holds no admissible p(s).
             continue;
         }
-        let widest = (0..dim)
-            .max_by(|&a, &b| s[a].width().total_cmp(&s[b].width()))
-            .unwrap_or(0);
-        let w = s[widest].width();
+        let (widest, w) = widest(&s, dim);
         if w > opts.min_width && kept + (queue.len() - head) + 2 <= opts.max_boxes && w.is_finite()
         {
-            let mid = s[widest].mid();
-            let (mut a, mut b) = (s, s);
-            a[widest] = Interval::new(s[widest].lo(), mid);
-            b[widest] = Interval::new(mid, s[widest].hi());
-            queue.push(a);
-            queue.push(b);
+            queue.extend(halves(&s, widest));
             continue;
         }
         kept += 1;
@@ -254,6 +188,103 @@ pub fn register(
         }
     }
     out
+}
+
+/// The difference boxes W(i) - R(g, piece), both coarsened to `coarse`
+/// boxes: `diff[g][piece][i]` (empty for a witness other than a group's
+/// fixed one).
+fn differences(
+    witnesses: &[Vec<IntervalBox>],
+    groups: &[LocalGroup],
+    dim: usize,
+    coarse: usize,
+) -> Vec<Vec<Vec<Vec<Axes>>>> {
+    let n = witnesses.len();
+    let w: Vec<Vec<Axes>> = witnesses
+        .iter()
+        .map(|b| coarsen(b.iter().map(to_axes).collect(), dim, coarse))
+        .collect();
+    groups
+        .iter()
+        .map(|g| {
+            g.pieces
+                .iter()
+                .map(|piece| {
+                    let r = coarsen(piece.iter().map(to_axes).collect(), dim, coarse);
+                    (0..n)
+                        .map(|i| {
+                            if g.fixed.is_some_and(|f| f != i) {
+                                return Vec::new();
+                            }
+                            let mut boxes = Vec::with_capacity(w[i].len() * r.len());
+                            for wb in &w[i] {
+                                for rb in &r {
+                                    let mut d = [Interval::ZERO; MAX_DIM];
+                                    for x in 0..dim {
+                                        d[x] = wb[x].sub(rb[x]);
+                                    }
+                                    boxes.push(d);
+                                }
+                            }
+                            boxes
+                        })
+                        .collect()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The candidate masks of one box S of p(s) (bit i: witness i may be the
+/// group's landmark, for every piece), from the masks `all`; None when
+/// some group has none. Adds the box tests to `work`.
+fn candidate_masks(
+    diff: &[Vec<Vec<Vec<Axes>>>],
+    s: &Axes,
+    all: u64,
+    dim: usize,
+    work: &mut u64,
+) -> Option<Vec<u64>> {
+    let mut m = Vec::with_capacity(diff.len());
+    for g in diff {
+        let mut mask = all;
+        for piece in g {
+            let mut pm = 0u64;
+            for (i, boxes) in piece.iter().enumerate() {
+                if mask & (1 << i) == 0 {
+                    continue;
+                }
+                *work += boxes.len() as u64;
+                if boxes.iter().any(|b| meets(s, b, dim)) {
+                    pm |= 1 << i;
+                }
+            }
+            mask &= pm;
+            if mask == 0 {
+                return None;
+            }
+        }
+        m.push(mask);
+    }
+    Some(m)
+}
+
+/// The widest axis of `s` (the last of equally wide ones, as `max_by`
+/// picks) and its width.
+fn widest(s: &Axes, dim: usize) -> (usize, f64) {
+    let a = (0..dim)
+        .max_by(|&a, &b| s[a].width().total_cmp(&s[b].width()))
+        .unwrap_or(0);
+    (a, s[a].width())
+}
+
+/// `s` cut in two at the midpoint of `axis`.
+fn halves(s: &Axes, axis: usize) -> [Axes; 2] {
+    let mid = s[axis].mid();
+    let (mut a, mut b) = (*s, *s);
+    a[axis] = Interval::new(s[axis].lo(), mid);
+    b[axis] = Interval::new(mid, s[axis].hi());
+    [a, b]
 }
 
 /// Depth-first search of the admissible maps (module doc) given each

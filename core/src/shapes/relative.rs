@@ -34,10 +34,9 @@
 //! O(d) relative displacement from [`ChainSums`].
 
 use super::chain_sums::ChainSums;
-use super::shape::{disjoint_paved, Shape, MAX_DIM};
+use super::shape::{disjoint_paved, Shape, Sighting, MAX_DIM};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::slam::mission::Mission;
 
 /// Pieces allowed to the bisection test when a bearing is known.
 const PAVED_BUDGET: usize = 8;
@@ -49,7 +48,7 @@ const PAVED_BUDGET: usize = 8;
 /// detection boxes, `heading_at` the heading at each detection's step.
 #[allow(clippy::too_many_arguments)]
 pub fn relative_pairs(
-    mission: &Mission,
+    dets: &[Sighting],
     order: &[usize],
     dim: usize,
     sums: &ChainSums,
@@ -59,7 +58,6 @@ pub fn relative_pairs(
     max_ahead: usize,
     out: &mut Vec<(u32, u32)>,
 ) {
-    let dets = &mission.detections;
     let pbox = |t: usize| &pos[t * dim..(t + 1) * dim];
     for (oi, &i) in order.iter().enumerate() {
         let s = dets[i].step;

@@ -46,10 +46,23 @@
 //!
 //! O(d) per test, O(budget · d) for [`disjoint_paved`].
 
+use crate::contractors::bearing::contract_bearing;
+use crate::contractors::distance::contract_distance;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::slam::bearing::contract_bearing;
-use crate::slam::distance::contract_distance;
+
+/// What the shapes need of one detection, and no more: its step, range
+/// and bearing (the SLAM association step builds them from the mission's
+/// detections, so that this module never sees a mission).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sighting {
+    /// Step of the robot position p(step).
+    pub step: usize,
+    /// Range to the landmark.
+    pub range: Interval,
+    /// Angle of the landmark relative to the heading (2-D) or yaw (3-D).
+    pub bearing: Option<Interval>,
+}
 
 /// Most axes of a shape (missions are 2-D or 3-D).
 pub const MAX_DIM: usize = 3;

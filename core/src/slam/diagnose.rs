@@ -29,9 +29,9 @@
 //! each test a whole propagation of the sub-mission; `max_tests` bounds the
 //! work (then the answer is a correction set that may not be minimal).
 
+use super::fixpoint::propagate;
 use super::mission::Mission;
-use super::propagator::{propagate, SolveOptions};
-use super::result::SolveStatus;
+use super::types::{SolveOptions, SolveStatus};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, Ordering};
 

@@ -60,13 +60,13 @@
 //!
 //! Conflict pairs: O(k log k · d) (sorting each group's bounds per axis,
 //! then pointers that only move forward). The refinement is one ordinary
-//! propagation (see [`super::propagator`]); O(N + k) memory for its copy of
+//! propagation (see [`super::rounds`]); O(N + k) memory for its copy of
 //! the mission and its model.
 
 use super::mission::{Detection, Mission};
 use super::model::Model;
-use super::propagator::{propagate, Progress, SolveOptions};
-use super::result::SolveStatus;
+use super::rounds::rounds;
+use super::types::{Progress, SolveOptions, SolveStatus};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use serde_json::Value;
@@ -288,7 +288,8 @@ pub fn refine(
         p.fraction = fraction_done + (1.0 - fraction_done) * p.fraction;
         progress(&p);
     };
-    let s = propagate(&sub, &sub_options, &mut report, cancel);
+    // `stripped` sets max_outliers to 0: the plain rounds.
+    let s = rounds(&sub, &sub_options, &mut report, cancel);
     let forced = || {
         format!(
             "with detections {:?} proved false and one of each pair {:?} (forced by max_outliers = {}), the other detections",

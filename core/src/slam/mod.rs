@@ -1,14 +1,33 @@
-//! Set-membership SLAM: missions, the model, the physics-guided propagator,
-//! simulation and scoring.
+//! Set-membership SLAM as a one-way pipeline (ARCHITECTURE.md; each layer
+//! imports only the layers below it, which core/tests/layers.rs checks):
+//!
+//! 1. [`mission`]: the typed, validated input;
+//! 2. [`model`]: the domains (positions, displacements, detection boxes);
+//! 3. [`types`]: what the layers above share (options, progress, solution);
+//! 4. propagation: [`association`] (the shapes part of the association
+//!    step), [`rounds`] (the physics-guided rounds), [`kept`] and
+//!    [`outliers`] (the robust propagation), [`fixpoint`] (which of the two);
+//! 5. [`diagnose`]: a minimal set of detections to check when infeasible;
+//! 6. [`result`]: `nvector-result/1` and the score;
+//! 7. [`solve`]: the entry points.
+//!
+//! [`simulate`] writes missions (it sits beside the pipeline, on
+//! `mission`). The basic contractors (distance, bearing, motion chain) are
+//! in [`crate::contractors`], below this module and [`crate::shapes`]; they
+//! are re-exported here under their former paths.
 
-pub mod bearing;
+pub mod association;
 pub mod diagnose;
-pub mod distance;
+pub mod fixpoint;
 pub mod kept;
 pub mod mission;
 pub mod model;
-pub mod motion_chain;
 pub mod outliers;
 pub mod propagator;
 pub mod result;
+pub mod rounds;
 pub mod simulate;
+pub mod solve;
+pub mod types;
+
+pub use crate::contractors::{bearing, distance, motion_chain};

@@ -3,7 +3,9 @@
 //! variables d(j) (the landmark position seen by detection j).
 
 use super::mission::{Mission, Model as MotionModel};
-use super::motion_chain::{auv_displacement, unicycle_displacement};
+use crate::contractors::motion_chain::{
+    auv_displacement, sweep_backward, sweep_forward, unicycle_displacement, Sweep,
+};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 
@@ -143,6 +145,52 @@ impl Model {
         }
         (max, sum / (self.steps + 1) as f64)
     }
+}
+
+impl Model {
+    /// Dead reckoning: p(0..=N) swept forward from the initial position,
+    /// and back from the final position when the mission gives one
+    /// (`to_final`), every step (tolerance 0). Err: the position that
+    /// became empty, as the reason of an infeasible mission. The one dead
+    /// reckoning of both propagations.
+    pub fn dead_reckoning(&mut self, to_final: bool) -> Result<(), String> {
+        let (dim, n) = (self.dim, self.steps);
+        let chain_empty = |s: usize| {
+            format!("motion chain: the position of step {s} is empty (the inputs cannot join the initial and final positions)")
+        };
+        if let Sweep::Empty(s) = sweep_forward(&mut self.pos, &self.disp, dim, 0, 0.0) {
+            return Err(chain_empty(s));
+        }
+        if to_final {
+            if let Sweep::Empty(s) = sweep_backward(&mut self.pos, &self.disp, dim, n, 0.0) {
+                return Err(chain_empty(s));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The operator's groups: detections by `landmark` label (groups of one
+/// included), members sorted, groups by label. Written once for both
+/// propagations (the rounds tie them before the first round; the robust
+/// propagation reads them as the groups to prove).
+pub fn operator_groups(mission: &Mission) -> Vec<Vec<usize>> {
+    let mut by_landmark: Vec<(usize, usize)> = mission
+        .detections
+        .iter()
+        .enumerate()
+        .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
+        .collect();
+    by_landmark.sort_unstable();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (x, &(l, j)) in by_landmark.iter().enumerate() {
+        if x > 0 && by_landmark[x - 1].0 == l {
+            groups.last_mut().expect("a group was opened").push(j);
+        } else {
+            groups.push(vec![j]);
+        }
+    }
+    groups
 }
 
 #[cfg(test)]

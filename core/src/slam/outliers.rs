@@ -81,14 +81,13 @@
 //! beyond the model (recorded sums and key snapshots; past 2^24 keys the
 //! merge is given up and the one-sided bounds stay).
 
-use super::bearing::contract_bearing;
-use super::distance::contract_distance;
-use super::kept::{kept, refine, sure_groups};
+use super::kept::{kept, refine, sure_groups, Kept};
 use super::mission::Mission;
-use super::model::Model;
-use super::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
-use super::propagator::{Progress, SolveOptions, WorkEstimate};
-use super::result::{Solution, SolveStatus};
+use super::model::{operator_groups, Model};
+use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
+use crate::contractors::bearing::contract_bearing;
+use crate::contractors::distance::contract_distance;
+use crate::contractors::motion_chain::shrinkage;
 use crate::ibox::IntervalBox;
 use crate::interval::{pred, succ, Interval};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -237,23 +236,7 @@ fn gather(
 ) -> Result<usize, String> {
     let k = mission.detections.len();
     let dim = model.dim;
-    // Own boxes.
-    let mut own_box: Vec<IntervalBox> = Vec::with_capacity(k);
-    #[allow(clippy::needless_range_loop)] // parallel per-detection arrays
-    for j in 0..k {
-        if ev.proved_false[j] {
-            own_box.push(IntervalBox::empty(dim));
-            continue;
-        }
-        let start = prior[j].intersect(&model.det[j]);
-        match own(mission, model, j, &start) {
-            Some((_, d)) => own_box.push(d),
-            None => {
-                ev.proved_false[j] = true;
-                own_box.push(IntervalBox::empty(dim));
-            }
-        }
-    }
+    let own_box = own_boxes(mission, model, prior, ev);
     let false_count = ev.proved_false.iter().filter(|&&f| f).count();
     if false_count > q {
         let list: Vec<usize> = (0..k).filter(|&j| ev.proved_false[j]).collect();
@@ -280,14 +263,55 @@ fn gather(
             landmark_of[j] = Some(l.clone());
         }
     }
-    // Evidence boxes and the detections' final boxes.
+    evidence_boxes(mission, model, ev, own_box, &landmark_of);
+    Ok(budget)
+}
+
+/// Each detection's own box: its prior box and current box contracted by
+/// its own constraints (empty, and proved false, when they have no
+/// solution).
+fn own_boxes(
+    mission: &Mission,
+    model: &Model,
+    prior: &[IntervalBox],
+    ev: &mut Evidence,
+) -> Vec<IntervalBox> {
+    let (k, dim) = (mission.detections.len(), model.dim);
+    let mut own_box: Vec<IntervalBox> = Vec::with_capacity(k);
+    #[allow(clippy::needless_range_loop)] // parallel per-detection arrays
     for j in 0..k {
+        if ev.proved_false[j] {
+            own_box.push(IntervalBox::empty(dim));
+            continue;
+        }
+        let start = prior[j].intersect(&model.det[j]);
+        match own(mission, model, j, &start) {
+            Some((_, d)) => own_box.push(d),
+            None => {
+                ev.proved_false[j] = true;
+                own_box.push(IntervalBox::empty(dim));
+            }
+        }
+    }
+    own_box
+}
+
+/// The evidence boxes of p(t_j) and the detections' final boxes: each own
+/// box cut by its group's landmark box and contracted again.
+fn evidence_boxes(
+    mission: &Mission,
+    model: &mut Model,
+    ev: &mut Evidence,
+    own_box: Vec<IntervalBox>,
+    landmark_of: &[Option<IntervalBox>],
+) {
+    let dim = model.dim;
+    for (j, mut d) in own_box.into_iter().enumerate() {
         if ev.proved_false[j] {
             ev.boxes[j] = IntervalBox::empty(dim);
             model.det[j].set_empty();
             continue;
         }
-        let mut d = own_box[j].clone();
         if let Some(l) = &landmark_of[j] {
             d.intersect_with(l);
         }
@@ -308,7 +332,6 @@ fn gather(
             }
         }
     }
-    Ok(budget)
 }
 
 /// What the forward pass leaves for the backward one, so that the backward
@@ -390,6 +413,92 @@ fn kth_merged(
     Some(last)
 }
 
+/// Which way a relaxed pass runs along the chain: every place where the
+/// two passes differ is one method here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Way {
+    Forward,
+    Backward,
+}
+
+impl Way {
+    fn forward(self) -> bool {
+        self == Way::Forward
+    }
+
+    /// The `x`-th step the pass visits, of 0..=n.
+    fn step(self, x: usize, n: usize) -> usize {
+        match self {
+            Way::Forward => x,
+            Way::Backward => n - x,
+        }
+    }
+
+    /// The chain step carried into step `t`, and its (from, to) ends.
+    fn link(self, t: usize, n: usize) -> Option<(usize, usize, usize)> {
+        match self {
+            Way::Forward => t.checked_sub(1).map(|s| (s, s, s + 1)),
+            Way::Backward => (t < n).then_some((t, t + 1, t)),
+        }
+    }
+
+    /// p(to) from p(from) over the displacement `d`.
+    fn carry(self, q: Interval, d: Interval) -> Interval {
+        match self {
+            Way::Forward => q + d,
+            Way::Backward => q - d,
+        }
+    }
+
+    /// The keys of an evidence box's axis `m` on `side`. Forward: p(t') >=
+    /// M.lo + S(t') - S(t_j), S the sum of lower displacement bounds;
+    /// backward: p(t') >= M.lo - (V(t') - V(t_j)), V the suffix sum of
+    /// upper bounds. Mirror for the upper bound of p.
+    fn keys(self, m: Interval, side: &Side) -> (f64, f64) {
+        match self {
+            Way::Forward => (
+                add_lo(m.lo(), -side.sum_lo.hi()),
+                add_hi(m.hi(), -side.sum_hi.lo()),
+            ),
+            Way::Backward => (
+                add_lo(m.lo(), side.sum_hi.lo()),
+                add_hi(m.hi(), side.sum_lo.hi()),
+            ),
+        }
+    }
+}
+
+/// The detections of a pass in its order: `order` (by step) walked from
+/// its start (forward) or its end (backward) along with the steps.
+struct Cursor<'a> {
+    order: &'a [usize],
+    next: usize,
+    way: Way,
+}
+
+impl Cursor<'_> {
+    /// The next detection of the pass if it is at step `t`.
+    fn at(&mut self, mission: &Mission, t: usize) -> Option<usize> {
+        let (i, after) = match self.way {
+            Way::Forward => (self.next, self.next + 1),
+            Way::Backward => (self.next.checked_sub(1)?, self.next - 1),
+        };
+        let j = *self.order.get(i)?;
+        (mission.detections[j].step == t).then(|| {
+            self.next = after;
+            j
+        })
+    }
+}
+
+/// The keys of every side, for the record.
+fn snapshot(sides: &[Side]) -> Vec<[Vec<f64>; 2]> {
+    sides
+        .iter()
+        .map(|s| [s.lower.keys.clone(), s.upper.keys.clone()])
+        .collect()
+}
+
 /// One relaxed pass over the chain (forward or backward), applying the
 /// chain step and the q-relaxed evidence bounds. The forward pass fills
 /// `record` (when given); the backward pass merges it. Returns the largest
@@ -403,63 +512,28 @@ fn relaxed_pass(
     forward: bool,
     record: &mut Option<Record>,
 ) -> Result<f64, usize> {
-    let dim = model.dim;
-    let n = model.steps;
+    let way = if forward { Way::Forward } else { Way::Backward };
+    let (dim, n) = (model.dim, model.steps);
     let mut sides: Vec<Side> = (0..dim).map(|_| Side::new(keep)).collect();
     let mut moved = 0.0f64;
-    let snapshot = |sides: &[Side]| -> Vec<[Vec<f64>; 2]> {
-        sides
-            .iter()
-            .map(|s| [s.lower.keys.clone(), s.upper.keys.clone()])
-            .collect()
-    };
-    if forward {
+    if way.forward() {
         if let Some(r) = record.as_mut() {
             *r = Record::default();
             r.lists.push(snapshot(&sides));
         }
     }
-    // Detections sorted by step; walk them along with t.
-    let mut next = if forward { 0 } else { order.len() };
-    let steps: Box<dyn Iterator<Item = usize>> = if forward {
-        Box::new(0..=n)
-    } else {
-        Box::new((0..=n).rev())
+    let mut cursor = Cursor {
+        order,
+        next: if way.forward() { 0 } else { order.len() },
+        way,
     };
-    for t in steps {
-        // Chain step into t, and the running sums over the displacement of
-        // that step.
-        let link = if forward {
-            t.checked_sub(1)
-        } else {
-            (t < n).then_some(t)
+    for x in 0..=n {
+        let t = way.step(x, n);
+        let changed_lists = match way.link(t, n) {
+            Some(link) => chain_step(model, &mut sides, link, way, keep)?,
+            None => false,
         };
-        let mut changed_lists = false;
-        if let Some(s) = link {
-            for (a, side) in sides.iter_mut().enumerate() {
-                let d = model.disp[s * dim + a];
-                if !d.lo().is_finite() || !d.hi().is_finite() {
-                    *side = Side::new(keep);
-                    changed_lists = true;
-                    continue;
-                }
-                side.sum_lo = side.sum_lo + Interval::point(d.lo());
-                side.sum_hi = side.sum_hi + Interval::point(d.hi());
-            }
-            let (from, to) = if forward { (s, s + 1) } else { (s + 1, s) };
-            for a in 0..dim {
-                let q = model.pos[from * dim + a];
-                let d = model.disp[s * dim + a];
-                let old = model.pos[to * dim + a];
-                let new = if forward { q + d } else { q - d };
-                let new = old.intersect(new);
-                if new.is_empty() {
-                    return Err(to);
-                }
-                model.pos[to * dim + a] = new;
-            }
-        }
-        if forward {
+        if way.forward() {
             if let Some(r) = record.as_mut() {
                 if changed_lists {
                     r.lists.push(snapshot(&sides));
@@ -471,50 +545,19 @@ fn relaxed_pass(
         }
         // Evidence of the detections at step t joins the lists.
         let mut joined = false;
-        loop {
-            let j = if forward {
-                match order.get(next) {
-                    Some(&j) if mission.detections[j].step == t => {
-                        next += 1;
-                        j
-                    }
-                    _ => break,
-                }
-            } else {
-                match next.checked_sub(1).map(|i| order[i]) {
-                    Some(j) if mission.detections[j].step == t => {
-                        next -= 1;
-                        j
-                    }
-                    _ => break,
-                }
-            };
+        while let Some(j) = cursor.at(mission, t) {
             let m = &ev.boxes[j];
             if ev.proved_false[j] || m.is_empty() {
                 continue;
             }
             joined = true;
             for (a, side) in sides.iter_mut().enumerate() {
-                // Forward: p(t') >= M.lo + S(t') - S(t_j), S the sum of
-                // lower displacement bounds; backward: p(t') >= M.lo -
-                // (V(t') - V(t_j)), V the suffix sum of upper bounds.
-                // Mirror for the upper bound of p.
-                let (key_lo, key_hi) = if forward {
-                    (
-                        add_lo(m[a].lo(), -side.sum_lo.hi()),
-                        add_hi(m[a].hi(), -side.sum_hi.lo()),
-                    )
-                } else {
-                    (
-                        add_lo(m[a].lo(), side.sum_hi.lo()),
-                        add_hi(m[a].hi(), side.sum_lo.hi()),
-                    )
-                };
+                let (key_lo, key_hi) = way.keys(m[a], side);
                 side.lower.push(key_lo);
                 side.upper.push(-key_hi);
             }
         }
-        if forward && joined {
+        if way.forward() && joined {
             if let Some(r) = record.as_mut() {
                 r.lists.push(snapshot(&sides));
                 if r.lists.len() * dim * 2 * keep > RECORD_KEYS {
@@ -522,45 +565,97 @@ fn relaxed_pass(
                 }
             }
         }
-        // The q-relaxed bounds at t (backward: over both sides).
-        for (a, side) in sides.iter().enumerate() {
-            let old = model.pos[t * dim + a];
-            let (mut lo, mut hi) = (old.lo(), old.hi());
-            let own = (side.sum_lo, side.sum_hi);
-            // Backward: the forward keys of the detections before t, at
-            // the forward sums of step t.
-            let (keys, fwd): (&[Vec<f64>; 2], Option<(Interval, Interval)>) =
-                match (&*record, forward) {
-                    (Some(r), false) => (&r.lists[r.at[t] as usize][a], Some(r.sums[t * dim + a])),
-                    _ => (&NO_KEYS, None),
-                };
-            let f_lo = |k: f64| fwd.map_or(f64::NEG_INFINITY, |f| lower_at(f, k, true));
-            let f_hi = |k: f64| -fwd.map_or(f64::INFINITY, |f| upper_at(f, k, true));
-            if let Some(b) = kth_merged(
-                &side.lower.keys,
-                |k| lower_at(own, k, forward),
-                &keys[0],
-                f_lo,
-                keep,
-            ) {
-                lo = lo.max(b);
-            }
-            if let Some(b) = kth_merged(
-                &side.upper.keys,
-                |k| -upper_at(own, k, forward),
-                &keys[1],
-                f_hi,
-                keep,
-            ) {
-                hi = hi.min(-b);
-            }
-            let new = Interval::new(lo, hi);
-            if new.is_empty() {
-                return Err(t);
-            }
-            moved = moved.max(shrinkage(old, new));
-            model.pos[t * dim + a] = new;
+        let m = relaxed_bounds(model, &sides, t, record.as_ref(), way, keep)?;
+        moved = moved.max(m);
+    }
+    Ok(moved)
+}
+
+/// The chain step `(s, from, to)` of a relaxed pass: p(to) ∩= p(from) ± D(s),
+/// and the running sums of the sides over D(s) (a side restarts when D(s)
+/// is unbounded). Returns whether a side restarted; `Err(to)` when p(to)
+/// becomes empty.
+fn chain_step(
+    model: &mut Model,
+    sides: &mut [Side],
+    (s, from, to): (usize, usize, usize),
+    way: Way,
+    keep: usize,
+) -> Result<bool, usize> {
+    let dim = model.dim;
+    let mut changed_lists = false;
+    for (a, side) in sides.iter_mut().enumerate() {
+        let d = model.disp[s * dim + a];
+        if !d.lo().is_finite() || !d.hi().is_finite() {
+            *side = Side::new(keep);
+            changed_lists = true;
+            continue;
         }
+        side.sum_lo = side.sum_lo + Interval::point(d.lo());
+        side.sum_hi = side.sum_hi + Interval::point(d.hi());
+    }
+    for a in 0..dim {
+        let q = model.pos[from * dim + a];
+        let d = model.disp[s * dim + a];
+        let old = model.pos[to * dim + a];
+        let new = old.intersect(way.carry(q, d));
+        if new.is_empty() {
+            return Err(to);
+        }
+        model.pos[to * dim + a] = new;
+    }
+    Ok(changed_lists)
+}
+
+/// The q-relaxed bounds of p(t) from the sides' keys (backward: merged
+/// with the forward keys of the detections before t, at the forward sums
+/// of step t, from `record`). Returns the largest move; `Err(t)` when p(t)
+/// becomes empty.
+fn relaxed_bounds(
+    model: &mut Model,
+    sides: &[Side],
+    t: usize,
+    record: Option<&Record>,
+    way: Way,
+    keep: usize,
+) -> Result<f64, usize> {
+    let dim = model.dim;
+    let forward = way.forward();
+    let mut moved = 0.0f64;
+    for (a, side) in sides.iter().enumerate() {
+        let old = model.pos[t * dim + a];
+        let (mut lo, mut hi) = (old.lo(), old.hi());
+        let own = (side.sum_lo, side.sum_hi);
+        let (keys, fwd): (&[Vec<f64>; 2], Option<(Interval, Interval)>) = match (record, way) {
+            (Some(r), Way::Backward) => (&r.lists[r.at[t] as usize][a], Some(r.sums[t * dim + a])),
+            _ => (&NO_KEYS, None),
+        };
+        let f_lo = |k: f64| fwd.map_or(f64::NEG_INFINITY, |f| lower_at(f, k, true));
+        let f_hi = |k: f64| -fwd.map_or(f64::INFINITY, |f| upper_at(f, k, true));
+        if let Some(b) = kth_merged(
+            &side.lower.keys,
+            |k| lower_at(own, k, forward),
+            &keys[0],
+            f_lo,
+            keep,
+        ) {
+            lo = lo.max(b);
+        }
+        if let Some(b) = kth_merged(
+            &side.upper.keys,
+            |k| -upper_at(own, k, forward),
+            &keys[1],
+            f_hi,
+            keep,
+        ) {
+            hi = hi.min(-b);
+        }
+        let new = Interval::new(lo, hi);
+        if new.is_empty() {
+            return Err(t);
+        }
+        moved = moved.max(shrinkage(old, new));
+        model.pos[t * dim + a] = new;
     }
     Ok(moved)
 }
@@ -583,90 +678,158 @@ pub fn solve_robust(
     let q = q.min(k);
     let mut model = Model::new(mission);
     model.max_outliers = q;
-    let dim = model.dim;
-    let tol = options.tolerance.max(0.0);
-    let prior = model.det.clone();
-    let groups = label_groups(mission);
-    let mut order: Vec<usize> = (0..k).collect();
-    order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
-    let mut ev = Evidence {
-        proved_false: vec![false; k],
-        boxes: vec![IntervalBox::empty(dim); k],
+    if let Err(reason) = model.dead_reckoning(mission.final_position.is_some()) {
+        return infeasible(model, reason, 0, 0);
+    }
+    let mut r = Robust::new(mission, q, options, model);
+    let proof = loop {
+        if r.round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
+            return r.stopped();
+        }
+        match r.round_step(progress) {
+            Ok(None) => {}
+            Ok(Some(proof)) => break proof,
+            Err(reason) => return r.infeasible(reason),
+        }
     };
-    let mut contractions: u64 = 0;
-    let mut round = 0u32;
-    let mut work = WorkEstimate::new(k);
-    let mut fraction = 0.0f64;
-    let infeasible = |model: Model, reason: String, round: u32, contractions: u64| Solution {
+    let proof = match proof {
+        Err(reason) => return r.infeasible(reason),
+        Ok(None) => return r.finish(SolveStatus::Consistent, Vec::new()),
+        Ok(Some(p)) => p,
+    };
+    if r.round >= options.max_rounds {
+        let matching = sure_groups(&r.groups, &proof.sure);
+        return r.finish(SolveStatus::Consistent, matching);
+    }
+    let mut model = r.model;
+    let refined = refine(
+        mission,
+        &mut model,
+        &proof,
+        options,
+        (r.round, r.fraction.min(0.99)),
+        progress,
+        cancel,
+    );
+    let (rounds, contractions) = (
+        r.round + refined.rounds,
+        r.contractions + refined.contractions,
+    );
+    match refined.status {
+        SolveStatus::Infeasible(reason) => infeasible(model, reason, rounds, contractions),
+        status => finish(model, status, refined.matching, rounds, contractions),
+    }
+}
+
+/// An infeasible mission's solution.
+fn infeasible(model: Model, reason: String, rounds: u32, contractions: u64) -> Solution {
+    Solution {
         status: SolveStatus::Infeasible(reason),
         matching: Vec::new(),
-        rounds: round,
+        rounds,
         contractions,
         model,
-    };
-    let chain_empty = |s: usize| {
-        format!(
-            "motion chain: the position of step {s} is empty (the inputs cannot join the initial and final positions)"
-        )
-    };
-    if let Sweep::Empty(s) = sweep_forward(&mut model.pos, &model.disp, dim, 0, 0.0) {
-        return infeasible(model, chain_empty(s), 0, 0);
     }
-    if mission.final_position.is_some() {
-        if let Sweep::Empty(s) = sweep_backward(&mut model.pos, &model.disp, dim, model.steps, 0.0)
-        {
-            return infeasible(model, chain_empty(s), 0, 0);
+}
+
+/// The state of the robust rounds of one mission (see the module doc).
+struct Robust<'a> {
+    mission: &'a Mission,
+    options: &'a SolveOptions,
+    /// Most false detections (at most k).
+    q: usize,
+    model: Model,
+    /// The detection boxes before any round.
+    prior: Vec<IntervalBox>,
+    /// The operator's groups.
+    groups: Vec<Vec<usize>>,
+    /// Detections sorted by (step, index).
+    order: Vec<usize>,
+    ev: Evidence,
+    contractions: u64,
+    round: u32,
+    work: WorkEstimate,
+    fraction: f64,
+    initial_max_trajectory_diameter: f64,
+}
+
+impl<'a> Robust<'a> {
+    /// After dead reckoning.
+    fn new(mission: &'a Mission, q: usize, options: &'a SolveOptions, model: Model) -> Robust<'a> {
+        let k = mission.detections.len();
+        let dim = model.dim;
+        let mut order: Vec<usize> = (0..k).collect();
+        order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
+        Robust {
+            mission,
+            options,
+            q,
+            prior: model.det.clone(),
+            groups: operator_groups(mission),
+            order,
+            ev: Evidence {
+                proved_false: vec![false; k],
+                boxes: vec![IntervalBox::empty(dim); k],
+            },
+            contractions: 0,
+            round: 0,
+            work: WorkEstimate::new(k),
+            fraction: 0.0,
+            initial_max_trajectory_diameter: model.trajectory_diameters().0,
+            model,
         }
     }
-    let initial_max_trajectory_diameter = model.trajectory_diameters().0;
-    let proof = loop {
-        if round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
-            // Stopped: the boxes are sound, and so is what they prove.
-            let status = match kept(&model.det, &ev.proved_false, &groups, q) {
-                Err(reason) => return infeasible(model, reason, round, contractions),
-                Ok(proof) => proof,
-            };
-            let matching = status
-                .as_ref()
-                .map_or_else(Vec::new, |p| sure_groups(&groups, &p.sure));
-            return finish(model, SolveStatus::Stopped, matching, round, contractions);
-        }
-        round += 1;
-        let det_before = model.det.clone();
-        let budget = match gather(mission, &mut model, &prior, &groups, q, &mut ev) {
-            Ok(b) => b,
-            Err(reason) => return infeasible(model, reason, round, contractions),
-        };
-        contractions += 2 * k as u64;
-        let mut moved = 0.0f64;
-        let mut record = Some(Record::default());
-        for forward in [true, false] {
-            match relaxed_pass(
-                mission,
-                &mut model,
-                &order,
-                &ev,
-                budget + 1,
-                forward,
-                &mut record,
-            ) {
-                Ok(m) => moved = moved.max(m),
-                Err(t) => {
-                    let reason = format!(
-                        "the position of step {t} is empty: no choice of at most {q} false detections is consistent"
-                    );
-                    return infeasible(model, reason, round, contractions);
-                }
+
+    fn infeasible(self, reason: String) -> Solution {
+        infeasible(self.model, reason, self.round, self.contractions)
+    }
+
+    fn finish(self, status: SolveStatus, matching: Vec<Vec<usize>>) -> Solution {
+        finish(self.model, status, matching, self.round, self.contractions)
+    }
+
+    /// Stopped (`max_rounds` or cancelled): the boxes are sound, and so is
+    /// what they prove.
+    fn stopped(self) -> Solution {
+        match kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q) {
+            Err(reason) => self.infeasible(reason),
+            Ok(proof) => {
+                let matching = proof
+                    .as_ref()
+                    .map_or_else(Vec::new, |p| sure_groups(&self.groups, &p.sure));
+                self.finish(SolveStatus::Stopped, matching)
             }
-            contractions += model.steps as u64;
         }
+    }
+
+    /// One robust round: the evidence gathered, a relaxed pass each way,
+    /// the progress told. Ok(Some): the fixpoint, with what the boxes prove
+    /// of the detections kept in every reading; Err: infeasible.
+    fn round_step(
+        &mut self,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<Option<Result<Option<Kept>, String>>, String> {
+        let k = self.mission.detections.len();
+        let tol = self.options.tolerance.max(0.0);
+        self.round += 1;
+        let det_before = self.model.det.clone();
+        let budget = gather(
+            self.mission,
+            &mut self.model,
+            &self.prior,
+            &self.groups,
+            self.q,
+            &mut self.ev,
+        )?;
+        self.contractions += 2 * k as u64;
+        let mut moved = self.passes(budget)?;
         let mut moving = 0;
-        for (a, b) in det_before.iter().zip(&model.det) {
+        for (a, b) in det_before.iter().zip(&self.model.det) {
             if b.is_empty() {
                 continue;
             }
             let mut m = 0.0f64;
-            for x in 0..dim {
+            for x in 0..self.model.dim {
                 if !a[x].is_empty() {
                     m = m.max(shrinkage(a[x], b[x]));
                 }
@@ -680,88 +843,58 @@ pub fn solve_robust(
         } else {
             moving = 0;
         }
-        let (max_d, _) = model.trajectory_diameters();
-        fraction = fraction.max(work.end_round(moving));
+        let (max_d, _) = self.model.trajectory_diameters();
+        self.fraction = self.fraction.max(self.work.end_round(moving));
         // At the fixpoint: what the boxes prove of the detections kept in
         // every reading, and whether the refinement on them follows (then
         // this is not the end of the work yet).
-        let proof = (moved <= tol).then(|| kept(&model.det, &ev.proved_false, &groups, q));
-        let refines = matches!(proof, Some(Ok(Some(_)))) && round < options.max_rounds;
+        let proof = (moved <= tol)
+            .then(|| kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q));
+        let refines = matches!(proof, Some(Ok(Some(_)))) && self.round < self.options.max_rounds;
         progress(&Progress {
-            round,
+            round: self.round,
             max_trajectory_diameter: max_d,
             fraction: if refines {
-                fraction.min(0.99)
+                self.fraction.min(0.99)
             } else {
-                fraction
+                self.fraction
             },
             pass: "round",
             detections: k,
             detections_done: k,
             moving,
-            initial_max_trajectory_diameter,
+            initial_max_trajectory_diameter: self.initial_max_trajectory_diameter,
         });
-        if let Some(proof) = proof {
-            break proof;
-        }
-    };
-    let proof = match proof {
-        Err(reason) => return infeasible(model, reason, round, contractions),
-        Ok(None) => {
-            return finish(
-                model,
-                SolveStatus::Consistent,
-                Vec::new(),
-                round,
-                contractions,
-            )
-        }
-        Ok(Some(p)) => p,
-    };
-    if round >= options.max_rounds {
-        let matching = sure_groups(&groups, &proof.sure);
-        return finish(
-            model,
-            SolveStatus::Consistent,
-            matching,
-            round,
-            contractions,
-        );
+        Ok(proof)
     }
-    let r = refine(
-        mission,
-        &mut model,
-        &proof,
-        options,
-        (round, fraction.min(0.99)),
-        progress,
-        cancel,
-    );
-    let (rounds, contractions) = (round + r.rounds, contractions + r.contractions);
-    match r.status {
-        SolveStatus::Infeasible(reason) => infeasible(model, reason, rounds, contractions),
-        status => finish(model, status, r.matching, rounds, contractions),
-    }
-}
 
-/// The operator's groups: detections by `landmark` label, each sorted.
-fn label_groups(mission: &Mission) -> Vec<Vec<usize>> {
-    let mut by_landmark: Vec<(usize, usize)> = mission
-        .detections
-        .iter()
-        .enumerate()
-        .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
-        .collect();
-    by_landmark.sort_unstable();
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    for (x, &(l, j)) in by_landmark.iter().enumerate() {
-        if x > 0 && by_landmark[x - 1].0 == l {
-            groups.last_mut().expect("a group was opened").push(j);
-        } else {
-            groups.push(vec![j]);
+    /// The relaxed passes of a round, forward then backward, with the
+    /// (q+1)-th best evidence (`budget` + 1 kept); the largest move.
+    fn passes(&mut self, budget: usize) -> Result<f64, String> {
+        let mut moved = 0.0f64;
+        let mut record = Some(Record::default());
+        for forward in [true, false] {
+            match relaxed_pass(
+                self.mission,
+                &mut self.model,
+                &self.order,
+                &self.ev,
+                budget + 1,
+                forward,
+                &mut record,
+            ) {
+                Ok(m) => moved = moved.max(m),
+                Err(t) => {
+                    return Err(format!(
+                        "the position of step {t} is empty: no choice of at most {} false detections is consistent",
+                        self.q
+                    ));
+                }
+            }
+            self.contractions += self.model.steps as u64;
         }
+        Ok(moved)
     }
-    groups
 }
 
 /// The solution, its groups proved (members kept in every reading), so

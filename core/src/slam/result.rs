@@ -2,41 +2,18 @@
 //! mission (spec/formats.md, "Result").
 
 use super::mission::Mission;
-use super::model::Model;
 use super::outliers::relaxed_intersection;
-use super::propagator::SolveOptions;
+use super::types::SolveOptions;
+pub use super::types::{Solution, SolveStatus};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 use serde_json::Value;
 
-/// How propagation ended.
-#[derive(Debug, Clone, PartialEq)]
-pub enum SolveStatus {
-    /// Fixpoint reached, no empty domain.
-    Consistent,
-    /// A domain became empty; the reason names the constraint and variable.
-    Infeasible(String),
-    /// `max_rounds` or cancellation before the fixpoint (boxes still sound).
-    Stopped,
-}
-
-/// A solved mission: domains and what was proved.
-#[derive(Debug, Clone)]
-pub struct Solution {
-    /// Consistent, infeasible or stopped.
-    pub status: SolveStatus,
-    /// Groups (size >= 2) of detections proved to be the same landmark.
-    pub matching: Vec<Vec<usize>>,
-    /// Propagation rounds.
-    pub rounds: u32,
-    /// Contractor calls and swept steps.
-    pub contractions: u64,
-    /// Final domains.
-    pub model: Model,
-}
-
+// `Solution` lives in `super::types` (the bottom of the pipeline); its
+// landmarks need the q-relaxed intersection of the robust propagation, a
+// layer above, so this method is defined here, with the output.
 impl Solution {
     /// One box per matching group, in the order of `matching`: the common
     /// intersection of its members' boxes; with false detections allowed
@@ -336,6 +313,7 @@ mod tests {
     use super::*;
     use crate::json::box_to_json;
     use crate::slam::mission::Mission;
+    use crate::slam::model::Model;
     use serde_json::{json, Map};
 
     /// The Value-building code the view replaced, kept to check the bytes.

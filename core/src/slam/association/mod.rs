@@ -1,0 +1,165 @@
+//! The `shapes` contractor of a SLAM round: landmark regions of the proved
+//! groups, shape witnesses and branch contraction, run over every
+//! detection (DESIGN.md, "Detection shapes").
+//!
+//! # Constraint
+//!
+//! The detection constraints (range, bearing, region, depth: the shapes of
+//! [`crate::shapes::shape`]) with atmost_nvector(n, {d(1)..d(k)}) and the proved
+//! groups (detections known to see one landmark).
+//!
+//! # Math
+//!
+//! A round, given the current boxes of p(0..=N) and d(1..k):
+//! 1. **Landmark regions.** Each group of size >= 2 keeps a [`Paving`](crate::shapes::region::Paving) of
+//!    its landmark ([`crate::shapes::region`]): cut by every member's shape whose
+//!    centre box changed since it last cut it, bisected down to a bounded
+//!    count (halves cut by the thinnest members). Each member is then
+//!    contracted by [`branch`](crate::shapes::branch::branch) against its group's region alone: d(j) and
+//!    p(step) shrink to the hulls of the pieces.
+//! 2. **Distinct pairs.** Detections at nearby steps whose shapes are
+//!    disjoint in the frame of the earlier step ([`relative_pairs`](crate::shapes::relative::relative_pairs)) see
+//!    distinct landmarks; so do a detection and a region its branch
+//!    excluded (step 4). With n known, [`Distinct::infer`](crate::shapes::distinct::Distinct::infer) merges the
+//!    common neighbours of every n-1 pairwise-distinct groups and proves
+//!    infeasibility from n+1 of them.
+//! 3. **Witnesses.** Items are the groups' regions and the shapes of the
+//!    detections in no group. [`find_witnesses`](crate::shapes::witnesses::find_witnesses) looks for n + 1 pairwise
+//!    disjoint (or proved distinct) items: n + 1 is infeasible (the items'
+//!    detections are named); n gives n regions R(1..n) (a singleton's
+//!    region is its shape, paved) holding the n distinct landmarks, one
+//!    each.
+//! 4. **Branch contraction.** With n witnesses, every other detection j
+//!    (in step order) is contracted by [`branch`](crate::shapes::branch::branch) against R(1..n): its
+//!    landmark is one of the n. A single surviving region proves the
+//!    matching: j (with its group) joins that witness's group, whose region
+//!    is cut by j's shape at once, so later detections meet a smaller
+//!    region (a sequential filter). A region that does not survive is a
+//!    distinct pair.
+//!
+//! 5. **Registration** ([`crate::shapes::registration::register`]): at the steps of the groups' local
+//!    pieces (one every `register_every` steps), the pieces within
+//!    `register_gap` steps, moved to the frame of that step, must fit the
+//!    n witness regions under a map that gives distinct groups distinct
+//!    witnesses: p(step) shrinks to the positions where such a map exists,
+//!    and a group left with one witness over every registration joins it
+//!    (the others are distinct pairs).
+//!
+//! Whenever p(step) shrinks by more than the tolerance the caller's
+//! [`Chain`] is told (its own passes sweep the change along the motion
+//! chain in both directions later); in step 4, the change is also swept
+//! forward to each next detection's step before that detection is read,
+//! so that the filter sees it.
+//!
+//! # Soundness
+//!
+//! Each step is one of the sound contractors of this module's files; a
+//! group is proved once and stays proved (contractions keep every
+//! solution, so a proof made on smaller boxes holds for the input boxes).
+//! Regions are sound enclosures of their group's landmark at every moment,
+//! so they stay sound as groups merge (intersection of two enclosures of
+//! one point) and as boxes shrink.
+//!
+//! With false detections allowed (`max_outliers` q > 0) the argument needs
+//! n + q witnesses and must not contract the witnesses themselves; this
+//! round does nothing when q > 0 (soundness first; see docs/shapes.md).
+//!
+//! # Complexity
+//!
+//! Per round: O(c · m d) for the region cuts (c changed members, m <=
+//! `max_boxes` boxes per region), O(k n m d) at most for the branches (a
+//! region whose hull the shape misses costs O(d)), O(k log k + 64^2 + k n)
+//! for the witness search, and for the registration O(a · G · n · c² · B · d)
+//! (a registration steps, at most G = `register_groups` groups each, pavings
+//! coarsened to c boxes, B paving boxes of p(step)). Memory O(k + g · m)
+//! for g groups.
+
+use super::mission::Mission;
+use crate::shapes::chain_sums::ChainSums;
+use crate::union_find::Uf;
+use round::Round;
+
+mod pairs;
+mod regions;
+mod registration;
+mod round;
+mod state;
+mod witness_step;
+
+pub use round::sightings;
+pub use state::{Chain, Domains, ShapesOptions, ShapesOutcome, ShapesState};
+
+impl ShapesState {
+    /// One round (module doc). `groups`: the proved groups (size >= 2);
+    /// `n`: the landmark count when known; `max_outliers`: q (the round
+    /// does nothing when q > 0); `chain` propagates shrunk positions.
+    #[allow(clippy::too_many_arguments)]
+    pub fn contract(
+        &mut self,
+        mission: &Mission,
+        dom: Domains,
+        groups: &[Vec<usize>],
+        n: Option<usize>,
+        max_outliers: usize,
+        tolerance: f64,
+        chain: &mut dyn Chain,
+    ) -> ShapesOutcome {
+        let k = mission.detections.len();
+        if max_outliers > 0 || k == 0 {
+            return ShapesOutcome::default();
+        }
+        if self.regions.len() != k {
+            *self = ShapesState {
+                options: self.options.clone(),
+                ..ShapesState::new(k)
+            };
+        }
+        let mut uf = Uf::new(k);
+        for g in groups {
+            for &j in &g[1..] {
+                uf.union(g[0], j);
+            }
+        }
+        let mut round = Round {
+            mission,
+            dom,
+            uf,
+            tol: tolerance,
+            chain,
+            out: ShapesOutcome::default(),
+        };
+        if let Err(reason) = self.steps(&mut round, n) {
+            round.out.infeasible = Some(reason);
+        }
+        round.out
+    }
+
+    /// The steps of the module doc, in order; Err: the mission is
+    /// infeasible (the reason).
+    fn steps(&mut self, round: &mut Round, n: Option<usize>) -> Result<(), String> {
+        self.group_regions(round)?;
+        let Some(n) = n else {
+            return Ok(());
+        };
+        let dets = &round.mission.detections;
+        let mut order: Vec<usize> = (0..dets.len()).collect();
+        order.sort_unstable_by_key(|&j| (dets[j].step, j));
+        let steps: Vec<usize> = dets.iter().map(|d| d.step).collect();
+        let sums = ChainSums::new(round.dom.disp, round.dom.dim).with_steps(&steps);
+        self.distinct_pairs(round, n, &order, &sums)?;
+        if let Some(mut w) = self.witness_regions(round, n)? {
+            // An infeasible group ends the round at once (the witness
+            // regions and the pairs found are dropped: the mission is
+            // infeasible).
+            self.groups_on_witnesses(round, &mut w)?;
+            let mut result = self.detections_on_witnesses(round, &mut w, &order);
+            if result.is_ok() && self.options.registration && n <= 64 {
+                result = self.register_anchors(round, &sums, &mut w);
+            }
+            self.restore(w);
+            result?;
+        }
+        self.infer(round, n)?;
+        Ok(())
+    }
+}

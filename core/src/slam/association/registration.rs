@@ -1,0 +1,279 @@
+//! Step 5 of a shapes round: registration of the groups' local frames on
+//! the n witness regions ([`register`]). At the steps of the groups'
+//! pieces (one every `register_every` steps), the pieces within
+//! `register_gap` steps, moved to the frame of that step, must fit the n
+//! witness regions under a map that gives distinct groups distinct
+//! witnesses: p(step) shrinks to the positions where such a map exists,
+//! and a group left with one witness over every registration joins it (the
+//! witnesses it cannot be are distinct pairs).
+//!
+//! Soundness: [`register`] keeps every position at which the true
+//! landmarks fit (crate::shapes::registration); an answer is carried over
+//! from an earlier round only while its inputs are close ([`RegKey`]).
+//! Complexity: O(a · G · n · c² · B · d) (a registration steps, at most G
+//! = `register_groups` groups each, pavings coarsened to c boxes, B paving
+//! boxes of p(step)).
+
+use super::round::Round;
+use super::state::{RegKey, ShapesOptions, ShapesState};
+use super::witness_step::Witnesses;
+use crate::contractors::motion_chain::shrinkage;
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use crate::shapes::chain_sums::ChainSums;
+use crate::shapes::region::Paving;
+use crate::shapes::registration::{register, LocalGroup};
+
+/// What a round's registrations read (the tuning, the distinct graph, the
+/// witness boxes), the cache of earlier answers by step, and what they
+/// gather: per group root, the mask of the witnesses it may see.
+struct Registrations<'a> {
+    options: &'a ShapesOptions,
+    graph: Vec<Vec<u32>>,
+    witness_boxes: Vec<Vec<IntervalBox>>,
+    cache: &'a mut Vec<(usize, RegKey, Vec<u64>)>,
+    reach: Vec<u64>,
+}
+
+/// A piece of a group's region in a local frame: (step, group root, paving).
+type Piece<'a> = (usize, usize, &'a Paving);
+
+impl Registrations<'_> {
+    /// The groups whose pieces lie in `window`, moved to the frame of step
+    /// `s` (the witness groups first, then those with the most pieces,
+    /// when more than `register_groups`); their roots.
+    fn local_groups(
+        &self,
+        round: &mut Round,
+        s: usize,
+        window: &[Piece],
+        sums: &ChainSums,
+        slot_root: &[usize],
+    ) -> (Vec<usize>, Vec<LocalGroup>) {
+        let dim = round.dom.dim;
+        let mut roots: Vec<usize> = Vec::new();
+        let mut groups: Vec<LocalGroup> = Vec::new();
+        for &(t, root, region) in window {
+            let delta = sums.delta(s, t);
+            let boxes: Vec<IntervalBox> = region
+                .boxes()
+                .iter()
+                .map(|b| {
+                    let axes: Vec<Interval> = (0..dim).map(|x| b[x] + delta[x]).collect();
+                    IntervalBox::new(&axes)
+                })
+                .collect();
+            let gi = match roots.iter().position(|&r| r == root) {
+                Some(gi) => gi,
+                None => {
+                    roots.push(root);
+                    groups.push(LocalGroup {
+                        pieces: Vec::new(),
+                        fixed: slot_root.iter().position(|&w| round.uf.find(w) == root),
+                    });
+                    roots.len() - 1
+                }
+            };
+            groups[gi].pieces.push(boxes);
+        }
+        if groups.len() > self.options.register_groups {
+            // The witness groups first, then the most pieces.
+            let mut idx: Vec<usize> = (0..groups.len()).collect();
+            idx.sort_unstable_by_key(|&i| {
+                (
+                    groups[i].fixed.is_none(),
+                    usize::MAX - groups[i].pieces.len(),
+                    roots[i],
+                )
+            });
+            idx.truncate(self.options.register_groups);
+            idx.sort_unstable();
+            roots = idx.iter().map(|&i| roots[i]).collect();
+            groups = idx.iter().map(|&i| groups[i].clone()).collect();
+        }
+        (roots, groups)
+    }
+
+    /// The registration at step `s` of the local groups `groups` (roots
+    /// `roots`) on the witness regions: from the cache when its inputs are
+    /// close, else computed, p(s) shrunk and the cache updated.
+    fn register_at(
+        &mut self,
+        round: &mut Round,
+        s: usize,
+        (roots, groups): (Vec<usize>, Vec<LocalGroup>),
+        w: &Witnesses,
+    ) -> Result<(), String> {
+        let dim = round.dom.dim;
+        let n = w.regions.len();
+        let p = round.position(s);
+        let key = RegKey {
+            p: p.clone(),
+            roots: roots.clone(),
+            slots: w.slot_root.clone(),
+            fixed: groups.iter().map(|g| g.fixed).collect(),
+            pieces: groups.iter().map(|g| g.pieces.len()).sum(),
+            witnesses: w.regions.iter().map(|r| r.hull()).collect(),
+        };
+        let slot = self.cache.binary_search_by_key(&s, |e| e.0);
+        if let Some((_, old, old_reach)) = slot.ok().map(|i| &self.cache[i]) {
+            if old.close(&key, self.options.register_slack, &mut round.uf) {
+                for (&root, &r) in roots.iter().zip(old_reach) {
+                    self.reach[root] &= r;
+                }
+                return Ok(());
+            }
+        }
+        let graph = &self.graph;
+        let distinct =
+            |g: usize, h: usize| graph[roots[g]].binary_search(&(roots[h] as u32)).is_ok();
+        let reg = register(
+            &p,
+            &self.witness_boxes,
+            &groups,
+            &distinct,
+            &self.options.register,
+        );
+        round.out.contractions += reg.work;
+        if reg.p.is_empty() {
+            return Err(format!(
+                "step {s}: the landmarks of groups {roots:?}, seen from p({s}), fit no placement on the {n} landmark regions"
+            ));
+        }
+        let mut moved = 0.0f64;
+        for x in 0..dim {
+            let before = round.dom.pos[s * dim + x];
+            let after = before.intersect(reg.p[x]);
+            moved = moved.max(shrinkage(before, after));
+            round.dom.pos[s * dim + x] = after;
+        }
+        if moved > round.tol {
+            round.out.moved = true;
+            round.chain.changed(s);
+        }
+        for (&root, &r) in roots.iter().zip(&reg.reach) {
+            self.reach[root] &= r;
+        }
+        let key = RegKey {
+            p: round.position(s),
+            ..key
+        };
+        match slot {
+            Ok(i) => self.cache[i] = (s, key, reg.reach),
+            Err(i) => self.cache.insert(i, (s, key, reg.reach)),
+        }
+        Ok(())
+    }
+}
+
+impl ShapesState {
+    /// Step 5 (module doc): registration of the local frames on the
+    /// witness regions at the steps of the groups' pieces.
+    pub(super) fn register_anchors(
+        &mut self,
+        round: &mut Round,
+        sums: &ChainSums,
+        w: &mut Witnesses,
+    ) -> Result<(), String> {
+        let mut regs = Registrations {
+            options: &self.options,
+            graph: self.distinct.graph(&mut round.uf)?,
+            witness_boxes: w.regions.iter().map(|r| r.boxes().to_vec()).collect(),
+            cache: &mut self.registered,
+            reach: vec![u64::MAX; round.mission.detections.len()],
+        };
+        // Pieces by step: (step, root, paving).
+        let mut pieces: Vec<Piece> = self
+            .frames
+            .every_piece()
+            .into_iter()
+            .map(|(member, step, region)| (step, round.uf.find(member), region))
+            .collect();
+        pieces.sort_unstable_by_key(|&(step, root, _)| (step, root));
+        let (gap, every) = (regs.options.register_gap, regs.options.register_every);
+        let mut last_anchor: Option<usize> = None;
+        let mut lo = 0;
+        for a in 0..pieces.len() {
+            let s = pieces[a].0;
+            if last_anchor.is_some_and(|l| s < l + every) {
+                continue;
+            }
+            last_anchor = Some(s);
+            while pieces[lo].0 + gap < s {
+                lo += 1;
+            }
+            let hi = lo + pieces[lo..].iter().take_while(|e| e.0 <= s + gap).count();
+            let local = regs.local_groups(round, s, &pieces[lo..hi], sums, &w.slot_root);
+            regs.register_at(round, s, local, w)?;
+        }
+        let reach = regs.reach;
+        self.join_by_reach(round, w, &reach)
+    }
+
+    /// Groups left with one witness join it; the others are distinct from
+    /// the witnesses they cannot be. Err: a group that fits none.
+    fn join_by_reach(
+        &mut self,
+        round: &mut Round,
+        w: &mut Witnesses,
+        reach: &[u64],
+    ) -> Result<(), String> {
+        let n = w.regions.len();
+        for (root, &r) in reach.iter().enumerate() {
+            if r == u64::MAX || round.uf.find(root) != root {
+                continue;
+            }
+            if w.slot_root.iter().any(|&x| round.uf.find(x) == root) {
+                continue;
+            }
+            if r == 0 {
+                return Err(format!(
+                    "landmark of group {root}: seen from the steps around it, it fits none of the {n} landmark regions"
+                ));
+            }
+            for (i, &x) in w.slot_root.iter().enumerate() {
+                if r & (1 << i) == 0 {
+                    w.pairs.push((root as u32, x as u32));
+                }
+            }
+            if r.count_ones() == 1 {
+                let region = self.regions[root].take();
+                let i = r.trailing_zeros() as usize;
+                w.join(i, root, region, round, self.options.max_boxes)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::union_find::Uf;
+
+    /// The registration's cache names witnesses by slot: an answer is
+    /// carried over only while each slot holds the same landmark (its
+    /// witness in one group with the old one), even when the regions look
+    /// alike (here both unbounded, as after an unbounded step).
+    #[test]
+    fn a_cached_registration_needs_the_same_landmark_in_each_slot() {
+        let entire = IntervalBox::entire(2);
+        let key = |slots: Vec<usize>| RegKey {
+            p: entire.clone(),
+            roots: vec![4],
+            slots,
+            fixed: vec![None],
+            pieces: 1,
+            witnesses: vec![entire.clone(), entire.clone()],
+        };
+        let mut uf = Uf::new(6);
+        let old = key(vec![0, 1]);
+        assert!(old.close(&key(vec![0, 1]), 0.02, &mut uf));
+        // The witnesses swapped slots: the masks would name the wrong ones.
+        assert!(!old.close(&key(vec![1, 0]), 0.02, &mut uf));
+        // Another detection of the same landmark stands for it.
+        assert!(!old.close(&key(vec![0, 2]), 0.02, &mut uf));
+        uf.union(1, 2);
+        assert!(old.close(&key(vec![0, 2]), 0.02, &mut uf));
+    }
+}

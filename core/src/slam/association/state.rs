@@ -1,0 +1,224 @@
+//! The types of the association step's shapes round, below its steps:
+//! the tuning ([`ShapesOptions`]), what a round reads ([`Domains`],
+//! [`Chain`]) and returns ([`ShapesOutcome`]), and what is kept across
+//! rounds ([`ShapesState`], with the cache keys of the branches and of the
+//! registrations). The steps (sibling files) add their methods to
+//! [`ShapesState`]; the driver (`mod.rs`) sits above them.
+
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use crate::shapes::distinct::Distinct;
+use crate::shapes::frames::{FrameOptions, Frames};
+use crate::shapes::region::Paving;
+use crate::shapes::registration::RegisterOptions;
+use crate::union_find::Uf;
+
+/// Tuning of the shapes round.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapesOptions {
+    /// Most boxes in one region's paving.
+    pub max_boxes: usize,
+    /// Boxes narrower than this are not bisected further (metres).
+    pub resolution: f64,
+    /// Most members whose shapes cut the halves of a bisection (the
+    /// thinnest ones).
+    pub refine_shapes: usize,
+    /// Node budget of the exact witness search.
+    pub node_budget: usize,
+    /// Detections after each one (in step order) tried for a relative
+    /// distinct pair.
+    pub max_ahead: usize,
+    /// Node budget of each pass of the clique rule.
+    pub clique_budget: usize,
+    /// Local frames ([`crate::shapes::frames`]).
+    pub frames: FrameOptions,
+    /// Most frame/inference passes in one round.
+    pub frame_passes: usize,
+    /// Whether the local frames are registered on the witness regions.
+    pub registration: bool,
+    /// Steps around a registration step whose pieces are used.
+    pub register_gap: usize,
+    /// Least steps between two registration steps.
+    pub register_every: usize,
+    /// Most groups in one registration.
+    pub register_groups: usize,
+    /// A registration step is done again when its position box or a
+    /// witness region shrank by more than this fraction of its width since
+    /// the last time (or the groups around it changed).
+    pub register_slack: f64,
+    /// Tuning of each registration.
+    pub register: RegisterOptions,
+}
+
+impl Default for ShapesOptions {
+    fn default() -> Self {
+        ShapesOptions {
+            max_boxes: 64,
+            resolution: 0.0,
+            refine_shapes: 16,
+            node_budget: 20_000,
+            max_ahead: 64,
+            clique_budget: 200_000,
+            frames: FrameOptions::default(),
+            frame_passes: 3,
+            registration: true,
+            register_gap: 300,
+            register_every: 50,
+            register_groups: 8,
+            register_slack: 0.02,
+            register: RegisterOptions::default(),
+        }
+    }
+}
+
+/// A member's position box, detection box, its region's hull and box count.
+pub(super) type BranchKey = (IntervalBox, IntervalBox, IntervalBox, usize);
+
+/// The domains a round reads and contracts.
+#[derive(Debug)]
+pub struct Domains<'a> {
+    /// Dimension of positions (2 or 3).
+    pub dim: usize,
+    /// Position domains, (N+1)·dim, step-major.
+    pub pos: &'a mut [Interval],
+    /// Detection variables d(j).
+    pub det: &'a mut [IntervalBox],
+    /// Heading (or yaw) at each detection's step.
+    pub heading_at: &'a [Interval],
+    /// Displacement boxes D(i), N·dim, step-major.
+    pub disp: &'a [Interval],
+}
+
+/// The motion chain as a round sees it (the propagator implements it).
+pub trait Chain {
+    /// Sweeps the change of p(`from`) forward to p(`to`) (`from < to`),
+    /// while it moves a bound by more than the tolerance; returns whether
+    /// it is still alive at `to`. Err: a position emptied (the reason).
+    fn sweep_forward(
+        &mut self,
+        pos: &mut [Interval],
+        from: usize,
+        to: usize,
+    ) -> Result<bool, String>;
+    /// p(`step`) changed (a detection step): the caller sweeps it along
+    /// the chain, both ways, later.
+    fn changed(&mut self, step: usize);
+}
+
+/// What a round did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ShapesOutcome {
+    /// Pairs of detections proved to see the same landmark.
+    pub unions: Vec<(usize, usize)>,
+    /// Whether a bound moved by more than the tolerance or a group grew.
+    pub moved: bool,
+    /// Detections whose boxes (or whose p(step)) moved by more than the
+    /// tolerance, or that joined a group.
+    pub moved_detections: Vec<usize>,
+    /// Contractor calls (pieces contracted).
+    pub contractions: u64,
+    /// Why the mission is infeasible, when it was proved.
+    pub infeasible: Option<String>,
+}
+
+/// State kept across rounds: the regions of the groups and the last
+/// witnesses.
+#[derive(Debug, Clone, Default)]
+pub struct ShapesState {
+    /// Tuning.
+    pub options: ShapesOptions,
+    /// Region of each group, stored at one member (the root).
+    pub(super) regions: Vec<Option<Paving>>,
+    /// The centre box with which each detection last cut its group's
+    /// region (`None`: never).
+    pub(super) cut_with: Vec<Option<IntervalBox>>,
+    /// What each group member's last branch against its region read: its
+    /// position box, its detection box, the region's hull and box count
+    /// (the branch is skipped while they stay the same: it would give the
+    /// same pieces).
+    pub(super) branched: Vec<Option<BranchKey>>,
+    /// One detection of each of the last witnesses.
+    pub(super) witnesses: Vec<usize>,
+    /// Detection pairs proved distinct.
+    pub(super) distinct: Distinct,
+    /// Group regions in local frames.
+    pub(super) frames: Frames,
+    /// Whether the relative pairs were computed (once: they rest on the
+    /// displacement boxes and the measurements, which do not change).
+    pub(super) relative_done: bool,
+    /// What each registration step last read, and the candidates it gave.
+    /// By step, in step order.
+    pub(super) registered: Vec<(usize, RegKey, Vec<u64>)>,
+}
+
+/// The inputs of one registration (see [`RegKey::close`]).
+#[derive(Debug, Clone)]
+pub(super) struct RegKey {
+    pub p: IntervalBox,
+    pub roots: Vec<usize>,
+    /// A detection of each witness slot's group.
+    pub slots: Vec<usize>,
+    pub fixed: Vec<Option<usize>>,
+    pub pieces: usize,
+    pub witnesses: Vec<IntervalBox>,
+}
+
+impl RegKey {
+    /// Whether a registration that read `self` can stand for one reading
+    /// `new`: the same groups and pieces, each witness slot holding the
+    /// same landmark (its witness in one group of `uf` with the old one's:
+    /// the candidate masks name witnesses by slot, so a mask is only
+    /// carried over while slot i is the same landmark in both rounds), and
+    /// the position box and the witness regions' hulls shrunk by at most
+    /// the fraction `slack` of their widths on every axis since. Its answer
+    /// holds (it was sound for larger boxes, and says which landmarks the
+    /// groups may see); a registration on the smaller boxes could only be
+    /// tighter, by little.
+    pub fn close(&self, new: &RegKey, slack: f64, uf: &mut Uf) -> bool {
+        let near = |a: &IntervalBox, b: &IntervalBox| {
+            a.dim() == b.dim()
+                && (0..a.dim()).all(|x| {
+                    let (wa, wb) = (a[x].width(), b[x].width());
+                    wb >= wa * (1.0 - slack) && b[x].is_subset(a[x])
+                })
+        };
+        self.roots == new.roots
+            && self.slots.len() == new.slots.len()
+            && self
+                .slots
+                .iter()
+                .zip(&new.slots)
+                .all(|(&a, &b)| uf.find(a) == uf.find(b))
+            && self.fixed == new.fixed
+            && self.pieces == new.pieces
+            && self.witnesses.len() == new.witnesses.len()
+            && near(&self.p, &new.p)
+            && self
+                .witnesses
+                .iter()
+                .zip(&new.witnesses)
+                .all(|(a, b)| near(a, b))
+    }
+}
+
+impl ShapesState {
+    /// A state for `k` detections.
+    pub fn new(k: usize) -> ShapesState {
+        ShapesState {
+            options: ShapesOptions::default(),
+            regions: vec![None; k],
+            cut_with: vec![None; k],
+            branched: vec![None; k],
+            witnesses: Vec::new(),
+            distinct: Distinct::default(),
+            frames: Frames::default(),
+            relative_done: false,
+            registered: Vec::new(),
+        }
+    }
+
+    /// The region of a group (any member may hold it), when one was built.
+    pub fn region_of(&self, group: &[usize]) -> Option<&Paving> {
+        group.iter().find_map(|&j| self.regions.get(j)?.as_ref())
+    }
+}
