@@ -44,6 +44,7 @@ const LAYERS: &[(&str, u32, &str)] = &[
         4,
         "the odometry2d pieces (angle, chain, sensor, sector)",
     ),
+    ("outline", 5, "outlines of shapes and regions for drawing"),
     ("slam::mission", 5, "the typed, validated mission"),
     ("slam::model", 6, "the domains"),
     ("slam::simulate", 6, "mission writer (beside the pipeline)"),
