@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod format;
 pub mod ibox;
 pub mod interval;
 pub mod json;
