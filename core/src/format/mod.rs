@@ -36,6 +36,7 @@ macro_rules! object_only {
     };
 }
 
+pub mod contract;
 pub mod leaf;
 pub mod mission;
 
