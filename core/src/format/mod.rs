@@ -145,6 +145,31 @@ fn kind_of(unexpected: &str) -> String {
         .map_or_else(|| unexpected.to_string(), |(_, k)| k.to_string())
 }
 
+/// A `T` read from a JSON object only (a derived struct also reads an
+/// array of its fields in order, which the formats do not allow): for the
+/// front ends' own request types.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Object<T>(pub T);
+
+impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for Object<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Object<T>, D::Error> {
+        struct V<T>(std::marker::PhantomData<T>);
+        impl<'de, T: serde::Deserialize<'de>> serde::de::Visitor<'de> for V<T> {
+            type Value = Object<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an object")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Object<T>, A::Error> {
+                T::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(Object)
+            }
+        }
+        d.deserialize_map(V(std::marker::PhantomData))
+    }
+}
+
 /// For `#[serde(default, deserialize_with = "present")]` on a field that is
 /// `Option<T>` only so that its absence can be named: absent is `None`, a
 /// `null` is read as a `T` (and so refused with "expected ..., found null").

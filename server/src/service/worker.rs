@@ -20,7 +20,7 @@
 
 use super::job_runner::JobOrder;
 use super::meters::{self, Meters, ReasonLabel};
-use super::store::{JobError, JobRow, Store};
+use super::store::{JobError, JobRow, JobState, Store};
 use super::worker_process::{Message, WorkerProcess};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
@@ -211,7 +211,7 @@ fn worker_loop(store: &dyn Store, workers: &Workers, config: &PoolConfig, max_co
 
 fn fail(store: &dyn Store, job: &JobRow, code: &'static str, message: String) {
     let e = JobError { code, message };
-    if let Err(err) = store.finish_job(&job.id, "failed", None, Some(&e), now_ms()) {
+    if let Err(err) = store.finish_job(&job.id, JobState::Failed, None, Some(&e), now_ms()) {
         tracing::error!("storing the failure of job {}: {err}", job.id);
     }
 }
@@ -338,9 +338,13 @@ fn supervise(
                         job.time_limit_s
                     ),
                 });
-                if let Err(e) =
-                    store.finish_job(&job.id, "done", Some(&result), error.as_ref(), now_ms())
-                {
+                if let Err(e) = store.finish_job(
+                    &job.id,
+                    JobState::Done,
+                    Some(&result),
+                    error.as_ref(),
+                    now_ms(),
+                ) {
                     tracing::error!("storing the result of job {}: {e}", job.id);
                 }
                 return;
@@ -364,7 +368,7 @@ fn supervise(
             last_check = Instant::now();
             // Cancelled, or deleted with its mission: stop the work.
             match store.job_state(&job.id) {
-                Ok(Some(s)) if s == "cancelled" => return kill(process),
+                Ok(Some(JobState::Cancelled)) => return kill(process),
                 Ok(None) => return kill(process),
                 _ => {}
             }
@@ -414,7 +418,7 @@ fn crashed(
         );
     }
     match store.record_crash(&job.id, &error, max, now_ms()) {
-        Ok(Some(s)) if s == "queued" => {
+        Ok(Some(JobState::Queued)) => {
             tracing::warn!("job {} re-queued: {}", job.id, error.message);
             workers.notify();
         }
