@@ -5,7 +5,7 @@
 //! (those read through [`present`]). Unknown fields are refused, naming
 //! the field, except inside `meta`.
 
-use super::leaf::{BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, Row};
+use super::leaf::{BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, PointsIn};
 use super::present;
 use serde::Deserialize;
 use serde_json::Value;
@@ -165,9 +165,9 @@ pub struct DetectionDoc {
 pub struct TruthDoc {
     /// N+1 points, `null` where unknown.
     #[serde(default, deserialize_with = "present")]
-    pub positions: Option<List<Option<Row>>>,
+    pub positions: Option<PointsIn>,
     #[serde(default, deserialize_with = "present")]
-    pub landmarks: Option<List<Row>>,
+    pub landmarks: Option<PointsIn>,
     /// One landmark id (or `null`, a false detection) per detection.
     #[serde(default, deserialize_with = "present")]
     pub matching: Option<List<Option<Integer>>>,

@@ -3,7 +3,7 @@
 //! path of the bad value.
 
 use crate::error::InputError;
-use crate::format::leaf::{wrong_count, Finite, Numbers, Row};
+use crate::format::leaf::{wrong_count, Finite, Numbers, PointsIn};
 use crate::format::mission::{ChannelDoc, DetectionDoc, MissionDoc, TruthDoc};
 use crate::format::{self, leaf::List};
 use crate::ibox::IntervalBox;
@@ -293,34 +293,56 @@ fn channel(c: ChannelDoc, path: &str, n: usize) -> Result<Vec<Interval>, InputEr
     }
 }
 
-/// Points of dimension `dim` from rows (`None` rows are unknown points:
-/// zeros, and `false` in the mask returned when there is one).
+/// Points of dimension `dim` (`null` entries are unknown points: zeros,
+/// and `false` in the mask returned when there is one, or refused when
+/// `nulls_allowed` is false).
 fn points(
-    rows: Vec<Option<Row>>,
+    p: PointsIn,
     path: &str,
     dim: usize,
+    nulls_allowed: bool,
 ) -> Result<(Points, Option<Vec<bool>>), InputError> {
-    let mut flat = Vec::with_capacity(rows.len() * dim);
-    let mut known: Option<Vec<bool>> = None;
-    for (i, row) in rows.iter().enumerate() {
-        match row {
-            Some(r) if r.len != dim => {
-                return Err(err(
-                    format!("{path}[{i}]"),
-                    format!(
-                        "expected a point of dimension {dim}, found {} coordinates",
-                        r.len
-                    ),
-                ))
-            }
-            Some(r) => flat.extend_from_slice(&r.x[..dim]),
-            None => {
-                flat.extend(std::iter::repeat_n(0.0, dim));
-                known.get_or_insert_with(|| vec![true; rows.len()])[i] = false;
-            }
+    let wrong = |i: usize, len: usize| {
+        err(
+            format!("{path}[{i}]"),
+            format!("expected a point of dimension {dim}, found {len} coordinates"),
+        )
+    };
+    let first_null = p.nulls.first().copied();
+    match (p.mismatch, first_null) {
+        (Some((i, _)), Some(j)) if !nulls_allowed && j < i => {
+            return Err(err(format!("{path}[{j}]"), "expected an array, found null"))
+        }
+        (Some((i, len)), _) if p.width == dim => return Err(wrong(i, len)),
+        (None, Some(j)) if !nulls_allowed => {
+            return Err(err(format!("{path}[{j}]"), "expected an array, found null"))
+        }
+        _ => {}
+    }
+    if p.count > p.nulls.len() && p.width != dim {
+        // The first point given has the wrong length.
+        let i = (0..p.count)
+            .find(|i| p.nulls.binary_search(i).is_err())
+            .unwrap_or(0);
+        return Err(wrong(i, p.width));
+    }
+    if p.nulls.is_empty() {
+        return Ok((Points::new(dim, p.flat), None));
+    }
+    let mut known = vec![true; p.count];
+    for &j in &p.nulls {
+        known[j] = false;
+    }
+    let mut flat = Vec::with_capacity(p.count * dim);
+    let mut given = p.flat.chunks_exact(dim);
+    for &k in &known {
+        let point = if k { given.next() } else { None };
+        match point {
+            Some(point) => flat.extend_from_slice(point),
+            None => flat.extend(std::iter::repeat_n(0.0, dim)),
         }
     }
-    Ok((Points::new(dim, flat), known))
+    Ok((Points::new(dim, flat), Some(known)))
 }
 
 /// The headings of odometry2d, refused for the other models.
@@ -707,8 +729,8 @@ impl Mission {
 
 fn truth(t: TruthDoc, model: Model, steps: usize, detections: usize) -> Result<Truth, InputError> {
     let dim = model.dim();
-    let List(rows) = need(t.positions, "truth", "positions")?;
-    let (positions, positions_known) = points(rows, "truth.positions", dim)?;
+    let rows = need(t.positions, "truth", "positions")?;
+    let (positions, positions_known) = points(rows, "truth.positions", dim, true)?;
     if positions.len() != steps + 1 {
         return Err(err(
             "truth.positions",
@@ -719,8 +741,8 @@ fn truth(t: TruthDoc, model: Model, steps: usize, detections: usize) -> Result<T
             ),
         ));
     }
-    let List(rows) = need(t.landmarks, "truth", "landmarks")?;
-    let (landmarks, _) = points(rows.into_iter().map(Some).collect(), "truth.landmarks", dim)?;
+    let rows = need(t.landmarks, "truth", "landmarks")?;
+    let (landmarks, _) = points(rows, "truth.landmarks", dim, false)?;
     let List(m) = need(t.matching, "truth", "matching")?;
     if m.len() != detections {
         return Err(err(
@@ -1172,6 +1194,8 @@ mod tests {
         );
         let t = m.truth.as_ref().unwrap();
         assert_eq!(t.positions_known, Some(vec![true, false, true]));
+        assert_eq!(&t.positions[2], &[0.15, 0.01][..]);
+        assert_eq!(&t.positions[1], &[0.0, 0.0][..]);
         assert_eq!(t.headings, Some(vec![Some(0.0), None, Some(0.03)]));
         assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
         assert_eq!(m.to_value()["truth"]["positions"][1], Value::Null);

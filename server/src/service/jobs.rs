@@ -73,7 +73,8 @@ pub enum JobContractor {
     Best,
 }
 
-/// A SLAM job to queue (the body of `POST /jobs`, read by [`Body`]).
+// The body of `POST /jobs`, read by `Body`.
+/// A SLAM job to queue.
 #[derive(Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 #[schema(example = json!({"mission": "m-0123456789abcdef0123456789abcdef", "contractor": "best"}))]

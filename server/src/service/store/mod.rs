@@ -39,9 +39,10 @@ pub struct MissionRow {
     pub created: i64,
 }
 
-/// The state of a job, as stored (the `state` column holds
-/// [`JobState::as_str`]: the same strings as before the type existed, so
-/// existing databases open) and as the API writes it.
+// As stored (the `state` column holds `JobState::as_str`: the same strings
+// as before the type existed, so existing databases open) and as the API
+// writes it.
+/// The state of a job.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, utoipa::ToSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum JobState {
