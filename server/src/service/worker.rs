@@ -331,23 +331,7 @@ fn supervise(
                 }
             }
             Ok(Some(Message::Done { result, timed_out })) => {
-                let error = timed_out.then(|| JobError {
-                    code: "time_limit",
-                    message: format!(
-                        "time limit of {} s reached (partial, sound result kept)",
-                        job.time_limit_s
-                    ),
-                });
-                if let Err(e) = store.finish_job(
-                    &job.id,
-                    JobState::Done,
-                    Some(&result),
-                    error.as_ref(),
-                    now_ms(),
-                ) {
-                    tracing::error!("storing the result of job {}: {e}", job.id);
-                }
-                return;
+                return store_result(store, job, &result, timed_out)
             }
             Ok(Some(Message::Failed(e))) => return fail(store, job, e.code, e.message),
             Ok(None) => {}
@@ -375,19 +359,39 @@ fn supervise(
         }
         if start.elapsed() > hard_limit {
             kill(process);
-            return fail(
-                store,
-                job,
-                "time_limit",
-                format!(
-                    "time limit of {} s reached and the job did not stop within {:.0} s more: \
-                     its worker process was stopped, no result kept",
-                    job.time_limit_s,
-                    time_limit_grace(job.time_limit_s).as_secs_f64()
-                ),
-            );
+            return fail(store, job, "time_limit", past_grace(job));
         }
     }
+}
+
+/// Stores a job's result (cut short by its time limit when `timed_out`).
+fn store_result(store: &dyn Store, job: &JobRow, result: &str, timed_out: bool) {
+    let error = timed_out.then(|| JobError {
+        code: "time_limit",
+        message: format!(
+            "time limit of {} s reached (partial, sound result kept)",
+            job.time_limit_s
+        ),
+    });
+    if let Err(e) = store.finish_job(
+        &job.id,
+        JobState::Done,
+        Some(result),
+        error.as_ref(),
+        now_ms(),
+    ) {
+        tracing::error!("storing the result of job {}: {e}", job.id);
+    }
+}
+
+/// The failure of a job still running past its time limit and grace.
+fn past_grace(job: &JobRow) -> String {
+    format!(
+        "time limit of {} s reached and the job did not stop within {:.0} s more: \
+         its worker process was stopped, no result kept",
+        job.time_limit_s,
+        time_limit_grace(job.time_limit_s).as_secs_f64()
+    )
 }
 
 /// Records the death of the worker process that ran `job`: back to the
