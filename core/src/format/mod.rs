@@ -39,10 +39,10 @@ macro_rules! object_only {
 pub mod contract;
 pub mod leaf;
 pub mod mission;
+pub mod simulate;
 
 use crate::error::InputError;
 use serde::de::{DeserializeOwned, IgnoredAny};
-use serde::Deserialize;
 use serde_json::Value;
 
 /// Parses JSON text as `T`. A text that is not JSON at all gets

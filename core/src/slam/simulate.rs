@@ -83,6 +83,12 @@ pub const MAX_LANDMARKS: usize = 64;
 /// naming the option; each costs up to 1000 draws).
 pub const MAX_FALSE_DETECTIONS: usize = 100_000;
 
+/// Steps of the paper scenario by default.
+pub const PAPER_STEPS: usize = 10_000;
+
+/// Steps of the AUV scenario by default.
+pub const AUV_STEPS: usize = 60_000;
+
 /// Simulation options.
 #[derive(Debug, Clone)]
 pub struct SimulateOptions {
@@ -322,7 +328,7 @@ fn paper(o: &SimulateOptions) -> Value {
     let mut rng = Rng::new(o.seed);
     // Only the options beyond the default draw from this one.
     let mut extra = Rng::new(o.seed ^ EXTRA_STREAM);
-    let steps = o.steps.unwrap_or(10_000).max(2);
+    let steps = o.steps.unwrap_or(PAPER_STEPS).max(2);
     let n_landmarks = o.landmarks.unwrap_or(4).max(1);
     let dt = 0.1;
     let noise = o.noise.max(0.0);
@@ -557,7 +563,7 @@ fn distance3(q: &[f64; 3], l: &[f64; 3]) -> f64 {
 
 fn auv(o: &SimulateOptions) -> Value {
     let mut rng = Rng::new(o.seed);
-    let steps = o.steps.unwrap_or(60_000).max(2);
+    let steps = o.steps.unwrap_or(AUV_STEPS).max(2);
     let dt = 0.1;
     let noise = o.noise.max(0.0);
     let (angle_err, yaw_err, vel_err) = (0.001 * noise, 0.002 * noise, 0.004 * noise);

@@ -1,10 +1,9 @@
 //! `nvector simulate`: a simulated mission with truth.
 
 use crate::CliError;
-use nvector_core::slam::mission::MAX_STEPS;
-use nvector_core::slam::simulate::{
-    simulate, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS, MAX_LANDMARKS,
-};
+use nvector_core::format::leaf::{Finite, Integer};
+use nvector_core::format::simulate::{SimulateLimits, SimulateRequest};
+use nvector_core::slam::simulate::simulate;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -12,8 +11,8 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct Args {
     /// paper (the paper's section 6 experiment) or auv (Redermor-scale survey).
-    #[arg(long, value_parser = parse_scenario)]
-    scenario: Scenario,
+    #[arg(long)]
+    scenario: String,
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -32,8 +31,8 @@ pub struct Args {
     /// Landmark layout (paper only): line (10 m apart along x, the default),
     /// ring (evenly on a circle around the start: the axis projections
     /// interleave) or random (uniform in a square, at least 8 m apart).
-    #[arg(long, value_parser = parse_layout, default_value = "line")]
-    layout: Layout,
+    #[arg(long, default_value = "line")]
+    layout: String,
     /// Range-only detections (paper only; the paper's P''): no bearing, a
     /// rough `region` per detection instead (a 30 m box holding the landmark).
     #[arg(long)]
@@ -47,55 +46,24 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-fn parse_scenario(s: &str) -> Result<Scenario, String> {
-    Scenario::parse(s).ok_or_else(|| format!("unknown scenario '{s}' (expected paper or auv)"))
-}
-
-fn parse_layout(s: &str) -> Result<Layout, String> {
-    Layout::parse(s).ok_or_else(|| format!("unknown layout '{s}' (expected line, ring or random)"))
-}
-
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
-    if !(a.noise.is_finite() && a.noise >= 0.0) {
-        return Err(CliError(format!(
-            "--noise must be a finite number >= 0, found {}",
-            a.noise
-        )));
-    }
-    if a.steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
-        return Err(CliError(format!(
-            "--steps must be between 1 and {MAX_STEPS}"
-        )));
-    }
-    if a.landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
-        return Err(CliError(format!(
-            "--landmarks must be at most {MAX_LANDMARKS}"
-        )));
-    }
-    if a.scenario != Scenario::Paper
-        && (a.layout != Layout::Line || a.range_only || a.false_detections > 0)
-    {
-        return Err(CliError(
-            "--layout, --range-only and --false-detections apply to --scenario paper only".into(),
-        ));
-    }
-    if a.false_detections > MAX_FALSE_DETECTIONS {
-        return Err(CliError(format!(
-            "--false-detections must be at most {MAX_FALSE_DETECTIONS}"
-        )));
-    }
-    let options = SimulateOptions {
-        scenario: a.scenario,
-        seed: a.seed,
-        steps: a.steps,
-        landmarks: a.landmarks,
-        operator: a.operator,
-        noise: a.noise,
-        layout: a.layout,
-        range_only: a.range_only,
-        false_detections: a.false_detections,
+    // The options go through core's one simulation request type and its
+    // checks, with core's limits, as the service, the page and Python do.
+    let request = SimulateRequest {
+        scenario: Some(a.scenario.into()),
+        seed: Some(Integer::Value(a.seed)),
+        steps: a.steps.map(|s| Integer::Value(s as u64)),
+        landmarks: a.landmarks.map(|n| Integer::Value(n as u64)),
+        operator: Some(a.operator),
+        noise: Some(Finite(a.noise)),
+        layout: Some(a.layout.into()),
+        range_only: Some(a.range_only),
+        false_detections: Some(Integer::Value(a.false_detections as u64)),
     };
+    let options = request
+        .options(SimulateLimits::CORE)
+        .map_err(|e| CliError(format!("--{}: {}", e.path.replace('_', "-"), e.message)))?;
     let mission = simulate(&options);
     // Written as it is serialized: a 2,000,000-step mission's text is
     // hundreds of megabytes more, on top of its JSON value.
