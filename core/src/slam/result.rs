@@ -607,16 +607,20 @@ mod tests {
             v["truth"]["positions"][1] = p;
             Mission::from_value(&v).unwrap()
         };
+        // Position 1's box away from the origin (a null entry is stored as
+        // zeros: only skipping it keeps the score true).
+        let away = |m: &Mission| {
+            let mut s = solution(m, vec![vec![0, 1]]);
+            s.model.pos[2] = Interval::new(10.0, 11.0);
+            s.model.pos[3] = Interval::new(10.0, 11.0);
+            s
+        };
         let m = far(json!([50, 50]));
-        assert_eq!(
-            score(&m, &solution(&m, vec![vec![0, 1]])),
-            Some((false, 0, 1.0))
-        );
+        assert_eq!(score(&m, &away(&m)), Some((false, 0, 1.0)));
+        let m = far(json!([10.5, 10.5]));
+        assert_eq!(score(&m, &away(&m)), Some((true, 0, 1.0)));
         let m = far(serde_json::Value::Null);
-        assert_eq!(
-            score(&m, &solution(&m, vec![vec![0, 1]])),
-            Some((true, 0, 1.0))
-        );
+        assert_eq!(score(&m, &away(&m)), Some((true, 0, 1.0)));
     }
 
     /// A negative zero in a domain was written `-0.0` in the streamed
