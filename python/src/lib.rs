@@ -15,12 +15,12 @@
 //! pure-Python code beside this crate, in `nvector/`.
 
 use nvector_core::format::leaf::{Finite, Integer};
-use nvector_core::format::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::json::{bound, field_path, index_path};
 use nvector_core::nvector::contract::contract_json;
 use nvector_core::slam::mission::{Mission, MAX_STEPS};
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
 use nvector_core::slam::simulate::simulate as simulate_mission;
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::InputError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

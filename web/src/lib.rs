@@ -3,7 +3,6 @@
 //! JavaScript errors naming the JSON path; a panic is reported on the
 //! console.
 
-use nvector_core::format::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::format::{self, Object};
 use nvector_core::nvector::contract::{response_json, ContractRequest};
 use nvector_core::nvector::nvalue::{atmost_nvalue, NValue, NValueScratch};
@@ -11,6 +10,7 @@ use nvector_core::nvector::{atmost_nvector, Mode};
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
 use nvector_core::slam::simulate::simulate;
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::InputError;
 use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;

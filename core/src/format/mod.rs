@@ -39,7 +39,6 @@ macro_rules! object_only {
 pub mod contract;
 pub mod leaf;
 pub mod mission;
-pub mod simulate;
 
 use crate::error::InputError;
 use serde::de::{DeserializeOwned, IgnoredAny};

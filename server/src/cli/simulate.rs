@@ -2,8 +2,8 @@
 
 use crate::CliError;
 use nvector_core::format::leaf::{Finite, Integer};
-use nvector_core::format::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::slam::simulate::simulate;
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
 use std::io::Write;
 use std::path::PathBuf;
 
