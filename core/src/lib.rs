@@ -9,6 +9,7 @@
 pub mod contractors;
 pub mod error;
 pub mod figure;
+pub mod format;
 pub mod ibox;
 pub mod interval;
 pub mod json;

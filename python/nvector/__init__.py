@@ -161,7 +161,8 @@ def simulate(
     looping around its start, side-scan sonar detections of ``landmarks``
     landmarks, default 4, at most 64) or ``"auv"`` (a Redermor-scale 3-D
     survey). ``steps`` defaults to 10,000 (paper) or 60,000 (auv), at most
-    2,000,000; ``noise`` scales
+    2,000,000 (below 2 reads as 2; ``landmarks`` 0 reads as 1); ``noise``,
+    in [0, 100], scales
     the sensor error bounds; ``operator`` writes the true matching as
     operator ``landmark`` fields. Paper only: ``layout`` puts the landmarks
     on a ``"line"`` (10 m apart along x, the paper's Figure 9), a ``"ring"``

@@ -14,14 +14,13 @@
 //! API (numpy arrays, files, progress bars, the HTTP client, figures) is the
 //! pure-Python code beside this crate, in `nvector/`.
 
+use nvector_core::format::leaf::{Finite, Integer};
 use nvector_core::json::{bound, field_path, index_path};
 use nvector_core::nvector::contract::contract_json;
 use nvector_core::slam::mission::{Mission, MAX_STEPS};
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
-use nvector_core::slam::simulate::{
-    simulate as simulate_mission, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS,
-    MAX_LANDMARKS,
-};
+use nvector_core::slam::simulate::simulate as simulate_mission;
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::InputError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -253,58 +252,22 @@ fn simulate<'py>(
     range_only: bool,
     false_detections: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let bad = |path: &str, message: String| input_error(py, &InputError::new(path, message));
-    let scenario = Scenario::parse(scenario).ok_or_else(|| {
-        bad(
-            "scenario",
-            format!("unknown scenario '{scenario}' (expected paper or auv)"),
-        )
-    })?;
-    if !(noise.is_finite() && noise >= 0.0) {
-        return Err(bad(
-            "noise",
-            format!("must be a finite number >= 0, found {noise}"),
-        ));
-    }
-    if steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
-        return Err(bad("steps", format!("must be between 1 and {MAX_STEPS}")));
-    }
-    if landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
-        return Err(bad(
-            "landmarks",
-            format!("at most {MAX_LANDMARKS} landmarks"),
-        ));
-    }
-    let layout = Layout::parse(layout).ok_or_else(|| {
-        bad(
-            "layout",
-            format!("unknown layout '{layout}' (expected line, ring or random)"),
-        )
-    })?;
-    if scenario != Scenario::Paper && (layout != Layout::Line || range_only || false_detections > 0)
-    {
-        return Err(bad(
-            "scenario",
-            "layout, range_only and false_detections apply to the paper scenario only".into(),
-        ));
-    }
-    if false_detections > MAX_FALSE_DETECTIONS {
-        return Err(bad(
-            "false_detections",
-            format!("at most {MAX_FALSE_DETECTIONS}"),
-        ));
-    }
-    let options = SimulateOptions {
-        scenario,
-        seed,
-        steps,
-        landmarks,
-        operator,
-        noise,
-        layout,
-        range_only,
-        false_detections,
+    // Core's one simulation request type, its checks and limits (as the
+    // CLI, the service and the page).
+    let request = SimulateRequest {
+        scenario: Some(scenario.into()),
+        seed: Some(Integer::Value(seed)),
+        steps: steps.map(|s| Integer::Value(s as u64)),
+        landmarks: landmarks.map(|n| Integer::Value(n as u64)),
+        operator: Some(operator),
+        noise: Some(Finite(noise)),
+        layout: Some(layout.into()),
+        range_only: Some(range_only),
+        false_detections: Some(Integer::Value(false_detections as u64)),
     };
+    let options = request
+        .options(SimulateLimits::CORE)
+        .map_err(|e| input_error(py, &e))?;
     let mission = py.detach(|| simulate_mission(&options));
     to_py(py, &mission)
 }
@@ -334,7 +297,9 @@ fn run<'py>(
         let value = to_value(mission, "", 0).map_err(|e| input_error(py, &e))?;
         py.detach(|| Mission::from_value(&value))
     };
-    let mission = parsed.map_err(|e| input_error(py, &e))?;
+    let mission = parsed
+        .and_then(|m| m.unsupported().map(|()| m))
+        .map_err(|e| input_error(py, &e))?;
     if !(tolerance.is_finite() && tolerance >= 0.0) {
         return Err(input_error(
             py,

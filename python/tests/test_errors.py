@@ -136,11 +136,11 @@ def test_bad_simulate_options(cli: Cli) -> None:
         ({"scenario": "moon"}, "scenario"),
         ({"scenario": "paper", "noise": -1.0}, "noise"),
         ({"scenario": "paper", "noise": float("inf")}, "noise"),
-        ({"scenario": "paper", "steps": 0}, "steps"),
+        ({"scenario": "paper", "landmarks": 65}, "landmarks"),
         ({"scenario": "paper", "steps": 2_000_001}, "steps"),
         ({"scenario": "paper", "landmarks": 10**9}, "landmarks"),
         ({"scenario": "paper", "layout": "spiral"}, "layout"),
-        ({"scenario": "auv", "range_only": True}, "scenario"),
+        ({"scenario": "auv", "range_only": True}, "range_only"),
         ({"scenario": "paper", "false_detections": 10**6}, "false_detections"),
     ]:
         with pytest.raises(nvector.InputError) as info:

@@ -3,16 +3,15 @@
 //! JavaScript errors naming the JSON path; a panic is reported on the
 //! console.
 
+use nvector_core::format::{self, Object};
 use nvector_core::nvector::contract::{response_json, ContractRequest};
 use nvector_core::nvector::nvalue::{atmost_nvalue, NValue, NValueScratch};
 use nvector_core::nvector::{atmost_nvector, Mode};
 use nvector_core::outline::{shape_outline, union_boundary};
 use nvector_core::shapes::shape::{Shape, MAX_DIM};
-use nvector_core::slam::mission::{Mission, MAX_STEPS};
+use nvector_core::slam::mission::Mission;
 use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
-use nvector_core::slam::simulate::{
-    simulate, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS, MAX_LANDMARKS,
-};
+use nvector_core::slam::simulate::{simulate, SimulateLimits, SimulateRequest};
 use nvector_core::{InputError, Interval, IntervalBox};
 use serde_json::{json, Value};
 use std::cmp::Ordering;
@@ -64,6 +63,7 @@ pub fn run_mission(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Value, InputError> {
     let m = Mission::from_value(mission)?;
+    m.unsupported()?;
     let association = Association::parse(contractor).ok_or_else(|| {
         InputError::new("contractor", format!("unknown contractor \"{contractor}\""))
     })?;
@@ -76,48 +76,11 @@ pub fn run_mission(
 
 /// Simulation options from JSON: `{"scenario", "seed", "steps",
 /// "landmarks", "noise", "operator", "layout", "range_only",
-/// "false_detections"}` (the options of `nvector simulate`).
+/// "false_detections"}`, read and checked by core as every front end does
+/// (core's limits; an option out of range is an error naming it).
 pub fn simulate_json(options: &Value) -> Result<Value, InputError> {
-    let scenario = options
-        .get("scenario")
-        .and_then(Value::as_str)
-        .map_or(Some(Scenario::Paper), Scenario::parse)
-        .ok_or_else(|| InputError::new("scenario", "expected \"paper\" or \"auv\""))?;
-    let mut o = SimulateOptions::new(
-        scenario,
-        options.get("seed").and_then(Value::as_u64).unwrap_or(1),
-    );
-    o.steps = options
-        .get("steps")
-        .and_then(Value::as_u64)
-        .map(|s| (s as usize).clamp(2, MAX_STEPS));
-    o.landmarks = options
-        .get("landmarks")
-        .and_then(Value::as_u64)
-        .map(|s| (s as usize).clamp(1, MAX_LANDMARKS));
-    o.noise = options
-        .get("noise")
-        .and_then(Value::as_f64)
-        .unwrap_or(1.0)
-        .clamp(0.0, 100.0);
-    o.operator = options
-        .get("operator")
-        .and_then(Value::as_bool)
-        .unwrap_or(false);
-    if let Some(layout) = options.get("layout") {
-        o.layout = layout.as_str().and_then(Layout::parse).ok_or_else(|| {
-            InputError::new("layout", "expected \"line\", \"ring\" or \"random\"")
-        })?;
-    }
-    o.range_only = options
-        .get("range_only")
-        .and_then(Value::as_bool)
-        .unwrap_or(false);
-    o.false_detections = options
-        .get("false_detections")
-        .and_then(Value::as_u64)
-        .map_or(0, |k| (k as usize).min(MAX_FALSE_DETECTIONS));
-    Ok(simulate(&o))
+    let Object(request) = format::from_value::<Object<SimulateRequest>>(options)?;
+    Ok(simulate(&request.options(SimulateLimits::CORE)?))
 }
 
 /// Reads the flat numbers of an outline request, naming the place of a bad

@@ -6,6 +6,7 @@ pub use super::error::ContractError;
 use super::hitting_set::Limits;
 use super::{atmost_nvector_with, Mode, Outcome, Status};
 use crate::error::InputError;
+use crate::format::{self, contract::ContractDoc, leaf::List};
 use crate::ibox::IntervalBox;
 use crate::json;
 use serde_json::{json, Map, Value};
@@ -29,58 +30,55 @@ pub struct ContractRequest {
 impl ContractRequest {
     /// Parses and validates a request; errors name the JSON path.
     pub fn from_value(v: &Value) -> Result<ContractRequest, InputError> {
-        let obj = json::object(v, "")?;
-        json::check_fields(obj, &["format", "n", "boxes", "contractor"], "")?;
-        let format = json::required(obj, "format", "")?;
+        ContractRequest::from_doc(format::from_value(v)?)
+    }
+
+    /// Validates a parsed request.
+    pub fn from_doc(doc: ContractDoc) -> Result<ContractRequest, InputError> {
+        let missing = |f: &str| InputError::new(f, "missing required field");
+        let format = doc.format.ok_or_else(|| missing("format"))?;
         if format.as_str() != Some(REQUEST_FORMAT) {
             return Err(InputError::new(
                 "format",
                 format!("expected \"{REQUEST_FORMAT}\", found {format}"),
             ));
         }
-        let n = json::integer(json::required(obj, "n", "")?, "n", u32::MAX as u64)?;
+        let n = doc
+            .n
+            .ok_or_else(|| missing("n"))?
+            .at_most(u32::MAX as u64, "n")?;
         if n == 0 {
             return Err(InputError::new("n", "n must be at least 1"));
         }
-        let boxes_v = json::array(json::required(obj, "boxes", "")?, "boxes")?;
-        if boxes_v.is_empty() {
+        let List(boxes_doc) = doc.boxes.ok_or_else(|| missing("boxes"))?;
+        if boxes_doc.is_empty() {
             return Err(InputError::new("boxes", "at least one box is needed"));
         }
-        let mut boxes = Vec::with_capacity(boxes_v.len());
+        let mut boxes = Vec::with_capacity(boxes_doc.len());
         let mut dim = None;
-        for (i, b) in boxes_v.iter().enumerate() {
-            let path = json::index_path("boxes", i);
-            let parsed = json::ibox(b, &path, dim).map_err(|e| match dim {
-                Some(d)
-                    if e.path == path && e.message.starts_with("expected a box of dimension") =>
-                {
-                    InputError::new(
-                        path.clone(),
-                        format!(
-                            "every box must have the dimension of boxes[0] ({d}): {}",
-                            e.message
-                        ),
-                    )
-                }
-                _ => e,
+        for (i, b) in boxes_doc.iter().enumerate() {
+            let path = format!("boxes[{i}]");
+            let parsed = b.dim(&path, dim).map_err(|e| match dim {
+                Some(d) => InputError::new(
+                    path.clone(),
+                    format!(
+                        "every box must have the dimension of boxes[0] ({d}): {}",
+                        e.message
+                    ),
+                ),
+                None => e,
             })?;
             dim = Some(parsed.dim());
             boxes.push(parsed);
         }
-        let mode = match obj.get("contractor") {
-            None | Some(Value::Null) => Mode::Best,
-            Some(Value::String(s)) => Mode::parse(s).ok_or_else(|| {
+        let mode = match doc.contractor {
+            None => Mode::Best,
+            Some(s) => Mode::parse(&s).ok_or_else(|| {
                 InputError::new(
                     "contractor",
                     format!("unknown contractor \"{s}\" (expected nvalue, projection, independent, exact or best)"),
                 )
             })?,
-            Some(other) => {
-                return Err(InputError::new(
-                    "contractor",
-                    format!("expected a string, found {}", json::kind(other)),
-                ))
-            }
         };
         Ok(ContractRequest {
             n: n as usize,

@@ -307,30 +307,16 @@ pub fn atmost_nvector_with(
     contract(n, boxes, mode, true, limits)
 }
 
-/// [`atmost_nvector`], with the per-group atmost_nvalue passes allowed or
-/// not (tests check both give the same bits).
-fn contract(
-    n: usize,
-    boxes: &mut [IntervalBox],
-    mode: Mode,
-    by_group_passes: bool,
-    limits: &Limits,
-) -> Result<Outcome, ContractError> {
-    let k = boxes.len();
+/// The input checks of [`contract`]: an error for n = 0, boxes of
+/// dimension 0 or of different dimensions, `exact` past its box limit.
+fn check_input(n: usize, boxes: &[IntervalBox], mode: Mode) -> Result<(), ContractError> {
     if n == 0 {
         return Err(InputError::new("n", "n must be at least 1").into());
     }
-    if k == 0 {
-        return Ok(Outcome {
-            status: Status::Unchanged,
-            groups: Vec::new(),
-            min_distinct_lower: 0,
-            min_distinct_upper: 0,
-            rounds: 0,
-            stopped_early: false,
-        });
-    }
-    let dim = boxes[0].dim();
+    let Some(first) = boxes.first() else {
+        return Ok(());
+    };
+    let dim = first.dim();
     if dim == 0 {
         return Err(InputError::new("boxes[0]", "a box needs at least one axis").into());
     }
@@ -344,6 +330,7 @@ fn contract(
         )
         .into());
     }
+    let k = boxes.len();
     if mode == Mode::Exact && k > hitting_set::MAX_K {
         return Err(InputError::new(
             "boxes",
@@ -354,184 +341,342 @@ fn contract(
         )
         .into());
     }
+    Ok(())
+}
+
+/// [`atmost_nvector`], with the per-group atmost_nvalue passes allowed or
+/// not (tests check both give the same bits): the fixpoint of the axis
+/// passes and the witness pass ([`Run`]), then the exact stage.
+fn contract(
+    n: usize,
+    boxes: &mut [IntervalBox],
+    mode: Mode,
+    by_group_passes: bool,
+    limits: &Limits,
+) -> Result<Outcome, ContractError> {
+    check_input(n, boxes, mode)?;
+    if boxes.is_empty() {
+        return Ok(Outcome {
+            status: Status::Unchanged,
+            groups: Vec::new(),
+            min_distinct_lower: 0,
+            min_distinct_upper: 0,
+            rounds: 0,
+            stopped_early: false,
+        });
+    }
     if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
         return Ok(infeasible(boxes, format!("box {i} is empty"), 0, 0));
     }
-    // Whether a box moved (contractions are monotone: a box that moved
-    // differs from its input).
-    let mut contracted = false;
-    let mut groups = Groups::new(k);
-    let mut lower = 1usize;
-    let mut rounds = 0u32;
-    let mut nv = NValueScratch::default();
-    let mut ind = IndependentScratch::default();
-    let mut domains: Vec<Interval> = Vec::with_capacity(k);
-    let (mut roots, mut reps, mut rep_slot) = (Vec::new(), Vec::new(), Vec::new());
-    let mut sole = Vec::new();
-    let mut common: Vec<Interval> = Vec::with_capacity(k);
-    let whole_boxes = mode != Mode::Nvalue;
-    let with_witnesses = matches!(
-        mode,
-        Mode::Independent | Mode::Best | Mode::Shapes | Mode::Exact
-    );
-    // Axes whose bounds moved since their last atmost_nvalue pass (the pass
-    // is idempotent: bound consistency), and whether anything moved since
-    // the last witness pass.
-    let mut dirty = vec![true; dim];
-    let mut witness_dirty = true;
+    let mut run = Run::new(n, boxes, mode, by_group_passes);
     let mut stopped_early;
     loop {
-        rounds += 1;
-        for axis in 0..dim {
-            if !dirty[axis] {
-                continue;
-            }
-            dirty[axis] = false;
-            // The boxes of a group are equal (intersected) in the whole-box
-            // modes: atmost_nvalue over one representative per group gives
-            // the same minimum, kernels and pruning as over all of them
-            // (duplicates are stabbed by the same points and pruned alike),
-            // at the cost of the number of groups. Checked, not assumed.
-            domains.clear();
-            let by_group = by_group_passes && whole_boxes && groups.merged > 0 && {
-                groups.roots_into(&mut roots);
-                boxes
-                    .iter()
-                    .zip(&roots)
-                    .all(|(b, &r)| b[axis] == boxes[r as usize][axis])
-            };
-            if by_group {
-                reps.clear();
-                rep_slot.clear();
-                rep_slot.resize(k, u32::MAX);
-                for (i, &r) in roots.iter().enumerate() {
-                    if r == i as u32 {
-                        rep_slot[i] = reps.len() as u32;
-                        reps.push(r);
-                    }
-                }
-                domains.extend(reps.iter().map(|&r| boxes[r as usize][axis]));
-            } else {
-                domains.extend(boxes.iter().map(|b| b[axis]));
-            }
-            let mut grew = false;
-            let mut moved = false;
-            match nvalue::atmost_nvalue(n, &mut domains, &mut nv) {
-                NValue::Infeasible { m } => {
-                    let reason = format!("axis {axis} needs at least {m} distinct values, n = {n}");
-                    return Ok(infeasible(boxes, reason, m, rounds));
-                }
-                NValue::Slack { m } => lower = lower.max(m),
-                NValue::Kernels { changed } => {
-                    lower = lower.max(n);
-                    if changed {
-                        witness_dirty = true;
-                        moved = true;
-                        contracted = true;
-                        if by_group {
-                            for (b, &r) in boxes.iter_mut().zip(&roots) {
-                                b[axis] = domains[rep_slot[r as usize] as usize];
-                            }
-                        } else {
-                            for (b, &x) in boxes.iter_mut().zip(domains.iter()) {
-                                b[axis] = x;
-                            }
-                        }
-                    }
-                    // Boxes meeting one kernel on this axis share its value,
-                    // hence (m = n) the same vector.
-                    let mut first_of = vec![u32::MAX; nv.kernels.len()];
-                    for (i, &g) in nv.group_of.iter().enumerate() {
-                        if g == u32::MAX {
-                            continue;
-                        }
-                        let i = if by_group { reps[i] as usize } else { i };
-                        let f = &mut first_of[g as usize];
-                        if *f == u32::MAX {
-                            *f = i as u32;
-                        } else {
-                            grew |= groups.union(*f, i as u32);
-                        }
-                    }
-                }
-            }
-            // Members of a group are equal: intersect them on every axis
-            // when groups grew, else only on this axis when it moved (the
-            // other axes were intersected when the groups last changed), and
-            // not at all when the pass ran on one member per group.
-            let axes = if grew {
-                Some(None)
-            } else if moved && !by_group {
-                Some(Some(axis))
-            } else {
-                None
-            };
-            if let (true, Some(axes)) = (whole_boxes, axes) {
-                if intersect_groups(boxes, &mut groups, &mut common, &mut dirty, axes) {
-                    witness_dirty = true;
-                    contracted = true;
-                }
-            }
-            if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
-                let reason =
-                    format!("box {i} emptied on axis {axis}: its group has no common vector");
-                return Ok(infeasible(boxes, reason, lower, rounds));
+        run.rounds += 1;
+        for axis in 0..run.dim {
+            if let Some(out) = run.axis_pass(axis) {
+                return Ok(out);
             }
         }
-        if with_witnesses && witness_dirty {
-            witness_dirty = false;
-            let witnesses = independent::find_independent(n, boxes, &mut ind);
-            lower = lower.max(witnesses.len());
-            if witnesses.len() > n {
-                let list: Vec<String> = witnesses.iter().map(|w| w.to_string()).collect();
-                let reason = format!(
-                    "boxes {} are pairwise disjoint: at least {} distinct vectors, n = {n}",
-                    list.join(", "),
-                    witnesses.len()
-                );
-                return Ok(infeasible(boxes, reason, witnesses.len(), rounds));
-            }
-            if witnesses.len() == n {
-                let mut changed =
-                    independent::contract_with_witnesses(boxes, &witnesses, &mut sole);
-                for (i, &w) in sole.iter().enumerate() {
-                    if w != u32::MAX {
-                        groups.union(w, i as u32);
-                    }
-                }
-                if changed {
-                    dirty.iter_mut().for_each(|d| *d = true);
-                }
-                changed |= intersect_groups(boxes, &mut groups, &mut common, &mut dirty, None);
-                contracted |= changed;
-                witness_dirty = changed;
-                if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
-                    let reason = format!("box {i} meets no witness of the {n} distinct vectors");
-                    return Ok(infeasible(boxes, reason, lower, rounds));
-                }
+        if run.with_witnesses && run.witness_dirty {
+            if let Some(out) = run.witness_pass() {
+                return Ok(out);
             }
         }
-        let pending = dirty.iter().any(|&d| d) || (with_witnesses && witness_dirty);
-        if !pending || rounds >= limits.max_rounds {
+        let pending = run.dirty.iter().any(|&d| d) || (run.with_witnesses && run.witness_dirty);
+        if !pending || run.rounds >= limits.max_rounds {
             stopped_early = pending;
             break;
         }
     }
-    // One member per group when every group's boxes are equal (always
-    // after `projection`), else every box.
-    groups.roots_into(&mut roots);
-    let equal = boxes
-        .iter()
-        .zip(&roots)
-        .all(|(b, &r)| *b == boxes[r as usize]);
-    let members: Vec<u32> = if equal {
-        (0..k as u32).filter(|&i| roots[i as usize] == i).collect()
-    } else {
-        (0..k as u32).collect()
-    };
-    let mut upper = greedy_hitting_set(boxes, &members).max(lower);
+    let mut upper = run.hitting_set_upper().max(run.lower);
     if mode == Mode::Exact {
-        let snapshot = boxes.to_vec();
+        if let Some(out) = run.exact(limits, &mut upper)? {
+            return Ok(out);
+        }
+        // Exact bound consistency: no round left could contract further.
+        stopped_early = false;
+    }
+    let status = if run.contracted {
+        Status::Contracted
+    } else {
+        Status::Unchanged
+    };
+    Ok(Outcome {
+        status,
+        groups: run.groups.partition(),
+        min_distinct_lower: run.lower.min(upper),
+        min_distinct_upper: upper,
+        rounds: run.rounds,
+        stopped_early,
+    })
+}
+
+/// The state of one contraction's fixpoint: the boxes, the groups proved
+/// equal, the bounds on the minimum number of distinct vectors, which axes
+/// and whether the witness pass have work pending, and the scratch space
+/// the passes reuse.
+struct Run<'a> {
+    n: usize,
+    boxes: &'a mut [IntervalBox],
+    k: usize,
+    dim: usize,
+    by_group_passes: bool,
+    /// Not `nvalue`: groups are intersected as whole boxes.
+    whole_boxes: bool,
+    /// `independent`, `best`, `shapes`, `exact`: the witness pass runs.
+    with_witnesses: bool,
+    /// Whether a box moved (contractions are monotone: a box that moved
+    /// differs from its input).
+    contracted: bool,
+    groups: Groups,
+    lower: usize,
+    rounds: u32,
+    /// Axes whose bounds moved since their last atmost_nvalue pass (the
+    /// pass is idempotent: bound consistency).
+    dirty: Vec<bool>,
+    /// Whether anything moved since the last witness pass.
+    witness_dirty: bool,
+    nv: NValueScratch,
+    ind: IndependentScratch,
+    domains: Vec<Interval>,
+    roots: Vec<u32>,
+    reps: Vec<u32>,
+    rep_slot: Vec<u32>,
+    sole: Vec<u32>,
+    common: Vec<Interval>,
+}
+
+impl<'a> Run<'a> {
+    fn new(n: usize, boxes: &'a mut [IntervalBox], mode: Mode, by_group_passes: bool) -> Run<'a> {
+        let k = boxes.len();
+        let dim = boxes[0].dim();
+        Run {
+            n,
+            k,
+            dim,
+            boxes,
+            by_group_passes,
+            whole_boxes: mode != Mode::Nvalue,
+            with_witnesses: matches!(
+                mode,
+                Mode::Independent | Mode::Best | Mode::Shapes | Mode::Exact
+            ),
+            contracted: false,
+            groups: Groups::new(k),
+            lower: 1,
+            rounds: 0,
+            dirty: vec![true; dim],
+            witness_dirty: true,
+            nv: NValueScratch::default(),
+            ind: IndependentScratch::default(),
+            domains: Vec::with_capacity(k),
+            roots: Vec::new(),
+            reps: Vec::new(),
+            rep_slot: Vec::new(),
+            sole: Vec::new(),
+            common: Vec::with_capacity(k),
+        }
+    }
+
+    /// The boxes emptied, with `reason`: the infeasible outcome.
+    fn infeasible(&mut self, reason: String, lower: usize) -> Outcome {
+        infeasible(self.boxes, reason, lower, self.rounds)
+    }
+
+    /// Fills `domains` with the boxes' intervals on `axis`: one per group
+    /// when the pass may run on one member per group (returns true), else
+    /// one per box.
+    fn fill_domains(&mut self, axis: usize) -> bool {
+        let k = self.k;
+        // The boxes of a group are equal (intersected) in the whole-box
+        // modes: atmost_nvalue over one representative per group gives
+        // the same minimum, kernels and pruning as over all of them
+        // (duplicates are stabbed by the same points and pruned alike),
+        // at the cost of the number of groups. Checked, not assumed.
+        self.domains.clear();
+        let by_group = self.by_group_passes && self.whole_boxes && self.groups.merged > 0 && {
+            self.groups.roots_into(&mut self.roots);
+            let boxes = &*self.boxes;
+            boxes
+                .iter()
+                .zip(&self.roots)
+                .all(|(b, &r)| b[axis] == boxes[r as usize][axis])
+        };
+        if by_group {
+            self.reps.clear();
+            self.rep_slot.clear();
+            self.rep_slot.resize(k, u32::MAX);
+            for (i, &r) in self.roots.iter().enumerate() {
+                if r == i as u32 {
+                    self.rep_slot[i] = self.reps.len() as u32;
+                    self.reps.push(r);
+                }
+            }
+            let boxes = &*self.boxes;
+            self.domains
+                .extend(self.reps.iter().map(|&r| boxes[r as usize][axis]));
+        } else {
+            self.domains.extend(self.boxes.iter().map(|b| b[axis]));
+        }
+        by_group
+    }
+
+    /// The atmost_nvalue pass on `axis` when its bounds moved since the
+    /// last one; then the groups intersected. `Some` when infeasible.
+    fn axis_pass(&mut self, axis: usize) -> Option<Outcome> {
+        if !self.dirty[axis] {
+            return None;
+        }
+        self.dirty[axis] = false;
+        let n = self.n;
+        let by_group = self.fill_domains(axis);
+        let mut grew = false;
+        let mut moved = false;
+        match nvalue::atmost_nvalue(n, &mut self.domains, &mut self.nv) {
+            NValue::Infeasible { m } => {
+                let reason = format!("axis {axis} needs at least {m} distinct values, n = {n}");
+                return Some(self.infeasible(reason, m));
+            }
+            NValue::Slack { m } => self.lower = self.lower.max(m),
+            NValue::Kernels { changed } => {
+                self.lower = self.lower.max(n);
+                if changed {
+                    self.witness_dirty = true;
+                    moved = true;
+                    self.contracted = true;
+                    if by_group {
+                        for (b, &r) in self.boxes.iter_mut().zip(&self.roots) {
+                            b[axis] = self.domains[self.rep_slot[r as usize] as usize];
+                        }
+                    } else {
+                        for (b, &x) in self.boxes.iter_mut().zip(self.domains.iter()) {
+                            b[axis] = x;
+                        }
+                    }
+                }
+                // Boxes meeting one kernel on this axis share its value,
+                // hence (m = n) the same vector.
+                let mut first_of = vec![u32::MAX; self.nv.kernels.len()];
+                for (i, &g) in self.nv.group_of.iter().enumerate() {
+                    if g == u32::MAX {
+                        continue;
+                    }
+                    let i = if by_group { self.reps[i] as usize } else { i };
+                    let f = &mut first_of[g as usize];
+                    if *f == u32::MAX {
+                        *f = i as u32;
+                    } else {
+                        grew |= self.groups.union(*f, i as u32);
+                    }
+                }
+            }
+        }
+        // Members of a group are equal: intersect them on every axis
+        // when groups grew, else only on this axis when it moved (the
+        // other axes were intersected when the groups last changed), and
+        // not at all when the pass ran on one member per group.
+        let axes = if grew {
+            Some(None)
+        } else if moved && !by_group {
+            Some(Some(axis))
+        } else {
+            None
+        };
+        if let (true, Some(axes)) = (self.whole_boxes, axes) {
+            if intersect_groups(
+                self.boxes,
+                &mut self.groups,
+                &mut self.common,
+                &mut self.dirty,
+                axes,
+            ) {
+                self.witness_dirty = true;
+                self.contracted = true;
+            }
+        }
+        if let Some(i) = self.boxes.iter().position(|b| b.is_empty()) {
+            let reason = format!("box {i} emptied on axis {axis}: its group has no common vector");
+            return Some(self.infeasible(reason, self.lower));
+        }
+        None
+    }
+
+    /// The witness pass: pairwise disjoint boxes are distinct vectors;
+    /// with n of them, every box takes a witness's vector. `Some` when
+    /// infeasible.
+    fn witness_pass(&mut self) -> Option<Outcome> {
+        let n = self.n;
+        self.witness_dirty = false;
+        let witnesses = independent::find_independent(n, self.boxes, &mut self.ind);
+        self.lower = self.lower.max(witnesses.len());
+        if witnesses.len() > n {
+            let list: Vec<String> = witnesses.iter().map(|w| w.to_string()).collect();
+            let reason = format!(
+                "boxes {} are pairwise disjoint: at least {} distinct vectors, n = {n}",
+                list.join(", "),
+                witnesses.len()
+            );
+            return Some(self.infeasible(reason, witnesses.len()));
+        }
+        if witnesses.len() == n {
+            let mut changed =
+                independent::contract_with_witnesses(self.boxes, &witnesses, &mut self.sole);
+            for (i, &w) in self.sole.iter().enumerate() {
+                if w != u32::MAX {
+                    self.groups.union(w, i as u32);
+                }
+            }
+            if changed {
+                self.dirty.iter_mut().for_each(|d| *d = true);
+            }
+            changed |= intersect_groups(
+                self.boxes,
+                &mut self.groups,
+                &mut self.common,
+                &mut self.dirty,
+                None,
+            );
+            self.contracted |= changed;
+            self.witness_dirty = changed;
+            if let Some(i) = self.boxes.iter().position(|b| b.is_empty()) {
+                let reason = format!("box {i} meets no witness of the {n} distinct vectors");
+                return Some(self.infeasible(reason, self.lower));
+            }
+        }
+        None
+    }
+
+    /// The size of a hitting set found greedily: over one member per group
+    /// when every group's boxes are equal (always after `projection`),
+    /// else over every box.
+    fn hitting_set_upper(&mut self) -> usize {
+        self.groups.roots_into(&mut self.roots);
+        let boxes = &*self.boxes;
+        let equal = boxes
+            .iter()
+            .zip(&self.roots)
+            .all(|(b, &r)| *b == boxes[r as usize]);
+        let roots = &self.roots;
+        let members: Vec<u32> = if equal {
+            (0..self.k as u32)
+                .filter(|&i| roots[i as usize] == i)
+                .collect()
+        } else {
+            (0..self.k as u32).collect()
+        };
+        greedy_hitting_set(boxes, &members)
+    }
+
+    /// The exact stage: the minimum hitting set and bound consistency,
+    /// within `limits` (out of them, an error and no box changed). Sets
+    /// both bounds to the minimum; `Some` when infeasible.
+    fn exact(
+        &mut self,
+        limits: &Limits,
+        upper: &mut usize,
+    ) -> Result<Option<Outcome>, ContractError> {
+        let (n, k) = (self.n, self.k);
+        let snapshot = self.boxes.to_vec();
         let mut hs = hitting_set::HittingSet::with_limits(&snapshot, limits)?;
         let all = hs.all();
         let m = hs.min_cover(all)?;
@@ -539,40 +684,22 @@ fn contract(
             let reason = format!(
                 "the boxes need at least {m} distinct vectors (minimum hitting set), n = {n}"
             );
-            return Ok(infeasible(boxes, reason, m, rounds));
+            return Ok(Some(self.infeasible(reason, m)));
         }
-        lower = m;
-        upper = m;
+        self.lower = m;
+        *upper = m;
         // All bounds first: out of budget midway, no box has changed.
         let exact: Vec<IntervalBox> = (0..k)
             .map(|i| hs.consistent_box(n, i))
             .collect::<Result<_, _>>()?;
-        boxes.clone_from_slice(&exact);
-        // Exact bound consistency: no round left could contract further.
-        stopped_early = false;
-        contracted |= boxes.iter().zip(&snapshot).any(|(a, b)| a != b);
-        if let Some(i) = boxes.iter().position(|b| b.is_empty()) {
-            return Ok(infeasible(
-                boxes,
-                format!("box {i} has no consistent value"),
-                lower,
-                rounds,
-            ));
+        self.boxes.clone_from_slice(&exact);
+        self.contracted |= self.boxes.iter().zip(&snapshot).any(|(a, b)| a != b);
+        if let Some(i) = self.boxes.iter().position(|b| b.is_empty()) {
+            let reason = format!("box {i} has no consistent value");
+            return Ok(Some(self.infeasible(reason, self.lower)));
         }
+        Ok(None)
     }
-    let status = if contracted {
-        Status::Contracted
-    } else {
-        Status::Unchanged
-    };
-    Ok(Outcome {
-        status,
-        groups: groups.partition(),
-        min_distinct_lower: lower.min(upper),
-        min_distinct_upper: upper,
-        rounds,
-        stopped_early,
-    })
 }
 
 #[cfg(test)]

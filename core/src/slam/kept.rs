@@ -228,6 +228,7 @@ fn stripped(mission: &Mission, sure: &[bool]) -> Mission {
                     region: None,
                     depth: None,
                     landmark: None,
+                    scan: None,
                 }
             }
         })
@@ -248,6 +249,11 @@ fn stripped(mission: &Mission, sure: &[bool]) -> Mission {
         max_outliers: 0,
         meta: Value::Null,
         truth: None,
+        initial_heading: mission.initial_heading,
+        final_heading: mission.final_heading,
+        heading_error: mission.heading_error.clone(),
+        sensor_offset: mission.sensor_offset,
+        landmark_min_separation: mission.landmark_min_separation,
     }
 }
 

@@ -3,13 +3,14 @@
 //! path of the bad value.
 
 use crate::error::InputError;
+use crate::format::leaf::{wrong_count, Finite, Numbers, PointsIn};
+use crate::format::mission::{ChannelDoc, DetectionDoc, MissionDoc, TruthDoc};
+use crate::format::{self, leaf::List};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
-use crate::json::{self, field_path, index_path, Lean, Numbers, Rows, Shape};
-use serde::de::{Deserialize, IgnoredAny, MapAccess};
+use crate::json;
 use serde::{Serialize, Serializer};
 use serde_json::{Map, Value};
-use std::collections::{BTreeMap, BTreeSet};
 
 /// Format tag of a mission.
 pub const FORMAT: &str = "nvector-mission/1";
@@ -23,13 +24,16 @@ pub enum Model {
     Unicycle2d,
     /// 3-D AUV: inputs roll, pitch, yaw, vx, vy, vz (body frame).
     Auv3d,
+    /// Planar robot whose heading is integrated from its odometry: inputs
+    /// speed, turn_rate; the heading is a state (spec/formats.md).
+    Odometry2d,
 }
 
 impl Model {
     /// Dimension of a position.
     pub fn dim(self) -> usize {
         match self {
-            Model::Unicycle2d => 2,
+            Model::Unicycle2d | Model::Odometry2d => 2,
             Model::Auv3d => 3,
         }
     }
@@ -39,6 +43,7 @@ impl Model {
         match self {
             Model::Unicycle2d => "unicycle2d",
             Model::Auv3d => "auv3d",
+            Model::Odometry2d => "odometry2d",
         }
     }
 
@@ -47,6 +52,7 @@ impl Model {
         match self {
             Model::Unicycle2d => &["speed", "heading"],
             Model::Auv3d => &["roll", "pitch", "yaw", "vx", "vy", "vz"],
+            Model::Odometry2d => &["speed", "turn_rate"],
         }
     }
 }
@@ -66,6 +72,10 @@ pub struct Detection {
     pub depth: Option<Interval>,
     /// Operator's matching: the landmark id.
     pub landmark: Option<usize>,
+    /// The sensor scan the detection came from: detections of one scan see
+    /// pairwise distinct landmarks (evidence the solver may use; any u64,
+    /// sizing nothing).
+    pub scan: Option<u64>,
 }
 
 /// Points of one dimension, stored flat (`points[i]` is the i-th point as
@@ -132,6 +142,12 @@ pub struct Truth {
     /// For each detection, the true landmark index; `None` (JSON `null`)
     /// for a false detection (no landmark there).
     pub matching: Vec<Option<usize>>,
+    /// Which entries of `positions` are known (`None`: all of them); an
+    /// unknown one (JSON `null`, a motion-capture gap) holds zeros in
+    /// `positions` and is not scored.
+    pub positions_known: Option<Vec<bool>>,
+    /// odometry2d: N+1 true headings, `None` where unknown.
+    pub headings: Option<Vec<Option<f64>>>,
 }
 
 /// A validated mission.
@@ -172,111 +188,78 @@ pub struct Mission {
     pub meta: Value,
     /// Ground truth (scoring and drawing only).
     pub truth: Option<Truth>,
+    /// odometry2d: interval of the heading th(0) (required there, refused
+    /// for the other models).
+    pub initial_heading: Option<Interval>,
+    /// odometry2d: interval of th(N), when known.
+    pub final_heading: Option<Interval>,
+    /// odometry2d: per-step heading integration error bound (N entries;
+    /// empty for the other models).
+    pub heading_error: Vec<f64>,
+    /// Where the sensor sits in the body frame, metres forward and left of
+    /// p (2-D models; `None` is `[0, 0]`).
+    pub sensor_offset: Option<[f64; 2]>,
+    /// Distinct landmarks are at least this far apart (metres, >= 0,
+    /// default 0: no constraint).
+    pub landmark_min_separation: f64,
 }
 
 fn err(path: impl Into<String>, msg: impl Into<String>) -> InputError {
     InputError::new(path, msg)
 }
 
-fn optional<'a>(obj: &'a Map<String, Value>, field: &str) -> Option<&'a Value> {
-    obj.get(field).filter(|v| !v.is_null())
+/// `path` + `.field` (or `field` at the root).
+fn field_path(path: &str, field: &str) -> String {
+    json::field_path(path, field)
 }
 
-/// The error of [`json::object`] for a value that is not an object.
-fn not_object(v: &Value, path: &str) -> InputError {
-    err(path, format!("expected an object, found {}", json::kind(v)))
+fn missing(path: impl Into<String>) -> InputError {
+    err(path, "missing required field")
 }
 
-/// Field `field` of `obj`, taken out, or the error of [`json::required`].
-fn take<T>(obj: &mut BTreeMap<String, T>, field: &str, path: &str) -> Result<T, InputError> {
-    obj.remove(field)
-        .ok_or_else(|| err(field_path(path, field), "missing required field"))
-}
-
-fn wrong_count(path: &str, n: usize, found: usize) -> InputError {
-    err(
-        path,
-        format!("expected {n} values (one per step), found {found}"),
-    )
-}
-
-/// A number or an array of `n` numbers, each >= 0.
-fn per_step(v: Lean<Numbers>, path: &str, n: usize, what: &str) -> Result<Vec<f64>, InputError> {
-    match v {
-        Lean::Parsed(Numbers(a)) => {
-            if a.len() != n {
-                return Err(wrong_count(path, n, a.len()));
-            }
-            if let Some(i) = a.iter().position(|&x| x < 0.0) {
-                let x = a[i];
-                return Err(err(
-                    index_path(path, i),
-                    format!("{what} must be >= 0, found {x}"),
-                ));
-            }
-            Ok(a)
-        }
-        Lean::Other(v) => per_step_json(&v, path, n, what),
-    }
-}
-
-/// [`per_step`] of a JSON value.
-fn per_step_json(v: &Value, path: &str, n: usize, what: &str) -> Result<Vec<f64>, InputError> {
-    let check = |x: f64, p: &str| {
-        if x < 0.0 {
-            Err(err(p, format!("{what} must be >= 0, found {x}")))
-        } else {
-            Ok(x)
-        }
-    };
-    match v {
-        Value::Array(a) => {
-            if a.len() != n {
-                return Err(wrong_count(path, n, a.len()));
-            }
-            a.iter()
-                .enumerate()
-                .map(|(i, x)| {
-                    let p = index_path(path, i);
-                    check(json::number(x, &p)?, &p)
-                })
-                .collect()
-        }
-        _ => Ok(vec![check(json::number(v, path)?, path)?; n]),
-    }
+/// The required field `field` of the object at `path`.
+fn need<T>(v: Option<T>, path: &str, field: &str) -> Result<T, InputError> {
+    v.ok_or_else(|| missing(field_path(path, field)))
 }
 
 /// An array of `n` numbers.
-fn numbers(v: Lean<Numbers>, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
-    let v = match v {
-        Lean::Parsed(Numbers(a)) if a.len() == n => return Ok(a),
-        Lean::Parsed(Numbers(a)) => return Err(wrong_count(path, n, a.len())),
-        Lean::Other(v) => v,
-    };
-    let a = json::array(&v, path)?;
-    if a.len() != n {
-        return Err(wrong_count(path, n, a.len()));
+fn numbers(v: Numbers, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
+    if v.0.len() != n {
+        return Err(wrong_count(path, n, v.0.len()));
     }
-    a.iter()
-        .enumerate()
-        .map(|(i, x)| json::number(x, &index_path(path, i)))
-        .collect()
+    Ok(v.0)
 }
 
-fn parse_channel(v: Lean<Channel>, path: &str, n: usize) -> Result<Vec<Interval>, InputError> {
-    let mut obj = match v {
-        Lean::Parsed(Channel(obj)) => obj,
-        Lean::Other(v) => return Err(not_object(&v, path)),
-    };
-    if obj.contains_key("value") {
-        json::check_keys(obj.keys(), &["value", "error"], path)?;
-        let values = numbers(
-            take(&mut obj, "value", path)?,
-            &field_path(path, "value"),
-            n,
-        )?;
-        let error = per_step(
-            take(&mut obj, "error", path)?,
+/// The fields of `names` present (`true`) that are not in `allowed`: the
+/// first as an "unknown field" error at `path`.
+fn only(names: &[(&str, bool)], allowed: &[&str], path: &str) -> Result<(), InputError> {
+    match names
+        .iter()
+        .find(|(n, present)| *present && !allowed.contains(n))
+    {
+        Some((n, _)) => Err(err(
+            field_path(path, n),
+            format!(
+                "unknown field `{n}` (expected one of: {})",
+                allowed.join(", ")
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// One input channel: N intervals.
+fn channel(c: ChannelDoc, path: &str, n: usize) -> Result<Vec<Interval>, InputError> {
+    let fields = [
+        ("value", c.value.is_some()),
+        ("error", c.error.is_some()),
+        ("lo", c.lo.is_some()),
+        ("hi", c.hi.is_some()),
+    ];
+    if let Some(value) = c.value {
+        only(&fields, &["value", "error"], path)?;
+        let values = numbers(value, &field_path(path, "value"), n)?;
+        let error = need(c.error, path, "error")?.non_negative(
             &field_path(path, "error"),
             n,
             "an error bound",
@@ -286,17 +269,18 @@ fn parse_channel(v: Lean<Channel>, path: &str, n: usize) -> Result<Vec<Interval>
             .zip(&error)
             .map(|(&x, &e)| Interval::centered(x, e))
             .collect())
-    } else if obj.contains_key("lo") || obj.contains_key("hi") {
-        json::check_keys(obj.keys(), &["lo", "hi"], path)?;
-        let lo = numbers(take(&mut obj, "lo", path)?, &field_path(path, "lo"), n)?;
-        let hi = numbers(take(&mut obj, "hi", path)?, &field_path(path, "hi"), n)?;
+    } else if c.lo.is_some() || c.hi.is_some() {
+        only(&fields, &["lo", "hi"], path)?;
+        let lo_path = field_path(path, "lo");
+        let lo = numbers(need(c.lo, path, "lo")?, &lo_path, n)?;
+        let hi = numbers(need(c.hi, path, "hi")?, &field_path(path, "hi"), n)?;
         lo.iter()
             .zip(&hi)
             .enumerate()
             .map(|(i, (&l, &h))| {
                 if l > h {
                     Err(err(
-                        index_path(&field_path(path, "lo"), i),
+                        format!("{lo_path}[{i}]"),
                         format!("lower bound {l} is above upper bound {h}"),
                     ))
                 } else {
@@ -309,359 +293,311 @@ fn parse_channel(v: Lean<Channel>, path: &str, n: usize) -> Result<Vec<Interval>
     }
 }
 
-/// An array of points of dimension `dim`.
-fn points(v: Lean<Rows>, path: &str, dim: usize) -> Result<Points, InputError> {
-    let wrong_dim = |i: usize, found: usize| {
+/// Points of dimension `dim` (`null` entries are unknown points: zeros,
+/// and `false` in the mask returned when there is one, or refused when
+/// `nulls_allowed` is false).
+fn points(
+    p: PointsIn,
+    path: &str,
+    dim: usize,
+    nulls_allowed: bool,
+) -> Result<(Points, Option<Vec<bool>>), InputError> {
+    let wrong = |i: usize, len: usize| {
         err(
-            index_path(path, i),
-            format!("expected a point of dimension {dim}, found {found} coordinates"),
+            format!("{path}[{i}]"),
+            format!("expected a point of dimension {dim}, found {len} coordinates"),
         )
     };
-    let v = match v {
-        Lean::Parsed(rows) if rows.count > 0 && rows.width != dim => {
-            return Err(wrong_dim(0, rows.width))
+    let first_null = p.nulls.first().copied();
+    match (p.mismatch, first_null) {
+        (Some((i, _)), Some(j)) if !nulls_allowed && j < i => {
+            return Err(err(format!("{path}[{j}]"), "expected an array, found null"))
         }
-        Lean::Parsed(rows) => return Ok(Points::new(dim, rows.flat)),
-        Lean::Other(v) => v,
-    };
-    let a = json::array(&v, path)?;
-    let mut flat = Vec::with_capacity(a.len() * dim);
-    for (i, p) in a.iter().enumerate() {
-        let pp = index_path(path, i);
-        let c = json::array(p, &pp)?;
-        if c.len() != dim {
-            return Err(wrong_dim(i, c.len()));
+        (Some((i, len)), _) if p.width == dim => return Err(wrong(i, len)),
+        (None, Some(j)) if !nulls_allowed => {
+            return Err(err(format!("{path}[{j}]"), "expected an array, found null"))
         }
-        for (j, x) in c.iter().enumerate() {
-            flat.push(json::number(x, &index_path(&pp, j))?);
+        _ => {}
+    }
+    if p.count > p.nulls.len() && p.width != dim {
+        // The first point given has the wrong length.
+        let i = (0..p.count)
+            .find(|i| p.nulls.binary_search(i).is_err())
+            .unwrap_or(0);
+        return Err(wrong(i, p.width));
+    }
+    if p.nulls.is_empty() {
+        return Ok((Points::new(dim, p.flat), None));
+    }
+    let mut known = vec![true; p.count];
+    for &j in &p.nulls {
+        known[j] = false;
+    }
+    let mut flat = Vec::with_capacity(p.count * dim);
+    let mut given = p.flat.chunks_exact(dim);
+    for &k in &known {
+        let point = if k { given.next() } else { None };
+        match point {
+            Some(point) => flat.extend_from_slice(point),
+            None => flat.extend(std::iter::repeat_n(0.0, dim)),
         }
     }
-    Ok(Points::new(dim, flat))
+    Ok((Points::new(dim, flat), Some(known)))
 }
 
-/// An input channel's object: its fields, the arrays packed.
-struct Channel(BTreeMap<String, Lean<Numbers>>);
-
-/// The `inputs` object: its channels.
-struct Inputs(BTreeMap<String, Lean<Channel>>);
-
-/// The `truth` object: its keys, and the fields it should have.
-#[derive(Default)]
-struct TruthFields {
-    keys: BTreeSet<String>,
-    positions: Option<Lean<Rows>>,
-    landmarks: Option<Lean<Rows>>,
-    matching: Option<Value>,
+/// The headings of odometry2d, refused for the other models.
+struct Headings {
+    initial: Option<Interval>,
+    last: Option<Interval>,
+    error: Vec<f64>,
 }
 
-/// A mission document before validation: the large arrays (input
-/// channels, motion errors, true positions) parsed straight into floats,
-/// everything else as JSON.
-#[derive(Default)]
-struct Document {
-    fields: Map<String, Value>,
-    inputs: Option<Lean<Inputs>>,
-    motion_error: Option<Lean<Numbers>>,
-    truth: Option<Lean<TruthFields>>,
-}
-
-/// Reads an object's entries with `entry(map, key)` reading each value.
-fn entries<'de, A: MapAccess<'de>>(
-    mut map: A,
-    mut entry: impl FnMut(&mut A, String) -> Result<(), A::Error>,
-) -> Result<(), A::Error> {
-    while let Some(key) = map.next_key::<String>()? {
-        entry(&mut map, key)?;
-    }
-    Ok(())
-}
-
-/// Every entry of an object, by key.
-fn keyed<'de, A: MapAccess<'de>, V: Deserialize<'de>>(
-    map: A,
-) -> Result<BTreeMap<String, V>, A::Error> {
-    let mut out = BTreeMap::new();
-    entries(map, |m, k| {
-        out.insert(k, m.next_value()?);
-        Ok(())
-    })?;
-    Ok(out)
-}
-
-impl Shape for Channel {
-    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
-        Ok(Lean::Parsed(Channel(keyed(map)?)))
-    }
-}
-
-impl Shape for Inputs {
-    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
-        Ok(Lean::Parsed(Inputs(keyed(map)?)))
-    }
-}
-
-impl Shape for TruthFields {
-    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
-        let mut t = TruthFields::default();
-        entries(map, |m, k| {
-            match k.as_str() {
-                "positions" => t.positions = Some(m.next_value()?),
-                "landmarks" => t.landmarks = Some(m.next_value()?),
-                "matching" => t.matching = Some(m.next_value()?),
-                _ => {
-                    m.next_value::<IgnoredAny>()?;
-                }
-            }
-            t.keys.insert(k);
-            Ok(())
-        })?;
-        Ok(Lean::Parsed(t))
-    }
-}
-
-impl Shape for Document {
-    fn from_map<'de, A: MapAccess<'de>>(map: A) -> Result<Lean<Self>, A::Error> {
-        let mut d = Document::default();
-        entries(map, |m, k| {
-            match k.as_str() {
-                "inputs" => d.inputs = Some(m.next_value()?),
-                "motion_error" => d.motion_error = Some(m.next_value()?),
-                "truth" => d.truth = Some(m.next_value()?),
-                _ => {
-                    let v = m.next_value()?;
-                    d.fields.insert(k, v);
-                }
-            }
-            Ok(())
-        })?;
-        Ok(Lean::Parsed(d))
-    }
-}
-
-impl Document {
-    /// Every top-level key, sorted (as a JSON object's keys iterate).
-    fn keys(&self) -> Vec<String> {
-        let mut keys: Vec<String> = self.fields.keys().cloned().collect();
-        for (k, present) in [
-            ("inputs", self.inputs.is_some()),
-            ("motion_error", self.motion_error.is_some()),
-            ("truth", self.truth.is_some()),
+fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings, InputError> {
+    if model != Model::Odometry2d {
+        for (field, present) in [
+            ("initial_heading", doc.initial_heading.is_some()),
+            ("final_heading", doc.final_heading.is_some()),
+            ("heading_error", doc.heading_error.is_some()),
         ] {
             if present {
-                keys.push(k.to_string());
+                return Err(err(
+                    field,
+                    format!("{field} is only for odometry2d missions"),
+                ));
             }
         }
-        keys.sort_unstable();
-        keys
+        return Ok(Headings {
+            initial: None,
+            last: None,
+            error: Vec::new(),
+        });
     }
+    Ok(Headings {
+        initial: Some(need(doc.initial_heading.take(), "", "initial_heading")?.0),
+        last: doc.final_heading.take().map(|x| x.0),
+        error: match doc.heading_error.take() {
+            None => vec![0.0; steps],
+            Some(e) => e.non_negative("heading_error", steps, "the heading error")?,
+        },
+    })
 }
 
-/// A value that is absent or `null`: `None`.
-fn present<T>(v: Option<Lean<T>>) -> Option<Lean<T>> {
-    v.filter(|v| !matches!(v, Lean::Other(Value::Null)))
+/// One detection, validated.
+fn detection(
+    d: DetectionDoc,
+    path: &str,
+    model: Model,
+    steps: usize,
+    landmark_count: Option<usize>,
+) -> Result<Detection, InputError> {
+    let dim = model.dim();
+    let step_path = field_path(path, "step");
+    let step = need(d.step, path, "step")?.at_most(u64::MAX, &step_path)?;
+    if step > steps as u64 {
+        return Err(err(
+            step_path,
+            format!("step {step} is out of range 0..={steps}"),
+        ));
+    }
+    let range = need(d.range, path, "range")?.0;
+    if range.lo() < 0.0 {
+        return Err(err(
+            field_path(path, "range"),
+            format!("negative range: lower bound {} is below 0", range.lo()),
+        ));
+    }
+    let region = d
+        .region
+        .map(|b| b.dim(&field_path(path, "region"), Some(dim)))
+        .transpose()?;
+    if d.depth.is_some() && model != Model::Auv3d {
+        return Err(err(
+            field_path(path, "depth"),
+            "depth is only for auv3d missions",
+        ));
+    }
+    let landmark = match d.landmark {
+        None => None,
+        Some(v) => {
+            let lp = field_path(path, "landmark");
+            let id = v.at_most(u32::MAX as u64, &lp)? as usize;
+            if let Some(n) = landmark_count {
+                if id >= n {
+                    return Err(err(
+                        lp,
+                        format!("landmark {id} is not below landmark_count {n}"),
+                    ));
+                }
+            }
+            Some(id)
+        }
+    };
+    let scan = d
+        .scan
+        .map(|s| s.at_most(u64::MAX, &field_path(path, "scan")))
+        .transpose()?;
+    Ok(Detection {
+        step: step as usize,
+        range,
+        bearing: d.bearing.map(|x| x.0),
+        region,
+        depth: d.depth.map(|x| x.0),
+        landmark,
+        scan,
+    })
+}
+
+/// The sensor offset: 2 numbers, 2-D models only.
+fn sensor_offset(v: Option<List<Finite>>, model: Model) -> Result<Option<[f64; 2]>, InputError> {
+    let Some(List(v)) = v else { return Ok(None) };
+    if model.dim() != 2 {
+        return Err(err(
+            "sensor_offset",
+            "sensor_offset is only for the 2-D models (unicycle2d, odometry2d)",
+        ));
+    }
+    match v[..] {
+        [Finite(x), Finite(y)] => Ok(Some([x, y])),
+        _ => Err(err(
+            "sensor_offset",
+            format!("expected 2 numbers [forward, left], found {}", v.len()),
+        )),
+    }
 }
 
 impl Mission {
     /// Parses JSON text straight into typed data (the large arrays never
-    /// become JSON values); errors and checks are those of
-    /// [`Mission::from_value`].
+    /// become JSON values) and validates it; errors name the JSON path.
     pub fn from_json(text: &str) -> Result<Mission, InputError> {
-        let doc: Lean<Document> =
-            serde_json::from_str(text).map_err(|e| err("", format!("invalid JSON: {e}")))?;
-        Mission::from_document(doc)
+        Mission::from_doc(format::from_str(text)?)
     }
 
-    /// Parses and validates a mission; errors name the JSON path.
+    /// Parses and validates a mission; errors name the JSON path (the same
+    /// as [`Mission::from_json`] of its text).
     pub fn from_value(v: &Value) -> Result<Mission, InputError> {
-        let doc =
-            Lean::<Document>::deserialize(v).map_err(|e| err("", format!("invalid JSON: {e}")))?;
-        Mission::from_document(doc)
+        Mission::from_doc(format::from_value(v)?)
     }
 
-    /// Validates a parsed document: every check of the format, in one
-    /// order, whichever way it was parsed.
-    fn from_document(doc: Lean<Document>) -> Result<Mission, InputError> {
-        let mut doc = match doc {
-            Lean::Parsed(d) => d,
-            Lean::Other(v) => return Err(not_object(&v, "")),
-        };
-        json::check_keys(
-            &doc.keys(),
-            &[
-                "format",
-                "name",
+    /// The first field this release's solver cannot use soundly, as an
+    /// error naming it ("not yet supported"): the front ends that solve
+    /// (`run`, jobs, the page, Python) refuse such a mission rather than
+    /// give a wrong answer. Parsing and validation accept them.
+    pub fn unsupported(&self) -> Result<(), InputError> {
+        if self.model == Model::Odometry2d {
+            return Err(err(
                 "model",
-                "dt",
-                "steps",
-                "initial_position",
-                "final_position",
-                "inputs",
-                "motion_error",
-                "detections",
-                "landmark_count",
-                "landmark_region",
-                "max_outliers",
-                "meta",
-                "truth",
-            ],
-            "",
-        )?;
-        let obj = &doc.fields;
-        let format = json::required(obj, "format", "")?;
+                "the odometry2d model is not yet supported by the solver",
+            ));
+        }
+        if self.sensor_offset.is_some_and(|o| o != [0.0, 0.0]) {
+            return Err(err(
+                "sensor_offset",
+                "sensor_offset is not yet supported by the solver",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Validates a parsed document into a mission: every check that
+    /// depends on other fields (the model's dimension and channels, N,
+    /// landmark_count), in one order.
+    pub fn from_doc(mut doc: MissionDoc) -> Result<Mission, InputError> {
+        let format = need(doc.format.take(), "", "format")?;
         if format.as_str() != Some(FORMAT) {
             return Err(err(
                 "format",
                 format!("expected \"{FORMAT}\", found {format}"),
             ));
         }
-        let name = match optional(obj, "name") {
-            None => "mission".to_string(),
-            Some(Value::String(s)) => s.clone(),
-            Some(o) => {
-                return Err(err(
-                    "name",
-                    format!("expected a string, found {}", json::kind(o)),
-                ))
-            }
-        };
-        let model = match json::required(obj, "model", "")? {
+        let name = doc.name.take().unwrap_or_else(|| "mission".to_string());
+        let model = match need(doc.model.take(), "", "model")? {
             Value::String(s) if s == "unicycle2d" => Model::Unicycle2d,
             Value::String(s) if s == "auv3d" => Model::Auv3d,
+            Value::String(s) if s == "odometry2d" => Model::Odometry2d,
             o => {
                 return Err(err(
                     "model",
-                    format!("expected \"unicycle2d\" or \"auv3d\", found {o}"),
+                    format!("expected \"unicycle2d\", \"auv3d\" or \"odometry2d\", found {o}"),
                 ))
             }
         };
         let dim = model.dim();
-        let dt = json::number(json::required(obj, "dt", "")?, "dt")?;
+        let dt = need(doc.dt, "", "dt")?.0;
         if dt <= 0.0 {
             return Err(err("dt", format!("the time step must be > 0, found {dt}")));
         }
-        let steps =
-            json::integer(json::required(obj, "steps", "")?, "steps", MAX_STEPS as u64)? as usize;
+        let steps = need(doc.steps, "", "steps")?.at_most(MAX_STEPS as u64, "steps")? as usize;
         if steps == 0 {
             return Err(err("steps", "a mission needs at least 1 step"));
         }
-        let initial_position = json::ibox(
-            json::required(obj, "initial_position", "")?,
-            "initial_position",
-            Some(dim),
-        )?;
-        let final_position = optional(obj, "final_position")
-            .map(|v| json::ibox(v, "final_position", Some(dim)))
+        let initial_position = need(doc.initial_position.take(), "", "initial_position")?
+            .dim("initial_position", Some(dim))?;
+        let final_position = doc
+            .final_position
+            .take()
+            .map(|b| b.dim("final_position", Some(dim)))
             .transpose()?;
-        let mut inputs_v = match doc.inputs.take() {
-            None => return Err(err("inputs", "missing required field")),
-            Some(Lean::Parsed(Inputs(i))) => i,
-            Some(Lean::Other(v)) => return Err(not_object(&v, "inputs")),
-        };
-        json::check_keys(inputs_v.keys(), model.channels(), "inputs")?;
-        let mut inputs = Vec::new();
+        let heading = headings(&mut doc, model, steps)?;
+        let mut inputs_doc = need(doc.inputs.take(), "", "inputs")?;
+        let present: Vec<(&str, bool)> =
+            inputs_doc.names().into_iter().map(|n| (n, true)).collect();
+        only(&present, model.channels(), "inputs")?;
+        let mut inputs = Vec::with_capacity(model.channels().len());
         for ch in model.channels() {
             let path = field_path("inputs", ch);
-            let v = inputs_v
-                .remove(*ch)
-                .ok_or_else(|| err(&path, "missing required field"))?;
-            inputs.push(parse_channel(v, &path, steps)?);
+            let c = inputs_doc.take(ch).ok_or_else(|| missing(&path))?;
+            inputs.push(channel(c, &path, steps)?);
         }
-        let motion_error = match present(doc.motion_error.take()) {
+        let motion_error = match doc.motion_error.take() {
             None => vec![0.0; steps],
-            Some(v) => per_step(v, "motion_error", steps, "the motion error")?,
+            Some(v) => v.non_negative("motion_error", steps, "the motion error")?,
         };
-        let landmark_count = optional(obj, "landmark_count")
-            .map(|v| json::integer(v, "landmark_count", u32::MAX as u64))
+        let sensor_offset = sensor_offset(doc.sensor_offset.take(), model)?;
+        let landmark_count = doc
+            .landmark_count
+            .map(|v| v.at_most(u32::MAX as u64, "landmark_count"))
             .transpose()?
             .map(|n| n as usize);
         if landmark_count == Some(0) {
             return Err(err("landmark_count", "landmark_count must be at least 1"));
         }
-        let landmark_region = optional(obj, "landmark_region")
-            .map(|v| json::ibox(v, "landmark_region", Some(dim)))
+        let landmark_region = doc
+            .landmark_region
+            .take()
+            .map(|b| b.dim("landmark_region", Some(dim)))
             .transpose()?;
-        let max_outliers = optional(obj, "max_outliers")
-            .map(|v| json::integer(v, "max_outliers", u32::MAX as u64))
+        let landmark_min_separation = doc.landmark_min_separation.map_or(0.0, |x| x.0);
+        if landmark_min_separation < 0.0 {
+            return Err(err(
+                "landmark_min_separation",
+                format!("the separation must be >= 0, found {landmark_min_separation}"),
+            ));
+        }
+        let max_outliers = doc
+            .max_outliers
+            .map(|v| v.at_most(u32::MAX as u64, "max_outliers"))
             .transpose()?
             .map_or(0, |q| q as usize);
-        let dets = json::array(json::required(obj, "detections", "")?, "detections")?;
-        let mut detections = Vec::with_capacity(dets.len());
-        for (i, d) in dets.iter().enumerate() {
-            let path = index_path("detections", i);
-            let o = json::object(d, &path)?;
-            json::check_fields(
-                o,
-                &["step", "range", "bearing", "region", "depth", "landmark"],
-                &path,
-            )?;
-            let step_path = field_path(&path, "step");
-            let step = json::integer(json::required(o, "step", &path)?, &step_path, u64::MAX)?;
-            if step > steps as u64 {
-                return Err(err(
-                    step_path,
-                    format!("step {step} is out of range 0..={steps}"),
-                ));
-            }
-            let range_path = field_path(&path, "range");
-            let range = json::interval(json::required(o, "range", &path)?, &range_path)?;
-            if range.lo() < 0.0 {
-                return Err(err(
-                    range_path,
-                    format!("negative range: lower bound {} is below 0", range.lo()),
-                ));
-            }
-            let bearing = optional(o, "bearing")
-                .map(|v| json::interval(v, &field_path(&path, "bearing")))
-                .transpose()?;
-            let region = optional(o, "region")
-                .map(|v| json::ibox(v, &field_path(&path, "region"), Some(dim)))
-                .transpose()?;
-            let depth = optional(o, "depth")
-                .map(|v| json::interval(v, &field_path(&path, "depth")))
-                .transpose()?;
-            if depth.is_some() && model != Model::Auv3d {
-                return Err(err(
-                    field_path(&path, "depth"),
-                    "depth is only for auv3d missions",
-                ));
-            }
-            let landmark = match optional(o, "landmark") {
-                None => None,
-                Some(v) => {
-                    let lp = field_path(&path, "landmark");
-                    let id = json::integer(v, &lp, u32::MAX as u64)? as usize;
-                    if let Some(n) = landmark_count {
-                        if id >= n {
-                            return Err(err(
-                                lp,
-                                format!("landmark {id} is not below landmark_count {n}"),
-                            ));
-                        }
-                    }
-                    Some(id)
-                }
-            };
-            detections.push(Detection {
-                step: step as usize,
-                range,
-                bearing,
-                region,
-                depth,
-                landmark,
-            });
-        }
-        let meta = match optional(obj, "meta") {
-            None => Value::Object(Map::new()),
-            Some(v @ Value::Object(_)) => v.clone(),
+        let List(dets) = need(doc.detections.take(), "", "detections")?;
+        let detections = dets
+            .into_iter()
+            .enumerate()
+            .map(|(i, d)| detection(d, &format!("detections[{i}]"), model, steps, landmark_count))
+            .collect::<Result<Vec<_>, _>>()?;
+        let meta = match doc.meta.take() {
+            None | Some(Value::Null) => Value::Object(Map::new()),
+            Some(v @ Value::Object(_)) => v,
             Some(o) => {
                 return Err(err(
                     "meta",
-                    format!("expected an object, found {}", json::kind(o)),
+                    format!("expected an object, found {}", json::kind(&o)),
                 ))
             }
         };
-        let truth = present(doc.truth.take())
-            .map(|v| parse_truth(v, dim, steps, detections.len()))
+        let truth = doc
+            .truth
+            .take()
+            .map(|t| truth(t, model, steps, detections.len()))
             .transpose()?;
         Ok(Mission {
             name,
@@ -679,6 +615,11 @@ impl Mission {
             max_outliers,
             meta,
             truth,
+            initial_heading: heading.initial,
+            final_heading: heading.last,
+            heading_error: heading.error,
+            sensor_offset,
+            landmark_min_separation,
         })
     }
 
@@ -708,6 +649,27 @@ impl Mission {
         }
         o.insert("inputs".into(), Value::Object(inputs));
         o.insert("motion_error".into(), serde_json::json!(self.motion_error));
+        if let Some(h) = self.initial_heading {
+            o.insert("initial_heading".into(), json::interval_to_json(h));
+        }
+        if let Some(h) = self.final_heading {
+            o.insert("final_heading".into(), json::interval_to_json(h));
+        }
+        if self.model == Model::Odometry2d {
+            o.insert(
+                "heading_error".into(),
+                serde_json::json!(self.heading_error),
+            );
+        }
+        if let Some(s) = self.sensor_offset {
+            o.insert("sensor_offset".into(), serde_json::json!(s));
+        }
+        if self.landmark_min_separation > 0.0 {
+            o.insert(
+                "landmark_min_separation".into(),
+                self.landmark_min_separation.into(),
+            );
+        }
         let dets: Vec<Value> = self
             .detections
             .iter()
@@ -727,6 +689,9 @@ impl Mission {
                 if let Some(l) = d.landmark {
                     m.insert("landmark".into(), l.into());
                 }
+                if let Some(scan) = d.scan {
+                    m.insert("scan".into(), scan.into());
+                }
                 Value::Object(m)
             })
             .collect();
@@ -742,32 +707,30 @@ impl Mission {
         }
         o.insert("meta".into(), self.meta.clone());
         if let Some(t) = &self.truth {
-            o.insert(
-                "truth".into(),
-                serde_json::json!({"positions": t.positions, "landmarks": t.landmarks, "matching": t.matching}),
-            );
+            let positions = match &t.positions_known {
+                None => serde_json::json!(t.positions),
+                Some(known) => Value::Array(
+                    t.positions
+                        .iter()
+                        .zip(known)
+                        .map(|(p, &k)| if k { serde_json::json!(p) } else { Value::Null })
+                        .collect(),
+                ),
+            };
+            let mut truth = serde_json::json!({"positions": positions, "landmarks": t.landmarks, "matching": t.matching});
+            if let Some(h) = &t.headings {
+                truth["headings"] = serde_json::json!(h);
+            }
+            o.insert("truth".into(), truth);
         }
         Value::Object(o)
     }
 }
 
-fn parse_truth(
-    v: Lean<TruthFields>,
-    dim: usize,
-    steps: usize,
-    detections: usize,
-) -> Result<Truth, InputError> {
-    let o = match v {
-        Lean::Parsed(o) => o,
-        Lean::Other(v) => return Err(not_object(&v, "truth")),
-    };
-    json::check_keys(&o.keys, &["positions", "landmarks", "matching"], "truth")?;
-    let missing = |f: &str| err(field_path("truth", f), "missing required field");
-    let positions = points(
-        o.positions.ok_or_else(|| missing("positions"))?,
-        "truth.positions",
-        dim,
-    )?;
+fn truth(t: TruthDoc, model: Model, steps: usize, detections: usize) -> Result<Truth, InputError> {
+    let dim = model.dim();
+    let rows = need(t.positions, "truth", "positions")?;
+    let (positions, positions_known) = points(rows, "truth.positions", dim, true)?;
     if positions.len() != steps + 1 {
         return Err(err(
             "truth.positions",
@@ -778,15 +741,9 @@ fn parse_truth(
             ),
         ));
     }
-    let landmarks = points(
-        o.landmarks.ok_or_else(|| missing("landmarks"))?,
-        "truth.landmarks",
-        dim,
-    )?;
-    let m = json::array(
-        o.matching.as_ref().ok_or_else(|| missing("matching"))?,
-        "truth.matching",
-    )?;
+    let rows = need(t.landmarks, "truth", "landmarks")?;
+    let (landmarks, _) = points(rows, "truth.landmarks", dim, false)?;
+    let List(m) = need(t.matching, "truth", "matching")?;
     if m.len() != detections {
         return Err(err(
             "truth.matching",
@@ -797,15 +754,13 @@ fn parse_truth(
         ));
     }
     let matching = m
-        .iter()
+        .into_iter()
         .enumerate()
         .map(|(i, x)| {
-            if x.is_null() {
-                // A false detection: no landmark there.
-                return Ok(None);
-            }
-            let p = index_path("truth.matching", i);
-            let id = json::integer(x, &p, u32::MAX as u64)? as usize;
+            // null: a false detection (no landmark there).
+            let Some(x) = x else { return Ok(None) };
+            let p = format!("truth.matching[{i}]");
+            let id = x.at_most(u32::MAX as u64, &p)? as usize;
             if id >= landmarks.len() {
                 return Err(err(
                     p,
@@ -818,10 +773,32 @@ fn parse_truth(
             Ok(Some(id))
         })
         .collect::<Result<_, _>>()?;
+    let headings = match t.headings {
+        None => None,
+        Some(_) if model != Model::Odometry2d => {
+            return Err(err(
+                "truth.headings",
+                "truth.headings is only for odometry2d missions",
+            ))
+        }
+        Some(List(h)) if h.len() != steps + 1 => {
+            return Err(err(
+                "truth.headings",
+                format!(
+                    "expected {} headings (steps + 1), found {}",
+                    steps + 1,
+                    h.len()
+                ),
+            ))
+        }
+        Some(List(h)) => Some(h.into_iter().map(|x| x.map(|x| x.0)).collect()),
+    };
     Ok(Truth {
         positions,
         landmarks,
         matching,
+        positions_known,
+        headings,
     })
 }
 
@@ -1067,6 +1044,10 @@ mod tests {
             ),
             (
                 |v| v["inputs"]["speed"] = json!({"x": [1, 2]}),
+                "inputs.speed.x: unknown field `x` (expected one of: value, error, lo, hi)",
+            ),
+            (
+                |v| v["inputs"]["speed"] = json!({}),
                 "inputs.speed: an input channel is",
             ),
             (
@@ -1163,6 +1144,219 @@ mod tests {
                 format!("invalid JSON: {want}")
             );
         }
+    }
+
+    fn odometry() -> Value {
+        json!({
+            "format": "nvector-mission/1",
+            "model": "odometry2d",
+            "dt": 0.1,
+            "steps": 2,
+            "initial_position": [[0, 0], [0, 0]],
+            "initial_heading": [-0.01, 0.01],
+            "inputs": {
+                "speed": {"value": [1.0, -0.5], "error": 0.05},
+                "turn_rate": {"value": [0.2, 0.1], "error": 0.01}
+            },
+            "heading_error": [0.001, 0.002],
+            "sensor_offset": [0.3, 0],
+            "detections": [
+                {"step": 1, "range": [2, 3], "bearing": [0.1, 0.2], "scan": 0},
+                {"step": 1, "range": [4, 5], "bearing": [1.1, 1.2], "scan": 0}
+            ],
+            "landmark_min_separation": 1.33,
+            "truth": {
+                "positions": [[0, 0], null, [0.15, 0.01]],
+                "landmarks": [[2.5, 0.3], [2, 4]],
+                "matching": [0, 1],
+                "headings": [0.0, null, 0.03]
+            }
+        })
+    }
+
+    /// The fields of spec/formats.md for robots without a heading sensor
+    /// (issue 20): parsed into the mission, written back, and refused by
+    /// `unsupported` while the solver lacks them.
+    #[test]
+    fn odometry2d_offset_scan_separation_and_null_truth_parse() {
+        let m = Mission::from_value(&odometry()).unwrap();
+        assert_eq!(m.model, Model::Odometry2d);
+        assert_eq!(m.inputs.len(), 2);
+        assert!(m.inputs[0][1].contains(-0.5) && m.inputs[1][0].contains(0.21));
+        assert_eq!(m.initial_heading, Some(Interval::new(-0.01, 0.01)));
+        assert_eq!(m.final_heading, None);
+        assert_eq!(m.heading_error, vec![0.001, 0.002]);
+        assert_eq!(m.sensor_offset, Some([0.3, 0.0]));
+        assert_eq!(m.landmark_min_separation, 1.33);
+        assert_eq!(
+            m.detections.iter().map(|d| d.scan).collect::<Vec<_>>(),
+            vec![Some(0), Some(0)]
+        );
+        let t = m.truth.as_ref().unwrap();
+        assert_eq!(t.positions_known, Some(vec![true, false, true]));
+        assert_eq!(&t.positions[2], &[0.15, 0.01][..]);
+        assert_eq!(&t.positions[1], &[0.0, 0.0][..]);
+        assert_eq!(t.headings, Some(vec![Some(0.0), None, Some(0.03)]));
+        assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
+        assert_eq!(m.to_value()["truth"]["positions"][1], Value::Null);
+        assert_eq!(Mission::from_json(&odometry().to_string()).unwrap(), m);
+        let e = m.unsupported().unwrap_err().to_string();
+        assert!(
+            e.starts_with("model: the odometry2d model is not yet supported"),
+            "{e}"
+        );
+        // heading_error absent: 0; final_heading given.
+        let mut v = odometry();
+        v.as_object_mut().unwrap().remove("heading_error");
+        v["final_heading"] = json!(0.5);
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.heading_error, vec![0.0, 0.0]);
+        assert_eq!(m.final_heading, Some(Interval::point(0.5)));
+        // sensor_offset on unicycle2d: parsed, refused by the solver only
+        // when it is not [0, 0].
+        let mut v = small();
+        v["sensor_offset"] = json!([0.2, -0.1]);
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.sensor_offset, Some([0.2, -0.1]));
+        let e = m.unsupported().unwrap_err().to_string();
+        assert!(
+            e.starts_with("sensor_offset: sensor_offset is not yet supported"),
+            "{e}"
+        );
+        v["sensor_offset"] = json!([0, 0]);
+        assert!(Mission::from_value(&v).unwrap().unsupported().is_ok());
+        // scan and landmark_min_separation only add evidence: accepted.
+        let mut v = small();
+        v["detections"][0]["scan"] = json!(7);
+        v["landmark_min_separation"] = json!(2);
+        let m = Mission::from_value(&v).unwrap();
+        assert!(m.unsupported().is_ok());
+        assert_eq!(
+            (m.detections[0].scan, m.landmark_min_separation),
+            (Some(7), 2.0)
+        );
+        assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
+    }
+
+    #[test]
+    fn bad_new_fields_name_their_path() {
+        type Edit = fn(&mut Value);
+        let odo: Vec<(Edit, &str)> = vec![
+            (
+                |v| {
+                    v.as_object_mut().unwrap().remove("initial_heading");
+                },
+                "initial_heading: missing required field",
+            ),
+            (
+                |v| v["initial_heading"] = json!([1, 0]),
+                "initial_heading: lower bound 1 is above upper bound 0",
+            ),
+            (
+                |v| v["final_heading"] = json!("north"),
+                "final_heading: expected an interval [lo, hi] or a number, found a string",
+            ),
+            (
+                |v| v["heading_error"] = json!([0.1, -0.1]),
+                "heading_error[1]: the heading error must be >= 0, found -0.1",
+            ),
+            (
+                |v| v["heading_error"] = json!([0.1]),
+                "heading_error: expected 2 values (one per step), found 1",
+            ),
+            (
+                |v| v["inputs"]["heading"] = json!({"value": [0, 0], "error": 0}),
+                "inputs.heading: unknown field `heading` (expected one of: speed, turn_rate)",
+            ),
+            (
+                |v| {
+                    v["inputs"].as_object_mut().unwrap().remove("turn_rate");
+                },
+                "inputs.turn_rate: missing required field",
+            ),
+            (
+                |v| v["sensor_offset"] = json!([1]),
+                "sensor_offset: expected 2 numbers [forward, left], found 1",
+            ),
+            (
+                |v| v["sensor_offset"] = json!(["a", 0]),
+                "sensor_offset[0]: expected a finite number, found a string",
+            ),
+            (
+                |v| v["detections"][1]["scan"] = json!(-1),
+                "detections[1].scan: expected a non-negative integer, found -1",
+            ),
+            (
+                |v| v["detections"][1]["scan"] = json!(0.5),
+                "detections[1].scan: expected a non-negative integer, found 0.5",
+            ),
+            (
+                |v| v["landmark_min_separation"] = json!(-1),
+                "landmark_min_separation: the separation must be >= 0, found -1",
+            ),
+            (
+                |v| v["landmark_min_separation"] = json!([1]),
+                "landmark_min_separation: expected a finite number, found an array",
+            ),
+            (
+                |v| v["truth"]["headings"] = json!([0, 0]),
+                "truth.headings: expected 3 headings (steps + 1), found 2",
+            ),
+            (
+                |v| v["truth"]["headings"][2] = json!("x"),
+                "truth.headings[2]: expected a finite number, found a string",
+            ),
+            (
+                |v| v["truth"]["positions"][1] = json!([1]),
+                "truth.positions[1]: expected a point of dimension 2, found 1 coordinates",
+            ),
+            (
+                |v| v["truth"]["landmarks"][1] = Value::Null,
+                "truth.landmarks[1]: expected an array, found null",
+            ),
+            (
+                |v| v["model"] = json!("odometry3d"),
+                "model: expected \"unicycle2d\", \"auv3d\" or \"odometry2d\", found \"odometry3d\"",
+            ),
+        ];
+        let uni: Vec<(Edit, &str)> = vec![
+            (
+                |v| v["initial_heading"] = json!(0),
+                "initial_heading: initial_heading is only for odometry2d missions",
+            ),
+            (
+                |v| v["heading_error"] = json!(0),
+                "heading_error: heading_error is only for odometry2d missions",
+            ),
+            (
+                |v| v["truth"] = json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]], "matching": [0], "headings": [0, 0, 0]}),
+                "truth.headings: truth.headings is only for odometry2d missions",
+            ),
+        ];
+        for (base, cases) in [(odometry(), odo), (small(), uni)] {
+            for (edit, expected) in cases {
+                let mut v = base.clone();
+                edit(&mut v);
+                let e = Mission::from_value(&v).unwrap_err().to_string();
+                assert!(
+                    e.starts_with(expected),
+                    "{e} does not start with {expected}"
+                );
+                let streamed = Mission::from_json(&v.to_string()).unwrap_err().to_string();
+                assert_eq!(streamed, e, "parsed from text");
+            }
+        }
+        // auv3d: no sensor offset.
+        let mut o =
+            crate::slam::simulate::SimulateOptions::new(crate::slam::simulate::Scenario::Auv, 1);
+        o.steps = Some(5);
+        let mut v = crate::slam::simulate::simulate(&o);
+        v["sensor_offset"] = json!([0, 0]);
+        let e = Mission::from_value(&v).unwrap_err().to_string();
+        assert!(
+            e.starts_with("sensor_offset: sensor_offset is only for the 2-D models"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -64,6 +64,20 @@ impl Model {
                     disp.extend_from_slice(&d);
                 }
             }
+            // Not yet solved (`Mission::unsupported` refuses it before a
+            // solve): with the heading unknown, each displacement is
+            // bounded by |speed| dt on each axis, which is sound.
+            MotionModel::Odometry2d => {
+                for i in 0..n {
+                    let d = unicycle_displacement(
+                        m.dt,
+                        m.inputs[0][i],
+                        Interval::ENTIRE,
+                        m.motion_error[i],
+                    );
+                    disp.extend_from_slice(&d);
+                }
+            }
         }
         let mut pos = vec![Interval::ENTIRE; (n + 1) * dim];
         pos[..dim].copy_from_slice(m.initial_position.axes());
@@ -73,8 +87,9 @@ impl Model {
             }
         }
         let heading_channel = match m.model {
-            MotionModel::Unicycle2d => 1,
-            MotionModel::Auv3d => 2,
+            MotionModel::Unicycle2d => Some(1),
+            MotionModel::Auv3d => Some(2),
+            MotionModel::Odometry2d => None,
         };
         let mut det = Vec::with_capacity(m.detections.len());
         let mut heading_at = Vec::with_capacity(m.detections.len());
@@ -90,7 +105,8 @@ impl Model {
                 b[2] = b[2].intersect(z);
             }
             det.push(b);
-            heading_at.push(m.inputs[heading_channel][d.step.min(n - 1)]);
+            heading_at
+                .push(heading_channel.map_or(Interval::ENTIRE, |c| m.inputs[c][d.step.min(n - 1)]));
         }
         Model {
             dim,

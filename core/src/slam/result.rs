@@ -52,11 +52,13 @@ impl Solution {
 pub fn score(mission: &Mission, s: &Solution) -> Option<(bool, usize, f64)> {
     let truth = mission.truth.as_ref()?;
     let m = &s.model;
+    // A null truth entry (unknown position) is not scored.
+    let known = |i: usize| truth.positions_known.as_ref().is_none_or(|k| k[i]);
     let mut inside = truth
         .positions
         .iter()
         .enumerate()
-        .all(|(i, p)| m.position(i).contains(p));
+        .all(|(i, p)| !known(i) || m.position(i).contains(p));
     for (j, b) in m.det.iter().enumerate() {
         if let Some(l) = truth.matching[j] {
             inside &= b.contains(&truth.landmarks[l]);
@@ -572,6 +574,31 @@ mod tests {
             Some((false, 1, 0.5))
         );
         assert_eq!(score(&m, &solution(&m, vec![])), Some((true, 0, 0.0)));
+    }
+
+    /// A `null` truth position (unknown at that step) is not scored; the
+    /// same position given, outside its box, is.
+    #[test]
+    fn null_truth_positions_are_not_scored() {
+        let far = |p: serde_json::Value| {
+            let mut v = mission().to_value();
+            v["truth"]["positions"][1] = p;
+            Mission::from_value(&v).unwrap()
+        };
+        // Position 1's box away from the origin (a null entry is stored as
+        // zeros: only skipping it keeps the score true).
+        let away = |m: &Mission| {
+            let mut s = solution(m, vec![vec![0, 1]]);
+            s.model.pos[2] = Interval::new(10.0, 11.0);
+            s.model.pos[3] = Interval::new(10.0, 11.0);
+            s
+        };
+        let m = far(json!([50, 50]));
+        assert_eq!(score(&m, &away(&m)), Some((false, 0, 1.0)));
+        let m = far(json!([10.5, 10.5]));
+        assert_eq!(score(&m, &away(&m)), Some((true, 0, 1.0)));
+        let m = far(serde_json::Value::Null);
+        assert_eq!(score(&m, &away(&m)), Some((true, 0, 1.0)));
     }
 
     /// A negative zero in a domain was written `-0.0` in the streamed

@@ -17,8 +17,11 @@
 //! itself), so the truth satisfies every constraint of the mission.
 
 use super::mission::MAX_STEPS;
+use crate::error::InputError;
+use crate::format::leaf::{Finite, Integer};
 use crate::json::{box_to_json, interval_to_json};
 use crate::{Interval, IntervalBox};
+use serde::Deserialize;
 use serde_json::{json, Value};
 
 /// Which scenario.
@@ -82,6 +85,12 @@ pub const MAX_LANDMARKS: usize = 64;
 /// Most false detections a simulation adds (every front end refuses more,
 /// naming the option; each costs up to 1000 draws).
 pub const MAX_FALSE_DETECTIONS: usize = 100_000;
+
+/// Steps of the paper scenario by default.
+pub const PAPER_STEPS: usize = 10_000;
+
+/// Steps of the AUV scenario by default.
+pub const AUV_STEPS: usize = 60_000;
 
 /// Simulation options.
 #[derive(Debug, Clone)]
@@ -322,7 +331,7 @@ fn paper(o: &SimulateOptions) -> Value {
     let mut rng = Rng::new(o.seed);
     // Only the options beyond the default draw from this one.
     let mut extra = Rng::new(o.seed ^ EXTRA_STREAM);
-    let steps = o.steps.unwrap_or(10_000).max(2);
+    let steps = o.steps.unwrap_or(PAPER_STEPS).max(2);
     let n_landmarks = o.landmarks.unwrap_or(4).max(1);
     let dt = 0.1;
     let noise = o.noise.max(0.0);
@@ -557,7 +566,7 @@ fn distance3(q: &[f64; 3], l: &[f64; 3]) -> f64 {
 
 fn auv(o: &SimulateOptions) -> Value {
     let mut rng = Rng::new(o.seed);
-    let steps = o.steps.unwrap_or(60_000).max(2);
+    let steps = o.steps.unwrap_or(AUV_STEPS).max(2);
     let dt = 0.1;
     let noise = o.noise.max(0.0);
     let (angle_err, yaw_err, vel_err) = (0.001 * noise, 0.002 * noise, 0.004 * noise);
@@ -670,6 +679,120 @@ fn auv(o: &SimulateOptions) -> Value {
             "matching": matching,
         }
     })
+}
+
+// The simulation options as the front ends give them (`POST /simulate`,
+// the page's SLAM demo, Python's `simulate`, `nvector simulate`): one type,
+// read from JSON by the JSON front ends or filled in by the others, and one
+// validation with one set of limits ([`SimulateRequest::options`]): core's
+// ([`SimulateLimits::CORE`]), or a service's own, lower ones.
+
+/// The largest values accepted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SimulateLimits {
+    /// Most steps.
+    pub max_steps: u64,
+    /// Most false detections.
+    pub max_false_detections: u64,
+}
+
+impl SimulateLimits {
+    /// Core's limits (the CLI, the page, Python).
+    pub const CORE: SimulateLimits = SimulateLimits {
+        max_steps: MAX_STEPS as u64,
+        max_false_detections: MAX_FALSE_DETECTIONS as u64,
+    };
+}
+
+/// A simulation request: every field optional but `scenario`; `null` is
+/// absence. Unknown fields are refused, naming them.
+#[derive(Debug, Default, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulateRequest {
+    /// `"paper"` or `"auv"` (any JSON, checked by the validation).
+    pub scenario: Option<Value>,
+    /// Seed (default 1).
+    pub seed: Option<Integer>,
+    /// Steps (default: the scenario's, at most the limit; below 2 reads
+    /// as 2).
+    pub steps: Option<Integer>,
+    /// Landmarks (paper; default 4, at most 64; 0 reads as 1).
+    pub landmarks: Option<Integer>,
+    /// Write the true matching as operator ids (default false).
+    pub operator: Option<bool>,
+    /// Scale of the noise bounds, in [0, 100] (default 1).
+    pub noise: Option<Finite>,
+    /// `"line"`, `"ring"` or `"random"` (paper; default line).
+    pub layout: Option<Value>,
+    /// Range-only detections (paper; default false).
+    pub range_only: Option<bool>,
+    /// Extra false detections (paper; default 0).
+    pub false_detections: Option<Integer>,
+}
+
+fn bad(path: &str, message: impl Into<String>) -> InputError {
+    InputError::new(path, message)
+}
+
+impl SimulateRequest {
+    /// The validated options under `limits`; errors name the field.
+    pub fn options(&self, limits: SimulateLimits) -> Result<SimulateOptions, InputError> {
+        let scenario = match self.scenario.as_ref().and_then(Value::as_str) {
+            Some(s) => Scenario::parse(s),
+            None => None,
+        }
+        .ok_or_else(|| bad("scenario", "scenario must be \"paper\" or \"auv\""))?;
+        let seed = self.seed.map_or(Ok(1), |s| s.at_most(u64::MAX, "seed"))?;
+        let mut o = SimulateOptions::new(scenario, seed);
+        let default_steps = match scenario {
+            Scenario::Paper => PAPER_STEPS,
+            _ => AUV_STEPS,
+        } as u64;
+        let steps = match self.steps {
+            Some(s) => s.at_most(limits.max_steps, "steps")?,
+            None => default_steps.min(limits.max_steps),
+        };
+        o.steps = Some(steps.max(2) as usize);
+        o.landmarks = self
+            .landmarks
+            .map(|n| n.at_most(MAX_LANDMARKS as u64, "landmarks"))
+            .transpose()?
+            .map(|n| n.max(1) as usize);
+        o.operator = self.operator.unwrap_or(false);
+        if let Some(Finite(n)) = self.noise {
+            if !(0.0..=100.0).contains(&n) {
+                return Err(bad("noise", "noise must be in [0, 100]"));
+            }
+            o.noise = n;
+        }
+        if let Some(x) = &self.layout {
+            o.layout = x.as_str().and_then(Layout::parse).ok_or_else(|| {
+                bad(
+                    "layout",
+                    format!("unknown layout {x} (expected line, ring or random)"),
+                )
+            })?;
+        }
+        o.range_only = self.range_only.unwrap_or(false);
+        let max_false = limits.max_false_detections.min(MAX_FALSE_DETECTIONS as u64);
+        o.false_detections =
+            self.false_detections
+                .map_or(Ok(0), |k| k.at_most(max_false, "false_detections"))? as usize;
+        if scenario != Scenario::Paper {
+            let paper_only = [
+                ("layout", o.layout != Layout::Line),
+                ("range_only", o.range_only),
+                ("false_detections", o.false_detections > 0),
+            ];
+            if let Some((field, _)) = paper_only.iter().find(|(_, set)| *set) {
+                return Err(bad(
+                    field,
+                    format!("{field} applies to the paper scenario only"),
+                ));
+            }
+        }
+        Ok(o)
+    }
 }
 
 #[cfg(test)]
@@ -1003,6 +1126,86 @@ mod tests {
             .zip(b["detections"].as_array().unwrap())
         {
             assert_eq!(x["range"], y["range"]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod request_tests {
+    use super::*;
+    use crate::format::{from_value, Object};
+    use serde_json::json;
+
+    fn options(v: Value) -> Result<SimulateOptions, InputError> {
+        from_value::<Object<SimulateRequest>>(&v)?
+            .0
+            .options(SimulateLimits::CORE)
+    }
+
+    #[test]
+    fn defaults_and_limits() {
+        let o = options(json!({"scenario": "paper"})).unwrap();
+        assert_eq!((o.seed, o.steps, o.landmarks), (1, Some(PAPER_STEPS), None));
+        let o =
+            options(json!({"scenario": "auv", "steps": 0, "landmarks": 0, "seed": null})).unwrap();
+        assert_eq!((o.steps, o.landmarks), (Some(2), Some(1)));
+        let limits = SimulateLimits {
+            max_steps: 20_000,
+            max_false_detections: 7,
+        };
+        let o = SimulateRequest {
+            scenario: Some(json!("auv")),
+            ..SimulateRequest::default()
+        }
+        .options(limits)
+        .unwrap();
+        assert_eq!(o.steps, Some(20_000), "the default, at most the limit");
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        for (v, want) in [
+            (json!({"scenario": "moon"}), "scenario: scenario must be"),
+            (
+                json!({"scenario": "paper", "landmarks": 65}),
+                "landmarks: 65 is above the limit 64",
+            ),
+            (
+                json!({"scenario": "paper", "steps": 2_000_001}),
+                "steps: 2000001 is above the limit 2000000",
+            ),
+            (
+                json!({"scenario": "paper", "noise": -1}),
+                "noise: noise must be in [0, 100]",
+            ),
+            (
+                json!({"scenario": "paper", "noise": "x"}),
+                "noise: expected a finite number, found a string",
+            ),
+            (
+                json!({"scenario": "paper", "layout": "spiral"}),
+                "layout: unknown layout \"spiral\"",
+            ),
+            (
+                json!({"scenario": "paper", "false_detections": 100_001}),
+                "false_detections: 100001 is above the limit 100000",
+            ),
+            (
+                json!({"scenario": "auv", "range_only": true}),
+                "range_only: range_only applies to the paper scenario only",
+            ),
+            (
+                json!({"scenario": "paper", "operator": 1}),
+                "operator: expected a boolean, found a number",
+            ),
+            (
+                json!({"scenario": "paper", "stpes": 1}),
+                "stpes: unknown field `stpes`",
+            ),
+            (json!([]), "expected an object, found an array"),
+        ] {
+            let e = options(v).unwrap_err().to_string();
+            assert!(e.starts_with(want), "{e} does not start with {want}");
         }
     }
 }

@@ -2,10 +2,10 @@
 
 use crate::CliError;
 use nvector_core::odometry::simulate::WoodsOptions;
+use nvector_core::format::leaf::{Finite, Integer};
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::slam::mission::MAX_STEPS;
-use nvector_core::slam::simulate::{
-    simulate, Layout, Scenario, SimulateOptions, MAX_FALSE_DETECTIONS, MAX_LANDMARKS,
-};
+use nvector_core::slam::simulate::{simulate, Layout, Scenario, MAX_LANDMARKS};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -72,35 +72,21 @@ fn parse_layout(s: &str) -> Result<Layout, String> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
-    if !(a.noise.is_finite() && a.noise >= 0.0) {
-        return Err(CliError(format!(
-            "--noise must be a finite number >= 0, found {}",
-            a.noise
-        )));
-    }
-    if a.steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
-        return Err(CliError(format!(
-            "--steps must be between 1 and {MAX_STEPS}"
-        )));
-    }
-    if a.landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
-        return Err(CliError(format!(
-            "--landmarks must be at most {MAX_LANDMARKS}"
-        )));
-    }
-    if a.scenario != Which::Slam(Scenario::Paper)
-        && (a.layout != Layout::Line || a.range_only || a.false_detections > 0)
-    {
-        return Err(CliError(
-            "--layout, --range-only and --false-detections apply to --scenario paper only".into(),
-        ));
-    }
-    if a.false_detections > MAX_FALSE_DETECTIONS {
-        return Err(CliError(format!(
-            "--false-detections must be at most {MAX_FALSE_DETECTIONS}"
-        )));
-    }
     let Which::Slam(scenario) = a.scenario else {
+        // Woods: its own generator and options (core/src/odometry), with
+        // the checks main had for it.
+        if a.steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
+            return Err(CliError(format!("--steps must be between 1 and {MAX_STEPS}")));
+        }
+        if a.landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
+            return Err(CliError(format!("--landmarks must be at most {MAX_LANDMARKS}")));
+        }
+        if a.layout != Layout::Line || a.range_only || a.false_detections > 0 {
+            return Err(CliError(
+                "--layout, --range-only and --false-detections apply to --scenario paper only"
+                    .into(),
+            ));
+        }
         let mission = nvector_core::odometry::simulate::simulate_woods(&WoodsOptions {
             seed: a.seed,
             steps: a.steps,
@@ -109,17 +95,28 @@ pub fn run(a: Args) -> Result<(), CliError> {
         });
         return write_mission(&mission, a.out);
     };
-    let options = SimulateOptions {
-        scenario,
-        seed: a.seed,
-        steps: a.steps,
-        landmarks: a.landmarks,
-        operator: a.operator,
-        noise: a.noise,
-        layout: a.layout,
-        range_only: a.range_only,
-        false_detections: a.false_detections,
+    // The options go through core's one simulation request type and its
+    // checks, with core's limits, as the service, the page and Python do.
+    let request = SimulateRequest {
+        scenario: Some(
+            match scenario {
+                Scenario::Paper => "paper",
+                Scenario::Auv => "auv",
+            }
+            .into(),
+        ),
+        seed: Some(Integer::Value(a.seed)),
+        steps: a.steps.map(|s| Integer::Value(s as u64)),
+        landmarks: a.landmarks.map(|n| Integer::Value(n as u64)),
+        operator: Some(a.operator),
+        noise: Some(Finite(a.noise)),
+        layout: Some(a.layout.name().into()),
+        range_only: Some(a.range_only),
+        false_detections: Some(Integer::Value(a.false_detections as u64)),
     };
+    let options = request
+        .options(SimulateLimits::CORE)
+        .map_err(|e| CliError(format!("--{}: {}", e.path.replace('_', "-"), e.message)))?;
     let mission = simulate(&options);
     write_mission(&mission, a.out)
 }

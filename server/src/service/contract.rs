@@ -7,10 +7,10 @@
 
 use super::error::{parse_json, ApiResult, AppError};
 use super::formats::{ContractRequest, ContractResponse, ErrorBody};
-use super::state::{owner, AppState};
+use super::state::{AppState, Owner};
 use axum::body::Bytes;
 use axum::extract::State;
-use axum::http::{HeaderMap, StatusCode};
+use axum::http::StatusCode;
 use axum::Json;
 use nvector_core::nvector::contract::{contract_json_with, ContractError};
 use nvector_core::nvector::hitting_set::{Limits, WorkLimit};
@@ -38,10 +38,9 @@ use std::time::Duration;
 )]
 pub(super) async fn post_contract(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    _owner: Owner,
     body: Bytes,
 ) -> ApiResult<Json<Value>> {
-    owner(&state, &headers)?;
     let v = parse_json(&body)?;
     if v.get("boxes")
         .and_then(Value::as_array)

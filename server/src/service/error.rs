@@ -3,6 +3,8 @@
 //! for the caller's faults and 5xx only for the service's own.
 
 use super::store;
+use axum::body::Bytes;
+use axum::extract::{FromRequest, Request};
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
@@ -85,4 +87,42 @@ pub(super) fn parse_json(bytes: &[u8]) -> ApiResult<Value> {
             format!("invalid JSON: {e}"),
         )
     })
+}
+
+/// A request body type read by [`Body`]: its error code for a body that is
+/// JSON but not this type (422).
+pub(super) trait RequestBody: serde::de::DeserializeOwned {
+    /// `invalid_job`, `invalid_request`, ...
+    const CODE: &'static str;
+}
+
+/// A JSON body read as `T` by core's format reader (the JSON path of the
+/// bad value in every error): 413 past the body limit, 400 for text that is
+/// not JSON, 422 naming the path for JSON that is not a `T` (an object of
+/// `T`'s fields only).
+pub(super) struct Body<T>(pub T);
+
+impl<S: Send + Sync, T: RequestBody> FromRequest<S> for Body<T> {
+    type Rejection = AppError;
+
+    async fn from_request(req: Request, state: &S) -> ApiResult<Body<T>> {
+        let bytes = Bytes::from_request(req, state).await.map_err(|e| {
+            AppError::new(
+                StatusCode::PAYLOAD_TOO_LARGE,
+                "body_too_large",
+                e.body_text(),
+            )
+        })?;
+        let text = match std::str::from_utf8(&bytes) {
+            Ok(t) if serde_json::from_str::<serde::de::IgnoredAny>(t).is_ok() => t,
+            _ => {
+                return Err(parse_json(&bytes).err().unwrap_or_else(|| {
+                    AppError::new(StatusCode::BAD_REQUEST, "invalid_json", "invalid JSON")
+                }))
+            }
+        };
+        nvector_core::format::from_str::<nvector_core::format::Object<T>>(text)
+            .map(|o| Body(o.0))
+            .map_err(|e| AppError::bad(T::CODE, e))
+    }
 }

@@ -3,18 +3,18 @@
 //! progress as Server-Sent Events, `/result` returns its result (JSON, CSV
 //! or SVG). The workers that run jobs are in `worker.rs`.
 
-use super::error::{parse_json, ApiResult, AppError};
+use super::error::{parse_json, ApiResult, AppError, Body, RequestBody};
 use super::formats::{ErrorBody, SlamResult};
-use super::state::{owner, AppState};
-use super::store::{JobRow, QueuePolicy, Queued};
+use super::state::{AppState, Owner};
+use super::store::{JobRow, JobState, QueuePolicy, Queued};
 use super::worker::now_ms;
-use axum::body::Bytes;
 use axum::extract::{Path, Query, State};
-use axum::http::{header, HeaderMap, StatusCode};
+use axum::http::{header, StatusCode};
 use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use futures_util::stream::{self, Stream};
+use nvector_core::format::leaf::{Finite, Integer};
 use nvector_core::slam::propagator::Association;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -73,44 +73,150 @@ pub enum JobContractor {
     Best,
 }
 
+// The body of `POST /jobs`, read by `Body`.
 /// A SLAM job to queue.
 #[derive(Deserialize, ToSchema)]
-#[allow(dead_code)] // Described, not built: core's parser reads the body.
 #[serde(deny_unknown_fields)]
 #[schema(example = json!({"mission": "m-0123456789abcdef0123456789abcdef", "contractor": "best"}))]
 pub struct JobRequest {
     /// The mission's id.
-    pub mission: String,
+    #[serde(default)]
+    #[schema(value_type = String, required = true)]
+    pub mission: Option<Value>,
     /// The association mode (default: `best` when the mission has a
     /// `landmark_count`, else `none`).
     #[serde(default)]
-    pub contractor: Option<JobContractor>,
+    #[schema(value_type = Option<JobContractor>)]
+    pub contractor: Option<Value>,
     /// The round cap (default 10,000; 0 reads as 1).
     #[serde(default)]
-    #[schema(minimum = 0, maximum = 4294967295u32)]
-    pub max_rounds: Option<u32>,
+    #[schema(value_type = Option<u32>, minimum = 0, maximum = 4294967295u32)]
+    pub max_rounds: Option<Integer>,
     /// The time limit in seconds (default and largest: this service's job
     /// time limit).
     #[serde(default)]
-    #[schema(exclusive_minimum = 0, maximum = 300)]
-    pub time_limit_s: Option<f64>,
+    #[schema(value_type = Option<f64>, exclusive_minimum = 0, maximum = 300)]
+    pub time_limit_s: Option<Finite>,
 }
 
-/// The state of a job.
-#[derive(ToSchema)]
-#[allow(dead_code)] // Described: the state is the stored string.
-#[schema(rename_all = "lowercase")]
-pub enum JobState {
-    /// Waiting for a worker.
-    Queued,
-    /// Running.
-    Running,
-    /// Finished: the result is there (`error` says if a time limit cut it).
-    Done,
-    /// Failed (`error` says why).
-    Failed,
-    /// Cancelled.
-    Cancelled,
+impl RequestBody for JobRequest {
+    const CODE: &'static str = "invalid_job";
+}
+
+fn invalid_job(path: &str, message: impl Into<String>) -> AppError {
+    AppError::new(StatusCode::UNPROCESSABLE_ENTITY, "invalid_job", message).at(path)
+}
+
+impl JobRequest {
+    /// The mission's id.
+    fn mission_id(&self) -> ApiResult<String> {
+        match &self.mission {
+            Some(Value::String(s)) => Ok(s.clone()),
+            _ => Err(invalid_job("mission", "expected the mission id (a string)")),
+        }
+    }
+
+    /// The contractor's name; by default `best` when the mission (its JSON
+    /// text) has a `landmark_count`, else `none`.
+    fn contractor(&self, mission_body: &str) -> ApiResult<String> {
+        match &self.contractor {
+            None | Some(Value::Null) => {
+                /// Only the field that decides (the rest skipped unread).
+                #[derive(Deserialize)]
+                struct Counted {
+                    #[serde(default)]
+                    landmark_count: Option<serde::de::IgnoredAny>,
+                }
+                let has_n = serde_json::from_str::<Counted>(mission_body)
+                    .is_ok_and(|m| m.landmark_count.is_some());
+                Ok(if has_n { "best" } else { "none" }.to_string())
+            }
+            Some(Value::String(s)) if Association::parse(s).is_some() => Ok(s.clone()),
+            Some(other) => Err(invalid_job(
+                "contractor",
+                format!(
+                    "unknown contractor {other} (expected {})",
+                    or_list(&contractor_names())
+                ),
+            )),
+        }
+    }
+
+    /// The round cap (default 10,000).
+    fn max_rounds(&self) -> ApiResult<i64> {
+        match self.max_rounds {
+            None => Ok(10_000),
+            Some(x) => x
+                .at_most(u32::MAX as u64, "max_rounds")
+                .map(|n| n as i64)
+                .map_err(|e| AppError::bad("invalid_job", e)),
+        }
+    }
+
+    /// The time limit, in (0, `limit`] (default `limit`).
+    fn time_limit_s(&self, limit: f64) -> ApiResult<f64> {
+        match self.time_limit_s {
+            None => Ok(limit),
+            Some(Finite(t)) if t > 0.0 && t <= limit => Ok(t),
+            Some(Finite(t)) => Err(invalid_job(
+                "time_limit_s",
+                format!("time_limit_s must be in (0, {limit}], found {t}"),
+            )),
+        }
+    }
+}
+
+/// A new queued job.
+fn new_job(mission: String, contractor: String, max_rounds: i64, time_limit_s: f64) -> JobRow {
+    JobRow {
+        id: format!("j-{}", uuid::Uuid::new_v4().simple()),
+        mission,
+        state: JobState::Queued,
+        contractor,
+        max_rounds,
+        time_limit_s,
+        round: 0,
+        diameter: None,
+        fraction: 0.0,
+        error: None,
+        created: now_ms(),
+        started: None,
+        finished: None,
+        error_code: None,
+        attempts: 0,
+        runner: None,
+        crashes: 0,
+        cost: 0,
+    }
+}
+
+/// Queues `job` for `owner` (the queue limit checked by the insert itself,
+/// one atomic step) and wakes the workers.
+async fn enqueue(state: &AppState, owner: String, job: JobRow) -> ApiResult<()> {
+    let policy = QueuePolicy {
+        max_queue: state.config.max_queue,
+        short_cost: state.config.short_job_cost,
+        long_delay_ms: i64::try_from(state.config.long_job_delay.as_millis()).unwrap_or(i64::MAX),
+    };
+    match state
+        .db(move |st| st.insert_job(&owner, &job, &policy))
+        .await?
+    {
+        Queued::Yes => {
+            state.workers.notify();
+            Ok(())
+        }
+        Queued::Full => {
+            let mut e = AppError::new(
+                StatusCode::TOO_MANY_REQUESTS,
+                "queue_full",
+                "too many queued jobs, retry later",
+            );
+            e.retry_after = Some(5);
+            Err(e)
+        }
+        Queued::NoMission => Err(AppError::not_found("mission").at("mission")),
+    }
 }
 
 /// A job's progress.
@@ -133,8 +239,7 @@ pub struct Job {
     /// Its mission's id.
     pub mission: String,
     /// Its state.
-    #[schema(value_type = JobState)]
-    pub state: String,
+    pub state: JobState,
     /// Its association mode.
     pub contractor: String,
     /// Its progress.
@@ -196,7 +301,7 @@ impl From<&JobRow> for Job {
         Job {
             id: j.id.clone(),
             mission: j.mission.clone(),
-            state: j.state.clone(),
+            state: j.state,
             contractor: j.contractor.clone(),
             progress: JobProgress {
                 round: j.round,
@@ -250,8 +355,7 @@ pub struct JobQueued {
     /// The job's id.
     pub id: String,
     /// `queued` (POST) or `cancelled` (DELETE).
-    #[schema(value_type = JobState)]
-    pub state: String,
+    pub state: JobState,
 }
 
 fn job_json(j: &JobRow) -> String {
@@ -288,30 +392,10 @@ fn job_json(j: &JobRow) -> String {
 )]
 pub(super) async fn post_job(
     State(state): State<AppState>,
-    headers: HeaderMap,
-    body: Bytes,
+    Owner(owner): Owner,
+    Body(req): Body<JobRequest>,
 ) -> ApiResult<(StatusCode, Json<JobQueued>)> {
-    let owner = owner(&state, &headers)?;
-    let v = parse_json(&body)?;
-    let obj = nvector_core::json::object(&v, "").map_err(|e| AppError::bad("invalid_job", e))?;
-    nvector_core::json::check_fields(
-        obj,
-        &["mission", "contractor", "max_rounds", "time_limit_s"],
-        "",
-    )
-    .map_err(|e| AppError::bad("invalid_job", e))?;
-    let mission = obj
-        .get("mission")
-        .and_then(Value::as_str)
-        .ok_or_else(|| {
-            AppError::new(
-                StatusCode::UNPROCESSABLE_ENTITY,
-                "invalid_job",
-                "expected the mission id (a string)",
-            )
-            .at("mission")
-        })?
-        .to_string();
+    let mission = req.mission_id()?;
     let body = {
         let (owner, mission) = (owner.clone(), mission.clone());
         state
@@ -319,98 +403,18 @@ pub(super) async fn post_job(
             .await?
             .ok_or_else(|| AppError::not_found("mission").at("mission"))?
     };
-    let contractor = match obj.get("contractor") {
-        None | Some(Value::Null) => {
-            let has_n = serde_json::from_str::<Value>(&body)
-                .ok()
-                .and_then(|m| m.get("landmark_count").cloned())
-                .is_some_and(|n| !n.is_null());
-            if has_n { "best" } else { "none" }.to_string()
-        }
-        Some(Value::String(s)) if Association::parse(s).is_some() => s.clone(),
-        Some(other) => {
-            return Err(AppError::new(
-                StatusCode::UNPROCESSABLE_ENTITY,
-                "invalid_job",
-                format!(
-                    "unknown contractor {other} (expected {})",
-                    or_list(&contractor_names())
-                ),
-            )
-            .at("contractor"))
-        }
-    };
-    let max_rounds = match obj.get("max_rounds") {
-        None | Some(Value::Null) => 10_000,
-        Some(x) => nvector_core::json::integer(x, "max_rounds", u32::MAX as u64)
-            .map_err(|e| AppError::bad("invalid_job", e))? as i64,
-    };
-    let limit = state.config.job_time_limit_s;
-    let time_limit_s = match obj.get("time_limit_s") {
-        None | Some(Value::Null) => limit,
-        Some(x) => {
-            let t = nvector_core::json::number(x, "time_limit_s")
-                .map_err(|e| AppError::bad("invalid_job", e))?;
-            if !(t > 0.0 && t <= limit) {
-                return Err(AppError::new(
-                    StatusCode::UNPROCESSABLE_ENTITY,
-                    "invalid_job",
-                    format!("time_limit_s must be in (0, {limit}], found {t}"),
-                )
-                .at("time_limit_s"));
-            }
-            t
-        }
-    };
-    let job = JobRow {
-        id: format!("j-{}", uuid::Uuid::new_v4().simple()),
-        mission,
-        state: "queued".into(),
-        contractor,
-        max_rounds,
-        time_limit_s,
-        round: 0,
-        diameter: None,
-        fraction: 0.0,
-        error: None,
-        created: now_ms(),
-        started: None,
-        finished: None,
-        error_code: None,
-        attempts: 0,
-        runner: None,
-        crashes: 0,
-        cost: 0,
-    };
+    let contractor = req.contractor(&body)?;
+    drop(body);
+    let max_rounds = req.max_rounds()?;
+    let time_limit_s = req.time_limit_s(state.config.job_time_limit_s)?;
+    let job = new_job(mission, contractor, max_rounds, time_limit_s);
     let id = job.id.clone();
-    let policy = QueuePolicy {
-        max_queue: state.config.max_queue,
-        short_cost: state.config.short_job_cost,
-        long_delay_ms: i64::try_from(state.config.long_job_delay.as_millis()).unwrap_or(i64::MAX),
-    };
-    // The queue limit is checked by the insert itself (one atomic step).
-    match state
-        .db(move |st| st.insert_job(&owner, &job, &policy))
-        .await?
-    {
-        Queued::Yes => {}
-        Queued::Full => {
-            let mut e = AppError::new(
-                StatusCode::TOO_MANY_REQUESTS,
-                "queue_full",
-                "too many queued jobs, retry later",
-            );
-            e.retry_after = Some(5);
-            return Err(e);
-        }
-        Queued::NoMission => return Err(AppError::not_found("mission").at("mission")),
-    }
-    state.workers.notify();
+    enqueue(&state, owner, job).await?;
     Ok((
         StatusCode::ACCEPTED,
         Json(JobQueued {
             id,
-            state: "queued".into(),
+            state: JobState::Queued,
         }),
     ))
 }
@@ -439,10 +443,9 @@ pub(super) async fn post_job(
 )]
 pub(super) async fn get_job(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    Owner(owner): Owner,
     Path(id): Path<String>,
 ) -> ApiResult<Json<Job>> {
-    let owner = owner(&state, &headers)?;
     let j = state
         .db(move |st| st.job(&owner, &id))
         .await?
@@ -468,20 +471,19 @@ pub(super) async fn get_job(
 )]
 pub(super) async fn delete_job(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    Owner(owner): Owner,
     Path(id): Path<String>,
 ) -> ApiResult<(StatusCode, Json<JobQueued>)> {
-    let owner = owner(&state, &headers)?;
     let (o, i) = (owner.clone(), id.clone());
     let cancelled = state.db(move |st| st.cancel_job(&o, &i, now_ms())).await?;
     state.workers.changed(&id);
     match cancelled {
         None => Err(AppError::not_found("job")),
-        Some(s) if s == "queued" || s == "running" => Ok((
+        Some(s) if s.is_active() => Ok((
             StatusCode::ACCEPTED,
             Json(JobQueued {
                 id,
-                state: "cancelled".into(),
+                state: JobState::Cancelled,
             }),
         )),
         Some(s) => Err(AppError::new(
@@ -511,10 +513,9 @@ pub(super) async fn delete_job(
 )]
 pub(super) async fn job_events(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    Owner(owner): Owner,
     Path(id): Path<String>,
 ) -> ApiResult<Sse<impl Stream<Item = Result<Event, Infallible>>>> {
-    let owner = owner(&state, &headers)?;
     {
         let (o, i) = (owner.clone(), id.clone());
         state
@@ -544,7 +545,7 @@ pub(super) async fn job_events(
                     return Some((Ok(ev), (state, owner, id, last, true, rx)));
                 };
                 let text = job_json(&job);
-                let terminal = matches!(job.state.as_str(), "done" | "failed" | "cancelled");
+                let terminal = job.state.is_terminal();
                 if text != last {
                     let ev = Event::default()
                         .event(if terminal { "end" } else { "progress" })
@@ -616,11 +617,10 @@ pub(super) struct ResultQuery {
 )]
 pub(super) async fn job_result(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    Owner(owner): Owner,
     Path(id): Path<String>,
     q: Result<Query<ResultQuery>, axum::extract::rejection::QueryRejection>,
 ) -> ApiResult<Response> {
-    let owner = owner(&state, &headers)?;
     let Query(q) =
         q.map_err(|e| AppError::new(StatusCode::BAD_REQUEST, "invalid_query", e.body_text()))?;
     let job = {
@@ -630,7 +630,7 @@ pub(super) async fn job_result(
             .await?
             .ok_or_else(|| AppError::not_found("job"))?
     };
-    if job.state != "done" {
+    if job.state != JobState::Done {
         return Err(AppError::new(
             StatusCode::CONFLICT,
             "not_done",

@@ -6,6 +6,7 @@ use super::error::ApiResult;
 use super::formats::ErrorBody;
 use super::meters::{RequestLabels, StateLabel};
 use super::state::AppState;
+use super::store::JobState;
 use axum::extract::{MatchedPath, Request, State};
 use axum::http::header;
 use axum::middleware::Next;
@@ -42,11 +43,13 @@ pub(super) async fn readyz(State(state): State<AppState>) -> ApiResult<&'static 
 pub(super) async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
     let counts = state.db(|st| st.counts()).await?;
     let meters = &state.workers.meters;
-    for s in ["queued", "running", "done", "failed", "cancelled"] {
-        let n = counts.iter().find(|(k, _)| k == s).map_or(0, |(_, n)| *n);
+    for s in JobState::ALL {
+        let n = counts.iter().find(|(k, _)| *k == s).map_or(0, |(_, n)| *n);
         meters
             .jobs
-            .get_or_create(&StateLabel { state: s.into() })
+            .get_or_create(&StateLabel {
+                state: s.as_str().into(),
+            })
             .set(n);
     }
     Ok((

@@ -6,12 +6,12 @@
 use super::config::Config;
 use super::error::{parse_json, ApiResult, AppError};
 use super::formats::{self, ErrorBody};
-use super::state::{owner, AppState};
+use super::state::{AppState, Owner};
 use super::store;
 use super::worker::now_ms;
 use axum::body::Bytes;
 use axum::extract::{FromRequest, Multipart, Path, Query, Request, State};
-use axum::http::{header, HeaderMap, StatusCode};
+use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use nvector_core::slam::mission::Mission;
@@ -218,9 +218,9 @@ pub(super) async fn store_mission(
 )]
 pub(super) async fn post_mission(
     State(state): State<AppState>,
+    Owner(owner): Owner,
     req: Request,
 ) -> ApiResult<(StatusCode, Json<MissionSummary>)> {
-    let owner = owner(&state, req.headers())?;
     let bytes = mission_body(req, &state).await?;
     let v = parse_json(&bytes)?;
     let (id, m) = store_mission(&state, &owner, &v, true).await?;
@@ -254,10 +254,9 @@ pub(super) struct Page {
 )]
 pub(super) async fn list_missions(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    Owner(owner): Owner,
     page: Result<Query<Page>, axum::extract::rejection::QueryRejection>,
 ) -> ApiResult<Json<MissionList>> {
-    let owner = owner(&state, &headers)?;
     let Query(page) =
         page.map_err(|e| AppError::new(StatusCode::BAD_REQUEST, "invalid_query", e.body_text()))?;
     let limit = page.limit.unwrap_or(100);
@@ -307,10 +306,9 @@ pub(super) async fn list_missions(
 )]
 pub(super) async fn get_mission(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    Owner(owner): Owner,
     Path(id): Path<String>,
 ) -> ApiResult<Response> {
-    let owner = owner(&state, &headers)?;
     let body = state
         .db(move |st| st.mission_body(&owner, &id))
         .await?
@@ -334,10 +332,9 @@ pub(super) async fn get_mission(
 )]
 pub(super) async fn delete_mission(
     State(state): State<AppState>,
-    headers: HeaderMap,
+    Owner(owner): Owner,
     Path(id): Path<String>,
 ) -> ApiResult<StatusCode> {
-    let owner = owner(&state, &headers)?;
     if state.db(move |st| st.delete_mission(&owner, &id)).await? {
         Ok(StatusCode::NO_CONTENT)
     } else {

@@ -38,7 +38,7 @@ use utoipa::OpenApi;
         (name = "operations", description = "Health, readiness, metrics"),
     ),
     components(schemas(
-        super::jobs::JobState,
+        super::store::JobState,
         super::jobs::JobErrorCode,
         super::jobs::ResultFormat,
         super::jobs::JobEvent

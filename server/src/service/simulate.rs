@@ -5,29 +5,18 @@
 //! for the paper scenario only (with `auv` only their defaults pass), as in
 //! `nvector simulate`.
 
-use super::error::{parse_json, ApiResult, AppError};
+use super::error::{ApiResult, AppError, Body, RequestBody};
 use super::formats::{ErrorBody, Mission};
 use super::missions::{mission_summary, store_mission, MissionSummary};
-use super::state::{owner, AppState};
-use axum::body::Bytes;
+use super::state::{AppState, Owner};
 use axum::extract::State;
-use axum::http::{HeaderMap, StatusCode};
+use axum::http::StatusCode;
 use axum::Json;
-use nvector_core::json::{check_fields, integer, number, object};
-use nvector_core::slam::simulate::{self, simulate, Layout, Scenario, SimulateOptions};
+use nvector_core::slam::simulate::{simulate, SimulateOptions};
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest as Options};
 use serde::{Deserialize, Serialize};
-use serde_json::{Map, Value};
+use serde_json::Value;
 use utoipa::ToSchema;
-
-/// The scenarios' default steps (core's `simulate`).
-const PAPER_STEPS: u64 = 10_000;
-const AUV_STEPS: u64 = 60_000;
-/// Most landmarks of a simulated paper mission (core's limit, as
-/// `nvector simulate`).
-const MAX_LANDMARKS: u64 = simulate::MAX_LANDMARKS as u64;
-/// Most false detections (core's limit, as `nvector simulate`: each costs
-/// up to 1000 draws).
-const MAX_FALSE_DETECTIONS: u64 = simulate::MAX_FALSE_DETECTIONS as u64;
 
 /// The landmark layouts of the paper scenario.
 #[derive(Deserialize, ToSchema)]
@@ -175,108 +164,10 @@ pub struct Simulated {
     pub mission: Value,
 }
 
-fn invalid(path: &str, message: impl Into<String>) -> AppError {
-    AppError::new(StatusCode::UNPROCESSABLE_ENTITY, "invalid_request", message).at(path)
-}
-
-/// A present, non-null field.
-fn field<'a>(obj: &'a Map<String, Value>, k: &str) -> Option<&'a Value> {
-    obj.get(k).filter(|v| !v.is_null())
-}
-
-/// The options of a request; errors name the field.
-fn options(v: &Value, max_steps: u64, max_detections: u64) -> ApiResult<SimulateOptions> {
-    let bad = |e| AppError::bad("invalid_request", e);
-    let obj = object(v, "").map_err(bad)?;
-    check_fields(
-        obj,
-        &[
-            "scenario",
-            "seed",
-            "steps",
-            "landmarks",
-            "operator",
-            "noise",
-            "layout",
-            "range_only",
-            "false_detections",
-        ],
-        "",
-    )
-    .map_err(bad)?;
-    let scenario = match obj
-        .get("scenario")
-        .and_then(Value::as_str)
-        .map(Scenario::parse)
-    {
-        Some(Some(s)) => s,
-        _ => return Err(invalid("scenario", "scenario must be \"paper\" or \"auv\"")),
-    };
-    let int = |k: &str, max: u64| -> ApiResult<Option<u64>> {
-        field(obj, k)
-            .map(|x| integer(x, k, max).map_err(bad))
-            .transpose()
-    };
-    let boolean = |k: &str| -> ApiResult<bool> {
-        match field(obj, k) {
-            None => Ok(false),
-            Some(Value::Bool(b)) => Ok(*b),
-            Some(o) => Err(invalid(
-                k,
-                format!(
-                    "expected true or false, found {}",
-                    nvector_core::json::kind(o)
-                ),
-            )),
-        }
-    };
-    let mut o = SimulateOptions::new(scenario, int("seed", u64::MAX)?.unwrap_or(1));
-    // Absent: the scenario's default, at most this service's limit.
-    let default_steps = match scenario {
-        Scenario::Paper => PAPER_STEPS,
-        _ => AUV_STEPS,
-    };
-    o.steps = Some(
-        int("steps", max_steps)?
-            .unwrap_or(default_steps.min(max_steps))
-            .max(2) as usize,
-    );
-    o.landmarks = int("landmarks", MAX_LANDMARKS)?.map(|s| s.max(1) as usize);
-    o.operator = boolean("operator")?;
-    if let Some(x) = field(obj, "noise") {
-        let n = number(x, "noise").map_err(bad)?;
-        if !(0.0..=100.0).contains(&n) {
-            return Err(invalid("noise", "noise must be in [0, 100]"));
-        }
-        o.noise = n;
-    }
-    if let Some(x) = field(obj, "layout") {
-        o.layout = x.as_str().and_then(Layout::parse).ok_or_else(|| {
-            invalid(
-                "layout",
-                format!("unknown layout {x} (expected line, ring or random)"),
-            )
-        })?;
-    }
-    o.range_only = boolean("range_only")?;
-    o.false_detections =
-        int("false_detections", MAX_FALSE_DETECTIONS.min(max_detections))?.unwrap_or(0) as usize;
-    if scenario != Scenario::Paper {
-        let (path, what) = if o.layout != Layout::Line {
-            ("layout", "layout")
-        } else if o.range_only {
-            ("range_only", "range_only")
-        } else if o.false_detections > 0 {
-            ("false_detections", "false_detections")
-        } else {
-            return Ok(o);
-        };
-        return Err(invalid(
-            path,
-            format!("{what} applies to the paper scenario only"),
-        ));
-    }
-    Ok(o)
+// The body is read as core's one simulation request type; the schema
+// above describes it for the document.
+impl RequestBody for Options {
+    const CODE: &'static str = "invalid_request";
 }
 
 /// A simulated mission, returned and stored.
@@ -305,16 +196,16 @@ fn options(v: &Value, max_steps: u64, max_detections: u64) -> ApiResult<Simulate
 )]
 pub(super) async fn post_simulate(
     State(state): State<AppState>,
-    headers: HeaderMap,
-    body: Bytes,
+    Owner(owner): Owner,
+    Body(request): Body<Options>,
 ) -> ApiResult<(StatusCode, Json<Simulated>)> {
-    let owner = owner(&state, &headers)?;
-    let v = parse_json(&body)?;
-    let o = options(
-        &v,
-        state.config.max_steps as u64,
-        state.config.max_detections as u64,
-    )?;
+    let limits = SimulateLimits {
+        max_steps: state.config.max_steps as u64,
+        max_false_detections: state.config.max_detections as u64,
+    };
+    let o = request
+        .options(limits)
+        .map_err(|e| AppError::bad("invalid_request", e))?;
     let max_detections = state.config.max_detections;
     let mission = tokio::task::spawn_blocking(move || {
         let mission = simulate(&o);
@@ -363,7 +254,23 @@ pub(super) async fn post_simulate(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nvector_core::format::{from_value, Object};
+    use nvector_core::slam::simulate::Layout;
+    use nvector_core::InputError;
     use serde_json::json;
+
+    /// The options of a body under this service's limits, as the handler
+    /// reads them.
+    fn options(
+        v: &Value,
+        max_steps: u64,
+        max_detections: u64,
+    ) -> Result<SimulateOptions, InputError> {
+        from_value::<Object<Options>>(v)?.0.options(SimulateLimits {
+            max_steps,
+            max_false_detections: max_detections,
+        })
+    }
 
     fn err(v: Value) -> String {
         let Err(e) = options(&v, 1000, 100_000) else {
@@ -390,7 +297,7 @@ mod tests {
         assert_eq!((o.steps, o.seed), (Some(60_000), 5));
         assert_eq!(
             err(json!({"scenario": "paper", "operator": "yes"})),
-            "operator: expected true or false, found a string"
+            "operator: expected a boolean, found a string"
         );
         assert!(err(json!({"scenario": "paper", "steps": 1001})).starts_with("steps:"));
     }

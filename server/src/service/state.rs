@@ -5,6 +5,8 @@ use super::config::Config;
 use super::error::{ApiResult, AppError};
 use super::store::{self, Store};
 use super::worker::Workers;
+use axum::extract::FromRequestParts;
+use axum::http::request::Parts;
 use axum::http::{header, HeaderMap, StatusCode};
 use std::sync::Arc;
 
@@ -57,5 +59,17 @@ pub(super) fn owner(state: &AppState, headers: &HeaderMap) -> ApiResult<String> 
             "unauthorized",
             "missing or unknown API key (Authorization: Bearer KEY)",
         )),
+    }
+}
+
+/// The owner of a request as an extractor (a handler argument): its API
+/// key, or "" when keys are off; 401 otherwise.
+pub(super) struct Owner(pub String);
+
+impl FromRequestParts<AppState> for Owner {
+    type Rejection = AppError;
+
+    async fn from_request_parts(parts: &mut Parts, state: &AppState) -> ApiResult<Owner> {
+        owner(state, &parts.headers).map(Owner)
     }
 }

@@ -20,7 +20,7 @@
 
 use super::job_runner::JobOrder;
 use super::meters::{self, Meters, ReasonLabel};
-use super::store::{JobError, JobRow, Store};
+use super::store::{JobError, JobRow, JobState, Store};
 use super::worker_process::{Message, WorkerProcess};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
@@ -211,7 +211,7 @@ fn worker_loop(store: &dyn Store, workers: &Workers, config: &PoolConfig, max_co
 
 fn fail(store: &dyn Store, job: &JobRow, code: &'static str, message: String) {
     let e = JobError { code, message };
-    if let Err(err) = store.finish_job(&job.id, "failed", None, Some(&e), now_ms()) {
+    if let Err(err) = store.finish_job(&job.id, JobState::Failed, None, Some(&e), now_ms()) {
         tracing::error!("storing the failure of job {}: {err}", job.id);
     }
 }
@@ -331,19 +331,7 @@ fn supervise(
                 }
             }
             Ok(Some(Message::Done { result, timed_out })) => {
-                let error = timed_out.then(|| JobError {
-                    code: "time_limit",
-                    message: format!(
-                        "time limit of {} s reached (partial, sound result kept)",
-                        job.time_limit_s
-                    ),
-                });
-                if let Err(e) =
-                    store.finish_job(&job.id, "done", Some(&result), error.as_ref(), now_ms())
-                {
-                    tracing::error!("storing the result of job {}: {e}", job.id);
-                }
-                return;
+                return store_result(store, job, &result, timed_out)
             }
             Ok(Some(Message::Failed(e))) => return fail(store, job, e.code, e.message),
             Ok(None) => {}
@@ -364,26 +352,46 @@ fn supervise(
             last_check = Instant::now();
             // Cancelled, or deleted with its mission: stop the work.
             match store.job_state(&job.id) {
-                Ok(Some(s)) if s == "cancelled" => return kill(process),
+                Ok(Some(JobState::Cancelled)) => return kill(process),
                 Ok(None) => return kill(process),
                 _ => {}
             }
         }
         if start.elapsed() > hard_limit {
             kill(process);
-            return fail(
-                store,
-                job,
-                "time_limit",
-                format!(
-                    "time limit of {} s reached and the job did not stop within {:.0} s more: \
-                     its worker process was stopped, no result kept",
-                    job.time_limit_s,
-                    time_limit_grace(job.time_limit_s).as_secs_f64()
-                ),
-            );
+            return fail(store, job, "time_limit", past_grace(job));
         }
     }
+}
+
+/// Stores a job's result (cut short by its time limit when `timed_out`).
+fn store_result(store: &dyn Store, job: &JobRow, result: &str, timed_out: bool) {
+    let error = timed_out.then(|| JobError {
+        code: "time_limit",
+        message: format!(
+            "time limit of {} s reached (partial, sound result kept)",
+            job.time_limit_s
+        ),
+    });
+    if let Err(e) = store.finish_job(
+        &job.id,
+        JobState::Done,
+        Some(result),
+        error.as_ref(),
+        now_ms(),
+    ) {
+        tracing::error!("storing the result of job {}: {e}", job.id);
+    }
+}
+
+/// The failure of a job still running past its time limit and grace.
+fn past_grace(job: &JobRow) -> String {
+    format!(
+        "time limit of {} s reached and the job did not stop within {:.0} s more: \
+         its worker process was stopped, no result kept",
+        job.time_limit_s,
+        time_limit_grace(job.time_limit_s).as_secs_f64()
+    )
 }
 
 /// Records the death of the worker process that ran `job`: back to the
@@ -414,7 +422,7 @@ fn crashed(
         );
     }
     match store.record_crash(&job.id, &error, max, now_ms()) {
-        Ok(Some(s)) if s == "queued" => {
+        Ok(Some(JobState::Queued)) => {
             tracing::warn!("job {} re-queued: {}", job.id, error.message);
             workers.notify();
         }

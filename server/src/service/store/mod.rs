@@ -39,6 +39,104 @@ pub struct MissionRow {
     pub created: i64,
 }
 
+// As stored (the `state` column holds `JobState::as_str`: the same strings
+// as before the type existed, so existing databases open) and as the API
+// writes it.
+/// The state of a job.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, utoipa::ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum JobState {
+    /// Waiting for a worker.
+    Queued,
+    /// Running.
+    Running,
+    /// Finished: the result is there (`error` says if a time limit cut it).
+    Done,
+    /// Failed (`error` says why).
+    Failed,
+    /// Cancelled.
+    Cancelled,
+}
+
+impl JobState {
+    /// Every state, in the order of the metrics.
+    pub const ALL: [JobState; 5] = [
+        JobState::Queued,
+        JobState::Running,
+        JobState::Done,
+        JobState::Failed,
+        JobState::Cancelled,
+    ];
+
+    /// The stored (and API) spelling.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JobState::Queued => "queued",
+            JobState::Running => "running",
+            JobState::Done => "done",
+            JobState::Failed => "failed",
+            JobState::Cancelled => "cancelled",
+        }
+    }
+
+    /// The state a stored string names.
+    pub fn parse(s: &str) -> Option<JobState> {
+        JobState::ALL.into_iter().find(|x| x.as_str() == s)
+    }
+
+    /// Whether the job has ended (done, failed or cancelled).
+    pub fn is_terminal(self) -> bool {
+        matches!(
+            self,
+            JobState::Done | JobState::Failed | JobState::Cancelled
+        )
+    }
+
+    /// Whether the job may still be cancelled (queued or running).
+    pub fn is_active(self) -> bool {
+        !self.is_terminal()
+    }
+}
+
+impl std::fmt::Display for JobState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// A stored state that is none of [`JobState`]'s.
+#[derive(Debug, thiserror::Error)]
+#[error("unknown job state {0:?} in the database")]
+pub struct UnknownState(pub String);
+
+impl rusqlite::types::FromSql for JobState {
+    fn column_result(v: rusqlite::types::ValueRef<'_>) -> rusqlite::types::FromSqlResult<Self> {
+        let s = v.as_str()?;
+        JobState::parse(s)
+            .ok_or_else(|| rusqlite::types::FromSqlError::Other(Box::new(UnknownState(s.into()))))
+    }
+}
+
+impl rusqlite::ToSql for JobState {
+    fn to_sql(&self) -> rusqlite::Result<rusqlite::types::ToSqlOutput<'_>> {
+        Ok(self.as_str().into())
+    }
+}
+
+impl<'a> ::postgres::types::FromSql<'a> for JobState {
+    fn from_sql(
+        ty: &::postgres::types::Type,
+        raw: &'a [u8],
+    ) -> Result<Self, Box<dyn std::error::Error + Sync + Send>> {
+        let s = <&str as ::postgres::types::FromSql>::from_sql(ty, raw)?;
+        JobState::parse(s).ok_or_else(|| UnknownState(s.into()).into())
+    }
+
+    fn accepts(ty: &::postgres::types::Type) -> bool {
+        <&str as ::postgres::types::FromSql>::accepts(ty)
+    }
+}
+
 /// A job.
 #[derive(Debug, Clone)]
 pub struct JobRow {
@@ -46,8 +144,8 @@ pub struct JobRow {
     pub id: String,
     /// Mission id.
     pub mission: String,
-    /// queued, running, done, failed, cancelled.
-    pub state: String,
+    /// Its state.
+    pub state: JobState,
     /// Contractor name.
     pub contractor: String,
     /// Most rounds.
@@ -181,7 +279,7 @@ pub trait Store: Send + Sync {
         error: &JobError,
         max_crashes: i64,
         now: i64,
-    ) -> StoreResult<Option<String>>;
+    ) -> StoreResult<Option<JobState>>;
     /// Deletes a mission and its jobs; false when absent.
     fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool>;
     /// Queues a job on a mission of `owner`, unless the queue holds
@@ -204,21 +302,21 @@ pub trait Store: Send + Sync {
     fn finish_job(
         &self,
         id: &str,
-        state: &str,
+        state: JobState,
         result: Option<&str>,
         error: Option<&JobError>,
         now: i64,
     ) -> StoreResult<()>;
     /// Marks a queued or running job cancelled; false when absent or ended.
-    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<String>>;
+    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<JobState>>;
     /// The state of a job (any owner), for workers checking cancellation.
-    fn job_state(&self, id: &str) -> StoreResult<Option<String>>;
+    fn job_state(&self, id: &str) -> StoreResult<Option<JobState>>;
     /// A job's result JSON text.
     fn result(&self, owner: &str, id: &str) -> StoreResult<Option<String>>;
     /// This process's id, as stored in the jobs it runs.
     fn instance(&self) -> &str;
     /// Job counts by state.
-    fn counts(&self) -> StoreResult<Vec<(String, i64)>>;
+    fn counts(&self) -> StoreResult<Vec<(JobState, i64)>>;
 }
 
 /// A summary of a mission value for listing.

@@ -9,8 +9,8 @@
 //! processes starting together do not race.
 
 use super::{
-    JobError, JobRow, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult, COST_SQL,
-    JOB_COLUMNS,
+    JobError, JobRow, JobState, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult,
+    COST_SQL, JOB_COLUMNS,
 };
 use postgres::{Client, NoTls, Row};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -373,7 +373,7 @@ impl Store for PostgresStore {
     fn finish_job(
         &self,
         id: &str,
-        state: &str,
+        state: JobState,
         result: Option<&str>,
         error: Option<&JobError>,
         now: i64,
@@ -384,7 +384,7 @@ impl Store for PostgresStore {
                 "UPDATE jobs SET state = $2, result = $3, error = $4, error_code = $7::TEXT, finished = $5,
                  fraction = CASE WHEN $2 = 'done' THEN 1 ELSE fraction END
                  WHERE id = $1 AND state = 'running' AND runner = $6",
-                &[&id, &state, &result, &message, &now, &self.instance, &code],
+                &[&id, &state.as_str(), &result, &message, &now, &self.instance, &code],
             )
             .map(|_| ())
         })
@@ -396,7 +396,7 @@ impl Store for PostgresStore {
         error: &JobError,
         max_crashes: i64,
         now: i64,
-    ) -> StoreResult<Option<String>> {
+    ) -> StoreResult<Option<JobState>> {
         // The right-hand sides all read the row before the update.
         self.with(|c| {
             Ok(c.query_opt(
@@ -422,16 +422,16 @@ impl Store for PostgresStore {
         })
     }
 
-    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<String>> {
+    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<JobState>> {
         self.with(|c| {
             let mut tx = c.transaction()?;
-            let state: Option<String> = tx
+            let state: Option<JobState> = tx
                 .query_opt(
                     "SELECT state FROM jobs WHERE id = $1 AND owner = $2 FOR UPDATE",
                     &[&id, &owner],
                 )?
                 .map(|r| r.get(0));
-            if matches!(state.as_deref(), Some("queued" | "running")) {
+            if state.is_some_and(JobState::is_active) {
                 tx.execute(
                     "UPDATE jobs SET state = 'cancelled', finished = $2 WHERE id = $1",
                     &[&id, &now],
@@ -442,7 +442,7 @@ impl Store for PostgresStore {
         })
     }
 
-    fn job_state(&self, id: &str) -> StoreResult<Option<String>> {
+    fn job_state(&self, id: &str) -> StoreResult<Option<JobState>> {
         self.with(|c| {
             Ok(c.query_opt("SELECT state FROM jobs WHERE id = $1", &[&id])?
                 .map(|r| r.get(0)))
@@ -459,7 +459,7 @@ impl Store for PostgresStore {
         })
     }
 
-    fn counts(&self) -> StoreResult<Vec<(String, i64)>> {
+    fn counts(&self) -> StoreResult<Vec<(JobState, i64)>> {
         self.with(|c| {
             Ok(c.query(
                 "SELECT state, COUNT(*) FROM jobs GROUP BY state ORDER BY state",

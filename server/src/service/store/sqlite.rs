@@ -1,8 +1,8 @@
 //! SQLite storage: a database file, created on first run.
 
 use super::{
-    JobError, JobRow, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult, COST_SQL,
-    JOB_COLUMNS,
+    JobError, JobRow, JobState, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult,
+    COST_SQL, JOB_COLUMNS,
 };
 use rusqlite::{params, Connection, OptionalExtension};
 use std::sync::Mutex;
@@ -293,7 +293,7 @@ impl Store for SqliteStore {
     fn finish_job(
         &self,
         id: &str,
-        state: &str,
+        state: JobState,
         result: Option<&str>,
         error: Option<&JobError>,
         now: i64,
@@ -316,7 +316,7 @@ impl Store for SqliteStore {
         error: &JobError,
         max_crashes: i64,
         now: i64,
-    ) -> StoreResult<Option<String>> {
+    ) -> StoreResult<Option<JobState>> {
         // The right-hand sides all read the row before the update.
         self.with(|c| {
             c.query_row(
@@ -343,13 +343,13 @@ impl Store for SqliteStore {
         })
     }
 
-    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<String>> {
+    fn cancel_job(&self, owner: &str, id: &str, now: i64) -> StoreResult<Option<JobState>> {
         self.with(|c| {
-            let state: Option<String> = c
+            let state: Option<JobState> = c
                 .query_row("SELECT state FROM jobs WHERE id = ?1 AND owner = ?2", params![id, owner], |r| r.get(0))
                 .optional()?;
-            if let Some(s) = &state {
-                if s == "queued" || s == "running" {
+            if let Some(s) = state {
+                if s.is_active() {
                     c.execute(
                         "UPDATE jobs SET state = 'cancelled', finished = ?2 WHERE id = ?1 AND state IN ('queued', 'running')",
                         params![id, now],
@@ -360,7 +360,7 @@ impl Store for SqliteStore {
         })
     }
 
-    fn job_state(&self, id: &str) -> StoreResult<Option<String>> {
+    fn job_state(&self, id: &str) -> StoreResult<Option<JobState>> {
         self.with(|c| {
             c.query_row("SELECT state FROM jobs WHERE id = ?1", params![id], |r| {
                 r.get(0)
@@ -405,7 +405,7 @@ impl Store for SqliteStore {
         &self.instance
     }
 
-    fn counts(&self) -> StoreResult<Vec<(String, i64)>> {
+    fn counts(&self) -> StoreResult<Vec<(JobState, i64)>> {
         self.with(|c| {
             let mut st =
                 c.prepare("SELECT state, COUNT(*) FROM jobs GROUP BY state ORDER BY state")?;
@@ -418,6 +418,28 @@ impl Store for SqliteStore {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The stored strings are those the column held before `JobState`
+    /// (existing databases open), and a string that is none of them is a
+    /// storage error, not a panic.
+    #[test]
+    fn job_states_are_the_stored_strings() {
+        let c = Connection::open_in_memory().unwrap();
+        for s in JobState::ALL {
+            let back: String = c.query_row("SELECT ?1", params![s], |r| r.get(0)).unwrap();
+            assert_eq!(back, s.as_str());
+            let read: JobState = c
+                .query_row("SELECT ?1", params![s.as_str()], |r| r.get(0))
+                .unwrap();
+            assert_eq!(read, s);
+        }
+        assert_eq!(
+            ["queued", "running", "done", "failed", "cancelled"],
+            JobState::ALL.map(JobState::as_str)
+        );
+        let bad = c.query_row("SELECT 'paused'", [], |r| r.get::<_, JobState>(0));
+        assert!(bad.unwrap_err().to_string().contains("paused"));
+    }
 
     fn open() -> (SqliteStore, std::path::PathBuf) {
         let dir =
@@ -441,7 +463,7 @@ mod tests {
         JobRow {
             id: id.into(),
             mission: mission.into(),
-            state: "queued".into(),
+            state: JobState::Queued,
             contractor: "none".into(),
             max_rounds: 1,
             time_limit_s: 1.0,
@@ -502,8 +524,8 @@ mod tests {
         };
         st.claim_job(1, i64::MAX).unwrap().unwrap();
         assert_eq!(
-            st.record_crash("j", &e, 2, 5).unwrap().as_deref(),
-            Some("queued")
+            st.record_crash("j", &e, 2, 5).unwrap(),
+            Some(JobState::Queued)
         );
         let j = st.job("", "j").unwrap().unwrap();
         assert_eq!(
@@ -513,8 +535,8 @@ mod tests {
         let j = st.claim_job(6, i64::MAX).unwrap().unwrap();
         assert_eq!((j.attempts, j.crashes), (2, 1));
         assert_eq!(
-            st.record_crash("j", &e, 2, 9).unwrap().as_deref(),
-            Some("failed")
+            st.record_crash("j", &e, 2, 9).unwrap(),
+            Some(JobState::Failed)
         );
         let j = st.job("", "j").unwrap().unwrap();
         assert_eq!(

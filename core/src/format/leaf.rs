@@ -1,0 +1,563 @@
+//! The leaf values of the formats (spec/formats.md, "Numbers, intervals,
+//! boxes"): finite numbers, non-negative integers, bounds, intervals,
+//! boxes, per-step numbers and arrays of points, each read straight from
+//! the JSON (the large arrays of a 10^6-step mission never become JSON
+//! values) with the project's messages.
+
+use crate::error::InputError;
+use crate::ibox::IntervalBox;
+use crate::interval::Interval;
+use serde::de::{self, Deserialize, Deserializer, IgnoredAny, SeqAccess, Unexpected, Visitor};
+use std::fmt;
+use std::marker::PhantomData;
+
+/// Capacity to reserve for a sequence: its size hint, capped so that no
+/// input number sizes an allocation (the text's own length bounds it).
+fn capacity(hint: Option<usize>) -> usize {
+    hint.unwrap_or(0).min(1 << 20)
+}
+
+/// A JSON number as text, as serde_json writes it (`-3.0`, `1.5`).
+fn number_text(x: f64) -> String {
+    serde_json::Number::from_f64(x).map_or_else(|| x.to_string(), |n| n.to_string())
+}
+
+/// A finite JSON number.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Finite(pub f64);
+
+struct FiniteVisitor;
+
+impl Visitor<'_> for FiniteVisitor {
+    type Value = Finite;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a finite number")
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Finite, E> {
+        if v.is_finite() {
+            Ok(Finite(v))
+        } else {
+            Err(E::custom("expected a finite number"))
+        }
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Finite, E> {
+        Ok(Finite(v as f64))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Finite, E> {
+        Ok(Finite(v as f64))
+    }
+}
+
+impl<'de> Deserialize<'de> for Finite {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Finite, D::Error> {
+        d.deserialize_any(FiniteVisitor)
+    }
+}
+
+/// A non-negative integer, however written (`3`, `3.0`, `3e0`: JSON
+/// Schema's `integer`, which the OpenAPI document states). Its limit is the
+/// validation's ([`Integer::at_most`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Integer {
+    /// A whole number below 2^64.
+    Value(u64),
+    /// A whole float at or above 2^64 (above every limit).
+    Huge(f64),
+}
+
+impl Integer {
+    /// The value, or an error at `path` when it is above `max`.
+    pub fn at_most(self, max: u64, path: &str) -> Result<u64, InputError> {
+        match self {
+            Integer::Value(x) if x <= max => Ok(x),
+            Integer::Value(x) => Err(InputError::new(
+                path,
+                format!("{x} is above the limit {max}"),
+            )),
+            Integer::Huge(x) => Err(InputError::new(
+                path,
+                format!("{x} is above the limit {max}"),
+            )),
+        }
+    }
+}
+
+struct IntegerVisitor;
+
+impl Visitor<'_> for IntegerVisitor {
+    type Value = Integer;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a non-negative integer")
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Integer, E> {
+        Ok(Integer::Value(v))
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Integer, E> {
+        u64::try_from(v)
+            .map(Integer::Value)
+            .map_err(|_| E::custom(format!("expected a non-negative integer, found {v}")))
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Integer, E> {
+        /// 2^64: whole floats below it convert to u64 exactly.
+        const TWO_TO_64: f64 = 18_446_744_073_709_551_616.0;
+        if v.is_finite() && v.fract() == 0.0 && v >= 0.0 {
+            Ok(if v < TWO_TO_64 {
+                Integer::Value(v as u64)
+            } else {
+                Integer::Huge(v)
+            })
+        } else {
+            Err(E::custom(format!(
+                "expected a non-negative integer, found {}",
+                number_text(v)
+            )))
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Integer {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Integer, D::Error> {
+        d.deserialize_any(IntegerVisitor)
+    }
+}
+
+/// A bound: a number or `"-inf"` / `"inf"` (`"+inf"`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bound(pub f64);
+
+struct BoundVisitor;
+
+impl Visitor<'_> for BoundVisitor {
+    type Value = Bound;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a number, \"-inf\" or \"inf\"")
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Bound, E> {
+        if v.is_finite() {
+            Ok(Bound(v))
+        } else {
+            Err(E::custom("number out of range"))
+        }
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Bound, E> {
+        Ok(Bound(v as f64))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Bound, E> {
+        Ok(Bound(v as f64))
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Bound, E> {
+        match v {
+            "inf" | "+inf" => Ok(Bound(f64::INFINITY)),
+            "-inf" => Ok(Bound(f64::NEG_INFINITY)),
+            _ => Err(E::invalid_type(Unexpected::Str(v), &self)),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Bound {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Bound, D::Error> {
+        d.deserialize_any(BoundVisitor)
+    }
+}
+
+fn fmt_bound(x: f64) -> String {
+    if x == f64::INFINITY {
+        "inf".into()
+    } else if x == f64::NEG_INFINITY {
+        "-inf".into()
+    } else {
+        format!("{x}")
+    }
+}
+
+/// An input interval: `[lo, hi]` with `lo <= hi` holding a real number, or
+/// a bare number `x` (= `[x, x]`); `"empty"` is refused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntervalIn(pub Interval);
+
+struct IntervalVisitor;
+
+impl<'de> Visitor<'de> for IntervalVisitor {
+    type Value = IntervalIn;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an interval [lo, hi] or a number")
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<IntervalIn, E> {
+        FiniteVisitor
+            .visit_f64(v)
+            .map(|x| IntervalIn(Interval::point(x.0)))
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<IntervalIn, E> {
+        Ok(IntervalIn(Interval::point(v as f64)))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<IntervalIn, E> {
+        Ok(IntervalIn(Interval::point(v as f64)))
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<IntervalIn, E> {
+        if v == "empty" {
+            Err(E::custom("an input interval may not be empty"))
+        } else {
+            Err(E::invalid_type(Unexpected::Str(v), &self))
+        }
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<IntervalIn, A::Error> {
+        let lo = seq.next_element::<Bound>()?;
+        let hi = match lo {
+            Some(_) => seq.next_element::<Bound>()?,
+            None => None,
+        };
+        let mut count = usize::from(lo.is_some()) + usize::from(hi.is_some());
+        if hi.is_some() {
+            while seq.next_element::<IgnoredAny>()?.is_some() {
+                count += 1;
+            }
+        }
+        let (Some(Bound(lo)), Some(Bound(hi)), 2) = (lo, hi, count) else {
+            return Err(de::Error::custom(format!(
+                "an interval is [lo, hi]: expected 2 bounds, found {count}"
+            )));
+        };
+        if lo > hi {
+            return Err(de::Error::custom(format!(
+                "lower bound {} is above upper bound {}",
+                fmt_bound(lo),
+                fmt_bound(hi)
+            )));
+        }
+        let x = Interval::new(lo, hi);
+        if x.is_empty() {
+            return Err(de::Error::custom("an interval must hold a real number"));
+        }
+        Ok(IntervalIn(x))
+    }
+}
+
+impl<'de> Deserialize<'de> for IntervalIn {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<IntervalIn, D::Error> {
+        d.deserialize_any(IntervalVisitor)
+    }
+}
+
+/// An input box: an array of input intervals (`"empty"` refused); its
+/// dimension is checked by the validation ([`BoxIn::dim`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoxIn(pub Vec<Interval>);
+
+impl BoxIn {
+    /// The box, of dimension `dim` (any dimension >= 1 when `None`), or an
+    /// error at `path`.
+    pub fn dim(&self, path: &str, dim: Option<usize>) -> Result<IntervalBox, InputError> {
+        match dim {
+            Some(d) if self.0.len() != d => Err(InputError::new(
+                path,
+                format!(
+                    "expected a box of dimension {d}, found {} axes",
+                    self.0.len()
+                ),
+            )),
+            None if self.0.is_empty() => {
+                Err(InputError::new(path, "a box needs at least one axis"))
+            }
+            _ => Ok(IntervalBox::new(&self.0)),
+        }
+    }
+}
+
+struct BoxVisitor;
+
+impl<'de> Visitor<'de> for BoxVisitor {
+    type Value = BoxIn;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a box (an array of intervals)")
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<BoxIn, E> {
+        if v == "empty" {
+            Err(E::custom("an input box may not be empty"))
+        } else {
+            Err(E::invalid_type(Unexpected::Str(v), &self))
+        }
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<BoxIn, A::Error> {
+        let mut axes = Vec::with_capacity(capacity(seq.size_hint()).min(16));
+        while let Some(IntervalIn(x)) = seq.next_element()? {
+            axes.push(x);
+        }
+        Ok(BoxIn(axes))
+    }
+}
+
+impl<'de> Deserialize<'de> for BoxIn {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<BoxIn, D::Error> {
+        d.deserialize_any(BoxVisitor)
+    }
+}
+
+/// A JSON array read as `Vec<T>` (serde's own says "a sequence").
+#[derive(Debug, Clone, PartialEq)]
+pub struct List<T>(pub Vec<T>);
+
+struct ListVisitor<T>(PhantomData<T>);
+
+impl<'de, T: Deserialize<'de>> Visitor<'de> for ListVisitor<T> {
+    type Value = List<T>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<List<T>, A::Error> {
+        let mut out = Vec::with_capacity(capacity(seq.size_hint()));
+        while let Some(x) = seq.next_element()? {
+            out.push(x);
+        }
+        Ok(List(out))
+    }
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for List<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<List<T>, D::Error> {
+        d.deserialize_seq(ListVisitor(PhantomData))
+    }
+}
+
+/// An array of finite numbers, packed as floats.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Numbers(pub Vec<f64>);
+
+impl<'de> Deserialize<'de> for Numbers {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Numbers, D::Error> {
+        let List(v) = List::<Finite>::deserialize(d)?;
+        Ok(Numbers(v.into_iter().map(|x| x.0).collect()))
+    }
+}
+
+/// A number, or an array of numbers (one per step).
+#[derive(Debug, Clone, PartialEq)]
+pub enum PerStep {
+    /// One number for every step.
+    One(f64),
+    /// One number per step.
+    Each(Vec<f64>),
+}
+
+impl PerStep {
+    /// `n` numbers, each >= 0 (`what` names them in the error), or an
+    /// error at `path` (or at the offending entry).
+    pub fn non_negative(self, path: &str, n: usize, what: &str) -> Result<Vec<f64>, InputError> {
+        let negative =
+            |x: f64, p: String| InputError::new(p, format!("{what} must be >= 0, found {x}"));
+        match self {
+            PerStep::One(x) if x < 0.0 => Err(negative(x, path.to_string())),
+            PerStep::One(x) => Ok(vec![x; n]),
+            PerStep::Each(a) => {
+                if a.len() != n {
+                    return Err(wrong_count(path, n, a.len()));
+                }
+                match a.iter().position(|&x| x < 0.0) {
+                    Some(i) => Err(negative(a[i], format!("{path}[{i}]"))),
+                    None => Ok(a),
+                }
+            }
+        }
+    }
+}
+
+/// "expected n values (one per step), found m".
+pub fn wrong_count(path: &str, n: usize, found: usize) -> InputError {
+    InputError::new(
+        path,
+        format!("expected {n} values (one per step), found {found}"),
+    )
+}
+
+struct PerStepVisitor;
+
+impl<'de> Visitor<'de> for PerStepVisitor {
+    type Value = PerStep;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a finite number or an array of numbers")
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<PerStep, E> {
+        FiniteVisitor.visit_f64(v).map(|x| PerStep::One(x.0))
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<PerStep, E> {
+        Ok(PerStep::One(v as f64))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<PerStep, E> {
+        Ok(PerStep::One(v as f64))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<PerStep, A::Error> {
+        let List(v) = ListVisitor::<Finite>(PhantomData).visit_seq(seq)?;
+        Ok(PerStep::Each(v.into_iter().map(|x| x.0).collect()))
+    }
+}
+
+impl<'de> Deserialize<'de> for PerStep {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<PerStep, D::Error> {
+        d.deserialize_any(PerStepVisitor)
+    }
+}
+
+/// A point as read: its first three coordinates and how many it has (the
+/// validation checks the count against the model's dimension).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    /// The first coordinates (up to 3).
+    pub x: [f64; 3],
+    /// How many coordinates the point has.
+    pub len: usize,
+}
+
+struct RowVisitor;
+
+impl<'de> Visitor<'de> for RowVisitor {
+    type Value = Row;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Row, A::Error> {
+        let mut row = Row {
+            x: [0.0; 3],
+            len: 0,
+        };
+        while let Some(Finite(x)) = seq.next_element()? {
+            if row.len < 3 {
+                row.x[row.len] = x;
+            }
+            row.len += 1;
+        }
+        Ok(row)
+    }
+}
+
+impl<'de> Deserialize<'de> for Row {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Row, D::Error> {
+        d.deserialize_seq(RowVisitor)
+    }
+}
+
+/// An array of points, packed: the coordinates of every point given, in
+/// order, with the first point's length as the width (a point of another
+/// length is kept as the first mismatch, for the validation to name);
+/// `null` entries (unknown points) are listed by index and take no room.
+/// A 10^6-point trajectory takes 16 MB (2-D), not one allocation per point.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PointsIn {
+    /// Number of entries (points and nulls).
+    pub count: usize,
+    /// Coordinates per point (the first point's; 0 when there is none).
+    pub width: usize,
+    /// The coordinates of the points given, `width` each.
+    pub flat: Vec<f64>,
+    /// The first point whose length is not `width`: (index, length).
+    pub mismatch: Option<(usize, usize)>,
+    /// Indices of the `null` entries, increasing.
+    pub nulls: Vec<usize>,
+}
+
+struct PointsVisitor;
+
+impl<'de> Visitor<'de> for PointsVisitor {
+    type Value = PointsIn;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("an array")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<PointsIn, A::Error> {
+        let mut p = PointsIn {
+            flat: Vec::with_capacity(capacity(seq.size_hint()).saturating_mul(2)),
+            ..PointsIn::default()
+        };
+        let mut first = true;
+        while let Some(row) = seq.next_element::<Option<Row>>()? {
+            match row {
+                None => p.nulls.push(p.count),
+                Some(r) => {
+                    if first {
+                        p.width = r.len;
+                        first = false;
+                    }
+                    if r.len != p.width {
+                        p.mismatch.get_or_insert((p.count, r.len));
+                    } else if r.len <= 3 {
+                        p.flat.extend_from_slice(&r.x[..r.len]);
+                    }
+                }
+            }
+            p.count += 1;
+        }
+        Ok(p)
+    }
+}
+
+impl<'de> Deserialize<'de> for PointsIn {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<PointsIn, D::Error> {
+        d.deserialize_seq(PointsVisitor)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::from_value;
+    use serde_json::json;
+
+    #[test]
+    fn interval_errors_name_the_path() {
+        let e = from_value::<IntervalIn>(&json!([5, 4])).unwrap_err();
+        assert_eq!(e.to_string(), "lower bound 5 is above upper bound 4");
+        let e = from_value::<IntervalIn>(&json!([1, "x"])).unwrap_err();
+        assert_eq!(e.path, "[1]");
+        assert_eq!(
+            e.message,
+            "expected a number, \"-inf\" or \"inf\", found a string"
+        );
+        let e = from_value::<IntervalIn>(&json!([1, 2, 3])).unwrap_err();
+        assert_eq!(
+            e.message,
+            "an interval is [lo, hi]: expected 2 bounds, found 3"
+        );
+        assert!(from_value::<IntervalIn>(&json!(["inf", "inf"])).is_err());
+        assert!(from_value::<IntervalIn>(&json!("empty")).is_err());
+        assert_eq!(
+            from_value::<IntervalIn>(&json!(["-inf", 3])).unwrap().0,
+            Interval::new(f64::NEG_INFINITY, 3.0)
+        );
+    }
+
+    /// Regression (issue 13): `3.0` is the integer 3.
+    #[test]
+    fn whole_floats_are_integers() {
+        let int = |v| from_value::<Integer>(&v);
+        assert_eq!(int(json!(3.0)).unwrap(), Integer::Value(3));
+        assert_eq!(int(json!(-0.0)).unwrap(), Integer::Value(0));
+        assert!(int(json!(2.5)).unwrap_err().message.contains("found 2.5"));
+        assert!(int(json!(-3.0)).unwrap_err().message.contains("found -3.0"));
+        assert!(int(json!(-1)).unwrap_err().message.contains("found -1"));
+        assert!(int(json!(1e300))
+            .unwrap()
+            .at_most(u64::MAX, "n")
+            .unwrap_err()
+            .message
+            .contains("above the limit"));
+        assert_eq!(
+            int(json!(12))
+                .unwrap()
+                .at_most(10, "n")
+                .unwrap_err()
+                .message,
+            "12 is above the limit 10"
+        );
+    }
+
+    #[test]
+    fn box_dimension_is_checked() {
+        let b = from_value::<BoxIn>(&json!([[0, 1]])).unwrap();
+        assert!(b
+            .dim("b", Some(2))
+            .unwrap_err()
+            .message
+            .contains("dimension 2"));
+        assert!(from_value::<BoxIn>(&json!([]))
+            .unwrap()
+            .dim("b", None)
+            .is_err());
+    }
+}

@@ -1,0 +1,213 @@
+//! The JSON formats of spec/formats.md, defined once as serde types (this
+//! module, below every other one of core: it imports only the numbers,
+//! intervals and the error type), and the one way to read them: with the
+//! JSON path of the bad value in every error ([`from_str`],
+//! [`from_value`]). Validation into the domain types (a mission's steps,
+//! dimensions, ids) is a separate step, in the modules that own those
+//! types (`slam::mission`): these types only say what the JSON looks like.
+//!
+//! Messages: serde's own wording is rewritten to the project's ("expected
+//! an object, found an array", "unknown field `x` (expected one of: a,
+//! b)"); the leaf types of [`leaf`] write theirs directly.
+
+/// `Deserialize` for a struct derived with `#[serde(remote = "Self")]`
+/// that reads a JSON object only (a derived struct also reads an array of
+/// its fields in order, which the formats do not allow).
+macro_rules! object_only {
+    ($t:ident) => {
+        impl<'de> serde::Deserialize<'de> for $t {
+            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<$t, D::Error> {
+                struct V;
+                impl<'de> serde::de::Visitor<'de> for V {
+                    type Value = $t;
+                    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                        f.write_str("an object")
+                    }
+                    fn visit_map<A: serde::de::MapAccess<'de>>(
+                        self,
+                        map: A,
+                    ) -> Result<$t, A::Error> {
+                        $t::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    }
+                }
+                d.deserialize_map(V)
+            }
+        }
+    };
+}
+
+pub mod contract;
+pub mod leaf;
+pub mod mission;
+
+use crate::error::InputError;
+use serde::de::{DeserializeOwned, IgnoredAny};
+use serde_json::Value;
+
+/// Parses JSON text as `T`. A text that is not JSON at all gets
+/// serde_json's message for the whole document ("invalid JSON: ..."),
+/// whatever it holds before the syntax error; otherwise the first value
+/// that does not fit `T` is named by its JSON path.
+pub fn from_str<T: DeserializeOwned>(text: &str) -> Result<T, InputError> {
+    // The fast path: a valid document is read once, untracked (tracking
+    // the path of every array element costs ~10% on a 10^6-step mission);
+    // only a failed read is read again with its path tracked.
+    if let Ok(t) = serde_json::from_str::<T>(text) {
+        return Ok(t);
+    }
+    let mut de = serde_json::Deserializer::from_str(text);
+    match serde_path_to_error::deserialize::<_, T>(&mut de) {
+        Ok(t) => match de.end() {
+            Ok(()) => Ok(t),
+            Err(e) => Err(syntax(text, &e)),
+        },
+        Err(e) => {
+            if !e.inner().is_data() {
+                return Err(syntax(text, e.inner()));
+            }
+            // JSON syntax first: a value of the wrong shape in a text that
+            // is not JSON reports the syntax error.
+            if let Err(s) = serde_json::from_str::<IgnoredAny>(text) {
+                return Err(syntax(text, &s));
+            }
+            Err(data_error(&e))
+        }
+    }
+}
+
+/// Reads a parsed JSON value as `T` (same checks and messages as
+/// [`from_str`] of its text).
+pub fn from_value<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
+    if let Ok(t) = T::deserialize(v) {
+        return Ok(t);
+    }
+    serde_path_to_error::deserialize::<_, T>(v).map_err(|e| data_error(&e))
+}
+
+fn invalid_json(e: &serde_json::Error) -> InputError {
+    InputError::new("", format!("invalid JSON: {e}"))
+}
+
+/// The syntax error of the text, as a parse into a JSON value reports it
+/// (the typed parse may stop at the same place with another message; this
+/// makes it the same whatever `T` is). Only on the error path.
+fn syntax(text: &str, e: &serde_json::Error) -> InputError {
+    match serde_json::from_str::<Value>(text) {
+        Err(s) => invalid_json(&s),
+        Ok(_) => invalid_json(e),
+    }
+}
+
+fn data_error(e: &serde_path_to_error::Error<serde_json::Error>) -> InputError {
+    let path = e.path().to_string();
+    let path = if path == "." { String::new() } else { path };
+    let inner = e.inner();
+    let mut msg = inner.to_string();
+    if inner.line() > 0 {
+        let at = format!(" at line {} column {}", inner.line(), inner.column());
+        if let Some(m) = msg.strip_suffix(&at) {
+            msg = m.to_string();
+        }
+    }
+    InputError::new(path, translate(&msg))
+}
+
+/// serde's messages in the project's words.
+fn translate(msg: &str) -> String {
+    if let Some(rest) = msg.strip_prefix("invalid type: ") {
+        if let Some((unexpected, expected)) = rest.rsplit_once(", expected ") {
+            return format!("expected {expected}, found {}", kind_of(unexpected));
+        }
+    }
+    if let Some(rest) = msg.strip_prefix("unknown field `") {
+        if let Some((name, tail)) = rest.split_once('`') {
+            let list = tail
+                .strip_prefix(", expected one of ")
+                .or_else(|| tail.strip_prefix(", expected "));
+            if let Some(list) = list {
+                return format!(
+                    "unknown field `{name}` (expected one of: {})",
+                    list.replace('`', "")
+                );
+            }
+        }
+    }
+    msg.to_string()
+}
+
+/// serde's `Unexpected` as a JSON kind ("a string", "an array", ...).
+fn kind_of(unexpected: &str) -> String {
+    const KINDS: [(&str, &str); 9] = [
+        ("boolean", "a boolean"),
+        ("integer", "a number"),
+        ("floating point", "a number"),
+        ("string", "a string"),
+        ("null", "null"),
+        ("unit value", "null"),
+        ("sequence", "an array"),
+        ("map", "an object"),
+        ("Option value", "null"),
+    ];
+    KINDS
+        .iter()
+        .find(|(serde, _)| unexpected.starts_with(serde))
+        .map_or_else(|| unexpected.to_string(), |(_, k)| k.to_string())
+}
+
+/// A `T` read from a JSON object only (a derived struct also reads an
+/// array of its fields in order, which the formats do not allow): for the
+/// front ends' own request types.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Object<T>(pub T);
+
+impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for Object<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Object<T>, D::Error> {
+        struct V<T>(std::marker::PhantomData<T>);
+        impl<'de, T: serde::Deserialize<'de>> serde::de::Visitor<'de> for V<T> {
+            type Value = Object<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an object")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Object<T>, A::Error> {
+                T::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(Object)
+            }
+        }
+        d.deserialize_map(V(std::marker::PhantomData))
+    }
+}
+
+/// For `#[serde(default, deserialize_with = "present")]` on a field that is
+/// `Option<T>` only so that its absence can be named: absent is `None`, a
+/// `null` is read as a `T` (and so refused with "expected ..., found null").
+pub fn present<'de, D, T>(d: D) -> Result<Option<T>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: serde::Deserialize<'de>,
+{
+    T::deserialize(d).map(Some)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn serde_messages_are_rewritten() {
+        assert_eq!(
+            translate("invalid type: sequence, expected an object"),
+            "expected an object, found an array"
+        );
+        assert_eq!(
+            translate("invalid type: string \"a, expected b\", expected a finite number"),
+            "expected a finite number, found a string"
+        );
+        assert_eq!(
+            translate("unknown field `rnage`, expected one of `step`, `range`"),
+            "unknown field `rnage` (expected one of: step, range)"
+        );
+        assert_eq!(translate("duplicate field `x`"), "duplicate field `x`");
+    }
+}
