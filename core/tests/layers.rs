@@ -24,7 +24,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("test_rng", 0, "the tests' generator"),
     ("ibox", 1, "interval boxes"),
     ("json", 2, "JSON reading helpers of the formats"),
-    ("format", 2, "the JSON formats as serde types (paths in errors)"),
+    (
+        "format",
+        2,
+        "the JSON formats as serde types (paths in errors)",
+    ),
     // `figure` and `odometry` are on main (merged while this table was
     // written): their places from their imports there.
     ("figure", 2, "the description of a result's picture"),
@@ -67,11 +71,6 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ),
     ("slam::result", 14, "the result format and the score"),
     ("slam::solve", 15, "the entry points"),
-    (
-        "slam::propagator",
-        16,
-        "former paths of the entry points (re-exports)",
-    ),
     ("slam", 17, "the facade of slam (re-exports)"),
     ("", 18, "the crate root (re-exports)"),
 ];

@@ -4,7 +4,7 @@
 //! `nvector` binary calls, so that the answers agree bit for bit:
 //! - `contract` -> `nvector::contract::contract_json` (as `nvector contract`);
 //! - `simulate` -> `slam::simulate::simulate` (as `nvector simulate`);
-//! - `run` -> `slam::mission::Mission` + `slam::propagator::solve` (as
+//! - `run` -> `slam::mission::Mission` + `slam::solve::solve` (as
 //!   `nvector run`).
 //!
 //! Python values cross as JSON values (`serde_json::Value`), converted here
@@ -18,9 +18,10 @@ use nvector_core::format::leaf::{Finite, Integer};
 use nvector_core::json::{bound, field_path, index_path};
 use nvector_core::nvector::contract::contract_json;
 use nvector_core::slam::mission::{Mission, MAX_STEPS};
-use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
 use nvector_core::slam::simulate::simulate as simulate_mission;
 use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
+use nvector_core::slam::solve::solve;
+use nvector_core::slam::types::{Association, Progress, SolveOptions};
 use nvector_core::InputError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -320,7 +321,7 @@ fn run<'py>(
             )
         })?,
         None if mission.landmark_count.is_some() => {
-            Association::NVector(nvector_core::nvector::Mode::Best)
+            Association::NVector(nvector_core::nvector::Contractor::Best)
         }
         None => Association::None,
     };

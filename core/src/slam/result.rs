@@ -457,8 +457,9 @@ mod tests {
     #[test]
     fn streamed_result_is_the_former_bytes() {
         let mut regions_seen = 0;
-        use crate::slam::propagator::{solve_model, Association, SolveOptions};
         use crate::slam::simulate::{simulate, Scenario, SimulateOptions};
+        use crate::slam::solve::solve_model;
+        use crate::slam::types::{Association, SolveOptions};
         use std::sync::atomic::AtomicBool;
         for (scenario, seed, operator, max_rounds) in [
             (Scenario::Paper, 1, false, 10_000),
@@ -479,7 +480,7 @@ mod tests {
                 let m = Mission::from_value(&v).unwrap();
                 for association in [
                     Association::None,
-                    Association::NVector(crate::nvector::Mode::Best),
+                    Association::NVector(crate::nvector::Contractor::Best),
                 ] {
                     let options = SolveOptions {
                         association,

@@ -8,7 +8,7 @@
 //! May import: `mission`, `model`, `crate::nvector` (the contractor names).
 
 use super::model::Model;
-use crate::nvector::Mode;
+use crate::nvector::Contractor;
 
 /// How to tie detections to landmarks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,7 +16,7 @@ pub enum Association {
     /// Basic model: only operator `landmark` fields tie detections.
     None,
     /// atmost_nvector with this contractor (with the operator's fields too).
-    NVector(Mode),
+    NVector(Contractor),
 }
 
 impl Association {
@@ -26,7 +26,7 @@ impl Association {
         match s {
             "none" => Some(Association::None),
             "exact" => None,
-            _ => Mode::parse(s).map(Association::NVector),
+            _ => Contractor::parse(s).map(Association::NVector),
         }
     }
 
@@ -53,7 +53,7 @@ pub struct SolveOptions {
 impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
-            association: Association::NVector(Mode::Best),
+            association: Association::NVector(Contractor::Best),
             max_rounds: 10_000,
             tolerance: 1e-9,
         }

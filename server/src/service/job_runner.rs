@@ -21,8 +21,9 @@
 //! reads that on the worker's standard error as `memory_limit`.
 
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
 use nvector_core::slam::result::write_result;
+use nvector_core::slam::solve::solve_model;
+use nvector_core::slam::types::{Association, Progress, SolveOptions};
 use serde::{Deserialize, Serialize};
 use std::io::{BufRead, BufWriter, Read, Write};
 use std::sync::atomic::{AtomicBool, Ordering};

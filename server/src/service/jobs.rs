@@ -15,7 +15,7 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use futures_util::stream::{self, Stream};
 use nvector_core::format::leaf::{Finite, Integer};
-use nvector_core::slam::propagator::Association;
+use nvector_core::slam::types::Association;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 use std::convert::Infallible;

@@ -177,7 +177,7 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
         "best",
     ]
     .into_iter()
-    .filter(|m| nvector_core::nvector::Mode::parse(m).is_some())
+    .filter(|m| nvector_core::nvector::Contractor::parse(m).is_some())
     .map(Value::from)
     .collect();
     if let Some(e) = doc.pointer_mut("/components/schemas/ContractMode") {
