@@ -53,6 +53,16 @@ pub enum Contractor {
 }
 
 impl Contractor {
+    /// Every contractor, in the order of the spec.
+    pub const ALL: [Contractor; 6] = [
+        Contractor::Nvalue,
+        Contractor::Projection,
+        Contractor::Independent,
+        Contractor::Exact,
+        Contractor::Shapes,
+        Contractor::Best,
+    ];
+
     /// Parses the spec's name (`"nvalue"`, `"projection"`, ...).
     pub fn parse(s: &str) -> Option<Contractor> {
         Some(match s {
@@ -78,6 +88,29 @@ impl Contractor {
         }
     }
 }
+
+/// The OpenAPI schema of a contractor: its spec names (the `contractor`
+/// of a contraction request).
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for Contractor {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        use utoipa::openapi::schema::{ObjectBuilder, Type};
+        ObjectBuilder::new()
+            .schema_type(Type::String)
+            .enum_values(Some(Contractor::ALL.map(Contractor::name)))
+            .description(Some(
+                "A box contractor of atmost_nvector: nvalue (atmost_nvalue on each axis, \
+                 the paper's naive one), projection (the paper's improved one), independent \
+                 (pairwise-disjoint witnesses, with projection), exact (bound consistency; \
+                 exponential, k <= 40, bounded work), shapes (the detection shapes in SLAM; \
+                 on plain boxes, as best), best (the strongest polynomial one).",
+            ))
+            .into()
+    }
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for Contractor {}
 
 /// What a contraction proved.
 #[derive(Debug, Clone, PartialEq)]

@@ -20,6 +20,15 @@ pub enum Association {
 }
 
 impl Association {
+    /// The names a job accepts, in the order of the spec: `none` and every
+    /// contractor but `exact` (exponential).
+    pub fn names() -> Vec<&'static str> {
+        std::iter::once("none")
+            .chain(Contractor::ALL.map(Contractor::name))
+            .filter(|n| Association::parse(n).is_some())
+            .collect()
+    }
+
     /// Parses `--contractor`: `none`, `nvalue`, `projection`, `independent`,
     /// `shapes`, `best` (`exact` is refused: it is exponential).
     pub fn parse(s: &str) -> Option<Association> {
@@ -38,6 +47,27 @@ impl Association {
         }
     }
 }
+
+/// The OpenAPI schema of a SLAM job's `contractor`: the names of
+/// [`Association::names`].
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for Association {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        use utoipa::openapi::schema::{ObjectBuilder, Type};
+        ObjectBuilder::new()
+            .schema_type(Type::String)
+            .enum_values(Some(Association::names()))
+            .description(Some(
+                "The contractor of a SLAM job: none (the basic model: operator matches \
+                 only) or atmost_nvector with one of its box contractors (exact is refused \
+                 for jobs: exponential).",
+            ))
+            .into()
+    }
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for Association {}
 
 /// Options of a SLAM job.
 #[derive(Debug, Clone)]
@@ -173,4 +203,30 @@ pub struct Solution {
     pub contractions: u64,
     /// Final domains.
     pub model: Model,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The job's names are the spec's, each parsed back, `exact` refused.
+    #[test]
+    fn association_names_are_the_parsed_ones() {
+        let names = Association::names();
+        assert_eq!(
+            names,
+            [
+                "none",
+                "nvalue",
+                "projection",
+                "independent",
+                "shapes",
+                "best"
+            ]
+        );
+        for n in &names {
+            assert_eq!(Association::parse(n).map(Association::name), Some(*n));
+        }
+        assert_eq!(Association::parse("exact"), None);
+    }
 }

@@ -5,15 +5,15 @@
 //! the spec's formats, each resource's file for its own bodies).
 //!
 //! [`finish`] then fits the document to the running service: its limits
-//! (steps, detections, job time limit), the contractor names core accepts,
-//! the multipart encoding of a mission upload, and the bearer security when
-//! API keys are on. The test tests/http_openapi.rs checks real responses
+//! (steps, detections, job time limit), the multipart encoding of a
+//! mission upload, and the bearer security when API keys are on. The
+//! contractor names are core's (`Contractor` and `Association` have their
+//! schemas in core, behind its `openapi` feature). The test tests/http_openapi.rs checks real responses
 //! against it, and `make test` validates it and fuzzes the live service
 //! from it (scripts/fuzz.sh).
 
 use super::config::Config;
 use super::formats::MAX_STEPS;
-use super::jobs::contractor_names;
 use axum::{Extension, Json};
 use serde_json::{json, Value};
 use std::sync::Arc;
@@ -130,7 +130,6 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
     let mut doc = serde_json::to_value(api).unwrap_or_else(|_| json!({}));
     doc["info"]["version"] = json!(env!("CARGO_PKG_VERSION"));
     fit_limits(&mut doc, config);
-    contractor_enums(&mut doc);
     camel_case_links(&mut doc["paths"]);
     unsigned_formats(&mut doc);
     encodings(&mut doc);
@@ -175,29 +174,6 @@ fn fit_limits(doc: &mut Value, config: &Config) {
         "enum",
         json!([false, null]),
     );
-}
-
-/// The contractors core accepts (one added in core appears here).
-fn contractor_enums(doc: &mut Value) {
-    let jobs: Vec<Value> = contractor_names().into_iter().map(Value::from).collect();
-    if let Some(e) = doc.pointer_mut("/components/schemas/JobContractor") {
-        e["enum"] = Value::Array(jobs);
-    }
-    let modes: Vec<Value> = [
-        "nvalue",
-        "projection",
-        "independent",
-        "exact",
-        "shapes",
-        "best",
-    ]
-    .into_iter()
-    .filter(|m| nvector_core::nvector::Contractor::parse(m).is_some())
-    .map(Value::from)
-    .collect();
-    if let Some(e) = doc.pointer_mut("/components/schemas/ContractMode") {
-        e["enum"] = Value::Array(modes);
-    }
 }
 
 /// What the generator cannot say of the bodies' encodings: a form's part
@@ -336,7 +312,7 @@ mod tests {
             s["JobRequest"]["properties"]["time_limit_s"]["maximum"],
             7.5
         );
-        let names: Vec<&str> = s["JobContractor"]["enum"]
+        let names: Vec<&str> = s["Association"]["enum"]
             .as_array()
             .unwrap()
             .iter()
