@@ -14,8 +14,10 @@ run: setup web
 	cargo build --release -p nvector-server
 	./target/release/nvector serve --addr 127.0.0.1:8080
 
+# Also: no function over 80 lines without a reason (scripts/long_fns.py).
 lint:
 	cargo fmt --all -- --check
+	python3 scripts/long_fns.py --check
 	cargo clippy --workspace --all-targets -- -D warnings
 	cargo clippy -p nvector-core -p nvector-web --target wasm32-unknown-unknown -- -D warnings
 

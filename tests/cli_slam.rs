@@ -1,8 +1,8 @@
 //! The SLAM subcommands through the real binary: simulate -> run -> plot,
 //! import of a small CSV pair and of the CMU Plaza 1 dataset.
 
+use nvector_core::contractors::motion_chain::unicycle_displacement;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::motion_chain::unicycle_displacement;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -150,193 +150,208 @@ pub fn metres(x: Option<f64>) -> String {
     }
 }
 
-/// Describes the figure of `result` (`nvector-result/1`), with the truth of
-/// `mission` (`nvector-mission/1`) when given. Values it cannot draw
-/// (unbounded or empty boxes, non-numbers) are left out, never an error.
-pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
-    let null = Value::Null;
-    let mission = mission.unwrap_or(&null);
-    let trajectory: Vec<[f64; 4]> = list(&result["trajectory"])
-        .iter()
-        .filter_map(rect)
-        .collect();
-    let undrawn = list(&result["trajectory"]).len() - trajectory.len();
-    let undrawn = match undrawn {
-        0 => String::new(),
-        1 => " (1 more unbounded or empty, not drawn)".to_string(),
-        u => format!(" ({u} more unbounded or empty, not drawn)"),
-    };
-    let detections: Vec<[f64; 4]> = list(&result["detections"])
-        .iter()
-        .filter_map(rect)
-        .collect();
-    let group_boxes: Vec<Option<[f64; 4]>> = list(&result["landmarks"]).iter().map(rect).collect();
-    let truth_path: Vec<[f64; 2]> = list(&mission["truth"]["positions"])
-        .iter()
-        .filter_map(point)
-        .collect();
-    let truth_landmarks: Vec<[f64; 2]> = list(&mission["truth"]["landmarks"])
-        .iter()
-        .filter_map(point)
-        .collect();
+/// What a figure draws, read from a result and its mission: the
+/// drawable rectangles `[x_lo, x_hi, y_lo, y_hi]` and points `[x, y]`.
+struct Drawable {
+    /// The position boxes that are bounded and not empty.
+    trajectory: Vec<[f64; 4]>,
+    /// The label's note on the position boxes left out (empty if none).
+    undrawn: String,
+    detections: Vec<[f64; 4]>,
+    /// One per proved group (`None`: not drawable).
+    group_boxes: Vec<Option<[f64; 4]>>,
+    truth_path: Vec<[f64; 2]>,
+    truth_landmarks: Vec<[f64; 2]>,
+}
 
-    // The view: everything drawn, with a 4 % margin.
-    let mut view = [
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    let mut grow = |x: f64, y: f64| {
-        view[0] = view[0].min(x);
-        view[1] = view[1].max(x);
-        view[2] = view[2].min(y);
-        view[3] = view[3].max(y);
-    };
-    let shown_detections = detections.len() <= MAX_DETECTION_BOXES;
-    for r in trajectory
-        .iter()
-        .chain(group_boxes.iter().flatten())
-        .chain(detections.iter().filter(|_| shown_detections))
-    {
-        grow(r[0], r[2]);
-        grow(r[1], r[3]);
-    }
-    for p in truth_path.iter().chain(&truth_landmarks) {
-        grow(p[0], p[1]);
-    }
-    if view[0] > view[1] {
-        view = [-1.0, 1.0, -1.0, 1.0];
-    }
-    let span = (view[1] - view[0]).max(view[3] - view[2]);
-    let pad = if span.is_finite() && span > 0.0 {
-        0.04 * span
-    } else if span.is_finite() {
-        1.0
-    } else {
-        0.0
-    };
-    view = [view[0] - pad, view[1] + pad, view[2] - pad, view[3] + pad];
-
-    let mut layers = Vec::new();
-
-    // 1. Trajectory.
-    let n = trajectory.len();
-    if n > 0 {
-        let envelope = if n > MAX_TRAJECTORY_BOXES {
-            envelope(&trajectory, view)
-        } else {
-            None
-        };
-        layers.push(match envelope {
-            Some(rects) => Layer {
-                name: "trajectory",
-                label: format!("trajectory: envelope of the {n} position boxes{undrawn}"),
-                kind: Kind::Rects,
-                colour: TRAJECTORY,
-                fill_alpha: 0.35,
-                line_width: 0.0,
-                rects,
-                points: Vec::new(),
-            },
-            None => {
-                // Too wide a view for a grid (values near the float
-                // limits): every k-th box and the last.
-                let stride = n.div_ceil(MAX_TRAJECTORY_BOXES).max(1);
-                let mut rects: Vec<[f64; 4]> = trajectory.iter().step_by(stride).copied().collect();
-                if rects.last() != Some(&trajectory[n - 1]) {
-                    rects.push(trajectory[n - 1]);
-                }
-                let label = if stride == 1 {
-                    format!("trajectory: {n} position boxes{undrawn}")
-                } else {
-                    format!("trajectory: every {stride}th of {n} position boxes{undrawn}")
-                };
-                Layer {
-                    name: "trajectory",
-                    label,
-                    kind: Kind::Rects,
-                    colour: TRAJECTORY,
-                    fill_alpha: 0.12,
-                    line_width: 0.6,
-                    rects,
-                    points: Vec::new(),
-                }
-            }
-        });
-    }
-
-    // 2. Detections.
-    if !detections.is_empty() && shown_detections {
-        layers.push(Layer {
-            name: "detections",
-            label: match detections.len() {
-                1 => "1 detection box".to_string(),
-                d => format!("{d} detection boxes"),
-            },
-            kind: Kind::Rects,
-            colour: DETECTIONS,
-            fill_alpha: 0.0,
-            line_width: 0.6,
-            rects: detections.clone(),
-            points: Vec::new(),
-        });
-    }
-
-    // 3 and 4. Proved groups: the tightest, and their regions.
-    let groups = group_boxes.len();
-    let drawn = tightest(&group_boxes);
-    if groups > 0 {
-        let regions = list(&result["landmark_regions"]);
-        let region_rects: Vec<[f64; 4]> = drawn
+impl Drawable {
+    fn read(result: &Value, mission: &Value) -> Drawable {
+        let trajectory: Vec<[f64; 4]> = list(&result["trajectory"])
             .iter()
-            .filter_map(|&g| regions.get(g))
-            .flat_map(|paving| list(paving).iter().filter_map(rect))
+            .filter_map(rect)
             .collect();
-        if !region_rects.is_empty() {
-            layers.push(Layer {
-                name: "regions",
-                label: "landmark regions of the drawn groups".to_string(),
-                kind: Kind::Rects,
-                colour: GROUPS,
-                fill_alpha: 0.3,
-                line_width: 0.0,
-                rects: region_rects,
-                points: Vec::new(),
-            });
+        let undrawn = match list(&result["trajectory"]).len() - trajectory.len() {
+            0 => String::new(),
+            1 => " (1 more unbounded or empty, not drawn)".to_string(),
+            u => format!(" ({u} more unbounded or empty, not drawn)"),
+        };
+        Drawable {
+            trajectory,
+            undrawn,
+            detections: list(&result["detections"])
+                .iter()
+                .filter_map(rect)
+                .collect(),
+            group_boxes: list(&result["landmarks"]).iter().map(rect).collect(),
+            truth_path: list(&mission["truth"]["positions"])
+                .iter()
+                .filter_map(point)
+                .collect(),
+            truth_landmarks: list(&mission["truth"]["landmarks"])
+                .iter()
+                .filter_map(point)
+                .collect(),
         }
-        let of_at_most = match mission["landmark_count"].as_u64() {
-            Some(k) => format!(" of at most {k} landmark{}", if k == 1 { "" } else { "s" }),
-            None => String::new(),
-        };
-        let plural = if groups == 1 { "group" } else { "groups" };
-        let label = if drawn.len() == groups {
-            format!("{groups} proved {plural}{of_at_most}")
-        } else {
-            format!(
-                "{groups} proved {plural}{of_at_most} ({} tightest outlined)",
-                drawn.len()
-            )
-        };
-        layers.push(Layer {
-            name: "groups",
-            label,
-            kind: Kind::Rects,
-            colour: GROUPS,
-            fill_alpha: 0.0,
-            line_width: 1.6,
-            rects: drawn.iter().filter_map(|&g| group_boxes[g]).collect(),
-            points: Vec::new(),
-        });
     }
 
-    // 5. Truth.
-    if !truth_path.is_empty() {
-        let m = truth_path.len();
+    /// Whether the detection boxes are drawn (not too many).
+    fn shows_detections(&self) -> bool {
+        self.detections.len() <= MAX_DETECTION_BOXES
+    }
+
+    /// The view: everything drawn, with a 4 % margin.
+    fn view(&self) -> [f64; 4] {
+        let mut view = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut grow = |x: f64, y: f64| {
+            view[0] = view[0].min(x);
+            view[1] = view[1].max(x);
+            view[2] = view[2].min(y);
+            view[3] = view[3].max(y);
+        };
+        let shown_detections = self.shows_detections();
+        for r in self
+            .trajectory
+            .iter()
+            .chain(self.group_boxes.iter().flatten())
+            .chain(self.detections.iter().filter(|_| shown_detections))
+        {
+            grow(r[0], r[2]);
+            grow(r[1], r[3]);
+        }
+        for p in self.truth_path.iter().chain(&self.truth_landmarks) {
+            grow(p[0], p[1]);
+        }
+        if view[0] > view[1] {
+            view = [-1.0, 1.0, -1.0, 1.0];
+        }
+        let span = (view[1] - view[0]).max(view[3] - view[2]);
+        let pad = if span.is_finite() && span > 0.0 {
+            0.04 * span
+        } else if span.is_finite() {
+            1.0
+        } else {
+            0.0
+        };
+        [view[0] - pad, view[1] + pad, view[2] - pad, view[3] + pad]
+    }
+}
+
+/// A layer of rectangles.
+fn rects_layer(
+    name: &'static str,
+    label: String,
+    colour: &'static str,
+    fill_alpha: f64,
+    line_width: f64,
+    rects: Vec<[f64; 4]>,
+) -> Layer {
+    Layer {
+        name,
+        label,
+        kind: Kind::Rects,
+        colour,
+        fill_alpha,
+        line_width,
+        rects,
+        points: Vec::new(),
+    }
+}
+
+/// Layer 1: the position boxes, or their envelope when there are too many.
+fn trajectory_layer(d: &Drawable, view: [f64; 4]) -> Option<Layer> {
+    let trajectory = &d.trajectory;
+    let (n, undrawn) = (trajectory.len(), &d.undrawn);
+    if n == 0 {
+        return None;
+    }
+    let envelope = if n > MAX_TRAJECTORY_BOXES {
+        envelope(trajectory, view)
+    } else {
+        None
+    };
+    Some(match envelope {
+        Some(rects) => rects_layer(
+            "trajectory",
+            format!("trajectory: envelope of the {n} position boxes{undrawn}"),
+            TRAJECTORY,
+            0.35,
+            0.0,
+            rects,
+        ),
+        None => {
+            // Too wide a view for a grid (values near the float
+            // limits): every k-th box and the last.
+            let stride = n.div_ceil(MAX_TRAJECTORY_BOXES).max(1);
+            let mut rects: Vec<[f64; 4]> = trajectory.iter().step_by(stride).copied().collect();
+            if rects.last() != Some(&trajectory[n - 1]) {
+                rects.push(trajectory[n - 1]);
+            }
+            let label = if stride == 1 {
+                format!("trajectory: {n} position boxes{undrawn}")
+            } else {
+                format!("trajectory: every {stride}th of {n} position boxes{undrawn}")
+            };
+            rects_layer("trajectory", label, TRAJECTORY, 0.12, 0.6, rects)
+        }
+    })
+}
+
+/// Layers 3 and 4: the proved groups (the tightest outlined) and the
+/// landmark regions of those drawn.
+fn group_layers(d: &Drawable, result: &Value, mission: &Value, layers: &mut Vec<Layer>) {
+    let groups = d.group_boxes.len();
+    if groups == 0 {
+        return;
+    }
+    let drawn = tightest(&d.group_boxes);
+    let regions = list(&result["landmark_regions"]);
+    let region_rects: Vec<[f64; 4]> = drawn
+        .iter()
+        .filter_map(|&g| regions.get(g))
+        .flat_map(|paving| list(paving).iter().filter_map(rect))
+        .collect();
+    if !region_rects.is_empty() {
+        layers.push(rects_layer(
+            "regions",
+            "landmark regions of the drawn groups".to_string(),
+            GROUPS,
+            0.3,
+            0.0,
+            region_rects,
+        ));
+    }
+    let of_at_most = match mission["landmark_count"].as_u64() {
+        Some(k) => format!(" of at most {k} landmark{}", if k == 1 { "" } else { "s" }),
+        None => String::new(),
+    };
+    let plural = if groups == 1 { "group" } else { "groups" };
+    let label = if drawn.len() == groups {
+        format!("{groups} proved {plural}{of_at_most}")
+    } else {
+        format!(
+            "{groups} proved {plural}{of_at_most} ({} tightest outlined)",
+            drawn.len()
+        )
+    };
+    let rects = drawn.iter().filter_map(|&g| d.group_boxes[g]).collect();
+    layers.push(rects_layer("groups", label, GROUPS, 0.0, 1.6, rects));
+}
+
+/// Layer 5: the true path (at most [`MAX_PATH_POINTS`] points, the last
+/// kept) and the true landmarks.
+fn truth_layers(d: &Drawable, layers: &mut Vec<Layer>) {
+    let path = &d.truth_path;
+    if !path.is_empty() {
+        let m = path.len();
         let stride = m.div_ceil(MAX_PATH_POINTS).max(1);
-        let mut points: Vec<[f64; 2]> = truth_path.iter().step_by(stride).copied().collect();
-        if points.last() != Some(&truth_path[m - 1]) {
-            points.push(truth_path[m - 1]);
+        let mut points: Vec<[f64; 2]> = path.iter().step_by(stride).copied().collect();
+        if points.last() != Some(&path[m - 1]) {
+            points.push(path[m - 1]);
         }
         layers.push(Layer {
             name: "truth_path",
@@ -349,7 +364,7 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
             points,
         });
     }
-    if !truth_landmarks.is_empty() {
+    if !d.truth_landmarks.is_empty() {
         layers.push(Layer {
             name: "truth_landmarks",
             label: "true landmarks".to_string(),
@@ -358,10 +373,14 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
             fill_alpha: 1.0,
             line_width: 1.0,
             rects: Vec::new(),
-            points: truth_landmarks,
+            points: d.truth_landmarks.clone(),
         });
     }
+}
 
+/// The title (mission, contractor, status) and the subtitle (diameters,
+/// whether the truth is inside).
+fn titles(result: &Value) -> (String, String) {
     let name = result["mission"].as_str().unwrap_or("result");
     let contractor = result["options"]["contractor"].as_str().unwrap_or("?");
     let status = result["status"].as_str().unwrap_or("?");
@@ -382,8 +401,40 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
             ", TRUTH OUTSIDE"
         });
     }
+    (format!("{name}: {contractor}, {status}"), subtitle)
+}
+
+/// Describes the figure of `result` (`nvector-result/1`), with the truth of
+/// `mission` (`nvector-mission/1`) when given. Values it cannot draw
+/// (unbounded or empty boxes, non-numbers) are left out, never an error.
+pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
+    let null = Value::Null;
+    let mission = mission.unwrap_or(&null);
+    let d = Drawable::read(result, mission);
+    let view = d.view();
+    let mut layers = Vec::new();
+    layers.extend(trajectory_layer(&d, view));
+    // 2. Detections.
+    if !d.detections.is_empty() && d.shows_detections() {
+        let label = match d.detections.len() {
+            1 => "1 detection box".to_string(),
+            n => format!("{n} detection boxes"),
+        };
+        let rects = d.detections.clone();
+        layers.push(rects_layer(
+            "detections",
+            label,
+            DETECTIONS,
+            0.0,
+            0.6,
+            rects,
+        ));
+    }
+    group_layers(&d, result, mission, &mut layers);
+    truth_layers(&d, &mut layers);
+    let (title, subtitle) = titles(result);
     Figure {
-        title: format!("{name}: {contractor}, {status}"),
+        title,
         subtitle,
         x_label: "x (m)".to_string(),
         y_label: "y (m)".to_string(),

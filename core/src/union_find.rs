@@ -1,9 +1,9 @@
 //! [`Uf`]: the union-find of proved equalities (detections proved to see
 //! one landmark), with the smallest index as the root of each group, so
 //! that groups come out sorted and in the same order whatever the order
-//! of the unions. The one union-find of the SLAM side (the propagator's
-//! matching, the shapes round, the distinct pairs); `nvector` keeps its
-//! own compact `u32` one inside the atmost_nvector fixpoint.
+//! of the unions. The one union-find of core: the SLAM side (the
+//! matching, the shapes round, the distinct pairs) and the groups of the
+//! atmost_nvector fixpoint (`nvector::Groups` wraps it with a union count).
 //!
 //! Complexity: near-constant amortized per operation (path compression);
 //! O(k) memory.

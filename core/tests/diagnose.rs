@@ -4,10 +4,12 @@
 //! propagator on the sub-missions, independently of the search).
 
 use nvector_core::slam::diagnose::minimal_correction;
+use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{propagate, solve_model, Association, SolveOptions};
 use nvector_core::slam::result::SolveStatus;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::solve::solve_model;
+use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
 use serde_json::json;
 use std::sync::atomic::AtomicBool;

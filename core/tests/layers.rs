@@ -71,11 +71,6 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ),
     ("slam::result", 14, "the result format and the score"),
     ("slam::solve", 15, "the entry points"),
-    (
-        "slam::propagator",
-        16,
-        "former paths of the entry points (re-exports)",
-    ),
     ("slam", 17, "the facade of slam (re-exports)"),
     ("", 18, "the crate root (re-exports)"),
 ];

@@ -1,15 +1,15 @@
 //! Worked examples of atmost_nvector whose expected results are derived by
 //! hand (in the comments), not copied from a run.
 
-use nvector_core::nvector::{atmost_nvector, Mode, Status};
+use nvector_core::nvector::{atmost_nvector, Contractor, Status};
 use nvector_core::{Interval, IntervalBox};
 
-const ALL: [Mode; 5] = [
-    Mode::Nvalue,
-    Mode::Projection,
-    Mode::Independent,
-    Mode::Best,
-    Mode::Exact,
+const ALL: [Contractor; 5] = [
+    Contractor::Nvalue,
+    Contractor::Projection,
+    Contractor::Independent,
+    Contractor::Best,
+    Contractor::Exact,
 ];
 
 fn b(axes: &[(f64, f64)]) -> IntervalBox {
@@ -48,7 +48,7 @@ fn gccat_two_vectors_suffice() {
         );
     }
     // C1 and C5 are disjoint, so at least 2; the catalogue's 2 is optimal.
-    let out = atmost_nvector(2, &mut gccat(), Mode::Exact).unwrap();
+    let out = atmost_nvector(2, &mut gccat(), Contractor::Exact).unwrap();
     assert_eq!((out.min_distinct_lower, out.min_distinct_upper), (2, 2));
 }
 
@@ -101,7 +101,7 @@ fn figure8() -> Vec<IntervalBox> {
 #[test]
 fn figure8_groups_on_the_first_axis() {
     let mut boxes = figure8();
-    let out = atmost_nvector(3, &mut boxes, Mode::Nvalue).unwrap();
+    let out = atmost_nvector(3, &mut boxes, Contractor::Nvalue).unwrap();
     assert_eq!(out.status, Status::Contracted);
     let xs: Vec<(f64, f64)> = boxes.iter().map(|x| (x[0].lo(), x[0].hi())).collect();
     assert_eq!(
@@ -129,7 +129,7 @@ fn figure8_groups_on_the_first_axis() {
 fn figure8_projection_intersects_whole_boxes() {
     // x1 and x2 are the same vector: their second axes meet in [3,5].
     let mut boxes = figure8();
-    let out = atmost_nvector(3, &mut boxes, Mode::Projection).unwrap();
+    let out = atmost_nvector(3, &mut boxes, Contractor::Projection).unwrap();
     assert_eq!(boxes[0], b(&[(1.0, 2.0), (3.0, 5.0)]));
     assert_eq!(boxes[1], b(&[(1.0, 2.0), (3.0, 5.0)]));
     assert_eq!(out.groups[0], vec![0, 1]);
@@ -151,11 +151,11 @@ fn independent_separates_what_projections_cannot() {
         b(&[(0.5, 2.5), (0.5, 2.5)]),
     ];
     let mut proj = boxes0.clone();
-    let out = atmost_nvector(3, &mut proj, Mode::Projection).unwrap();
+    let out = atmost_nvector(3, &mut proj, Contractor::Projection).unwrap();
     assert_eq!(out.status, Status::Unchanged);
     assert_eq!(proj, boxes0);
     let mut ind = boxes0.clone();
-    let out = atmost_nvector(3, &mut ind, Mode::Independent).unwrap();
+    let out = atmost_nvector(3, &mut ind, Contractor::Independent).unwrap();
     assert_eq!(ind[3], b(&[(0.5, 1.0), (0.5, 1.0)]));
     assert_eq!(ind[0], b(&[(0.5, 1.0), (0.5, 1.0)]));
     assert_eq!(out.groups, vec![vec![0, 3], vec![1], vec![2]]);
@@ -182,7 +182,7 @@ fn exact_refuses_more_than_40_boxes() {
     let mut boxes: Vec<IntervalBox> = (0..41)
         .map(|i| b(&[(f64::from(i), f64::from(i) + 0.5)]))
         .collect();
-    let err = atmost_nvector(41, &mut boxes, Mode::Exact).unwrap_err();
+    let err = atmost_nvector(41, &mut boxes, Contractor::Exact).unwrap_err();
     assert!(err.message.contains("at most 40"), "{err}");
 }
 

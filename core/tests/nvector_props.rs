@@ -19,7 +19,7 @@
 
 use nvector_core::nvector::contract::ContractError;
 use nvector_core::nvector::hitting_set::{Limits, WorkLimit};
-use nvector_core::nvector::{atmost_nvector, atmost_nvector_with, Mode, Status};
+use nvector_core::nvector::{atmost_nvector, atmost_nvector_with, Contractor, Status};
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 
@@ -31,12 +31,12 @@ fn config(div: u32) -> ProptestConfig {
     common::config_div(3000, div, 20)
 }
 
-const MODES: [Mode; 5] = [
-    Mode::Nvalue,
-    Mode::Projection,
-    Mode::Independent,
-    Mode::Best,
-    Mode::Exact,
+const MODES: [Contractor; 5] = [
+    Contractor::Nvalue,
+    Contractor::Projection,
+    Contractor::Independent,
+    Contractor::Best,
+    Contractor::Exact,
 ];
 
 /// A planted instance: boxes, the planted point index of each box, the
@@ -113,7 +113,7 @@ fn planted(max_k: usize, integer: bool) -> impl Strategy<Value = Planted> {
     )
 }
 
-fn check_sound(p: &Planted, mode: Mode) -> Result<Vec<IntervalBox>, TestCaseError> {
+fn check_sound(p: &Planted, mode: Contractor) -> Result<Vec<IntervalBox>, TestCaseError> {
     let mut boxes = p.boxes.clone();
     let out =
         atmost_nvector(p.n, &mut boxes, mode).map_err(|e| TestCaseError::fail(e.to_string()))?;
@@ -227,7 +227,7 @@ proptest! {
 
     #[test]
     fn planted_solution_survives_polynomial_modes(p in planted(12, false)) {
-        for mode in [Mode::Nvalue, Mode::Projection, Mode::Independent, Mode::Best] {
+        for mode in [Contractor::Nvalue, Contractor::Projection, Contractor::Independent, Contractor::Best] {
             check_sound(&p, mode)?;
         }
     }
@@ -238,7 +238,7 @@ proptest! {
 
     #[test]
     fn planted_solution_survives_exact(p in planted(7, false)) {
-        check_sound(&p, Mode::Exact)?;
+        check_sound(&p, Contractor::Exact)?;
     }
 
     #[test]
@@ -251,7 +251,7 @@ proptest! {
         let all = (1u64 << k) - 1;
         let mhs = brute.min_cover(all);
         let mut exact = p.boxes.clone();
-        let out = atmost_nvector(n, &mut exact, Mode::Exact).unwrap();
+        let out = atmost_nvector(n, &mut exact, Contractor::Exact).unwrap();
         if mhs > n {
             prop_assert!(matches!(out.status, Status::Infeasible { .. }), "brute force needs {mhs} > n = {n}, exact says {:?}", out.status);
             return Ok(());
@@ -432,10 +432,10 @@ proptest! {
     #[test]
     fn exact_under_a_budget_is_exact_or_a_sound_error(p in planted(7, false), budget in 0u64..3000) {
         let mut full = p.boxes.clone();
-        let full_out = atmost_nvector(p.n, &mut full, Mode::Exact).unwrap();
+        let full_out = atmost_nvector(p.n, &mut full, Contractor::Exact).unwrap();
         let mut b = p.boxes.clone();
         let limits = Limits { node_budget: budget, ..Limits::default() };
-        match atmost_nvector_with(p.n, &mut b, Mode::Exact, &limits) {
+        match atmost_nvector_with(p.n, &mut b, Contractor::Exact, &limits) {
             Ok(out) => {
                 prop_assert_eq!(&b, &full);
                 prop_assert_eq!(out, full_out);

@@ -13,11 +13,11 @@
 
 #![allow(clippy::disallowed_methods)]
 
+use nvector_core::contractors::motion_chain::Sweep;
 use nvector_core::odometry::angle::{box_angle, contract_periodic};
 use nvector_core::odometry::chain::OdometryChain;
 use nvector_core::odometry::sector::Sector;
 use nvector_core::odometry::sensor::OffsetDetection;
-use nvector_core::slam::motion_chain::Sweep;
 use nvector_core::Interval;
 use proptest::prelude::*;
 

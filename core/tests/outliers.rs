@@ -12,12 +12,12 @@
 //! The cases are drawn from a fixed seed (`PROPTEST_RNG_SEED` picks
 //! another); `NVECTOR_PROPTEST_CASES` scales their count.
 
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::outliers::solve_robust;
-use nvector_core::slam::propagator::{Association, SolveOptions};
 use nvector_core::slam::result::{Solution, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Rng, Scenario, SimulateOptions};
+use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use serde_json::{json, Value};
@@ -248,9 +248,9 @@ fn check_truth(p: &Planted, s: &Solution) -> Result<(), String> {
 
 const ASSOCIATIONS: [Association; 4] = [
     Association::None,
-    Association::NVector(Mode::Projection),
-    Association::NVector(Mode::Independent),
-    Association::NVector(Mode::Best),
+    Association::NVector(Contractor::Projection),
+    Association::NVector(Contractor::Independent),
+    Association::NVector(Contractor::Best),
 ];
 
 proptest! {
@@ -364,7 +364,7 @@ fn without_outliers_the_robust_passes_give_the_ordinary_fixpoint() {
         association: Association::None,
         ..SolveOptions::default()
     };
-    let ordinary = nvector_core::slam::propagator::solve_model(
+    let ordinary = nvector_core::slam::solve::solve_model(
         &p.mission,
         &options,
         &mut |_| {},
@@ -432,12 +432,12 @@ fn solve_json(v: &serde_json::Value, association: Association) -> serde_json::Va
         association,
         ..SolveOptions::default()
     };
-    nvector_core::slam::propagator::solve(&m, &options, &mut |_| {}, &AtomicBool::new(false))
+    nvector_core::slam::solve::solve(&m, &options, &mut |_| {}, &AtomicBool::new(false))
 }
 
 #[test]
 fn simulated_false_detections_with_max_outliers_keep_the_truth() {
-    use nvector_core::nvector::Mode;
+    use nvector_core::nvector::Contractor;
     use nvector_core::slam::simulate::Layout;
     for (seed, layout) in [(1, Layout::Line), (2, Layout::Ring), (3, Layout::Random)] {
         for operator in [false, true] {
@@ -448,7 +448,7 @@ fn simulated_false_detections_with_max_outliers_keep_the_truth() {
             o.false_detections = 3;
             let v = simulate(&o);
             assert_eq!(v["max_outliers"], 3);
-            for assoc in [Association::None, Association::NVector(Mode::Best)] {
+            for assoc in [Association::None, Association::NVector(Contractor::Best)] {
                 let r = solve_json(&v, assoc);
                 let what = format!("seed {seed} {layout:?} operator {operator} {assoc:?}");
                 assert_eq!(r["status"], "consistent", "{what}: {}", r["reason"]);
@@ -464,9 +464,15 @@ fn max_outliers_zero_changes_nothing() {
     let mut o = SimulateOptions::new(Scenario::Paper, 6);
     o.steps = Some(2000);
     let mut v = simulate(&o);
-    let without = solve_json(&v, Association::NVector(nvector_core::nvector::Mode::Best));
+    let without = solve_json(
+        &v,
+        Association::NVector(nvector_core::nvector::Contractor::Best),
+    );
     v["max_outliers"] = json!(0);
-    let with = solve_json(&v, Association::NVector(nvector_core::nvector::Mode::Best));
+    let with = solve_json(
+        &v,
+        Association::NVector(nvector_core::nvector::Contractor::Best),
+    );
     assert_eq!(without, with);
 }
 
@@ -598,7 +604,8 @@ fn a_label_pair_with_disjoint_boxes_uses_up_q() {
 /// and the solution's rounds count both.
 #[test]
 fn the_refinement_continues_the_progress_reports() {
-    use nvector_core::slam::propagator::{propagate, Progress};
+    use nvector_core::slam::fixpoint::propagate;
+    use nvector_core::slam::types::Progress;
     let p = plant(4, 3000, 3, &[Kind::FarAway, Kind::FarAway], true, true);
     let mut m = p.mission.clone();
     m.max_outliers = 2;

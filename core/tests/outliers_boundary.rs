@@ -13,10 +13,11 @@
 
 use num_rational::BigRational;
 use nvector_core::shapes::shape::distance_between;
+use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::model::Model;
-use nvector_core::slam::propagator::{propagate, Association, SolveOptions};
 use nvector_core::slam::result::SolveStatus;
+use nvector_core::slam::types::{Association, SolveOptions};
 use nvector_core::Interval;
 use proptest::prelude::*;
 use serde_json::json;

@@ -9,9 +9,10 @@
 //!
 //! `PROPTEST_CASES` scales the number of cases (common::config).
 
-use nvector_core::nvector::Mode;
-use nvector_core::slam::propagator::{propagate, Association, SolveOptions};
+use nvector_core::nvector::Contractor;
+use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::result::score;
+use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
 use std::sync::atomic::AtomicBool;
 
@@ -21,11 +22,11 @@ use common::Rng;
 
 const MODES: [Association; 6] = [
     Association::None,
-    Association::NVector(Mode::Nvalue),
-    Association::NVector(Mode::Projection),
-    Association::NVector(Mode::Independent),
-    Association::NVector(Mode::Best),
-    Association::NVector(Mode::Shapes),
+    Association::NVector(Contractor::Nvalue),
+    Association::NVector(Contractor::Projection),
+    Association::NVector(Contractor::Independent),
+    Association::NVector(Contractor::Best),
+    Association::NVector(Contractor::Shapes),
 ];
 
 fn run_all(pm: &PlantedMission, seed: u64) -> Result<(), TestCaseError> {

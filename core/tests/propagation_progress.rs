@@ -4,11 +4,12 @@
 //! never decreases and is 1 exactly at the fixpoint, and cancellation stops
 //! within a pass with sound boxes.
 
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
+use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{propagate, Association, Progress, SolveOptions};
 use nvector_core::slam::result::{score, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::types::{Association, Progress, SolveOptions};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 fn mission(seed: u64, steps: usize, operator: bool) -> Mission {
@@ -22,8 +23,8 @@ fn mission(seed: u64, steps: usize, operator: bool) -> Mission {
 fn reports_are_consistent_with_the_result() {
     for (seed, operator, association) in [
         (1, true, Association::None),
-        (2, false, Association::NVector(Mode::Best)),
-        (3, false, Association::NVector(Mode::Projection)),
+        (2, false, Association::NVector(Contractor::Best)),
+        (3, false, Association::NVector(Contractor::Projection)),
     ] {
         let m = mission(seed, 6000, operator);
         let k = m.detections.len();

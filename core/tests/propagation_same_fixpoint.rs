@@ -12,21 +12,22 @@
 
 mod propagation_reference;
 
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
+use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{propagate, Association, SolveOptions};
 use nvector_core::slam::result::{score, Solution, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
+use nvector_core::slam::types::{Association, SolveOptions};
 use nvector_core::Interval;
 use propagation_reference::reference_solve;
 use std::sync::atomic::AtomicBool;
 
 const MODES: [Association; 5] = [
     Association::None,
-    Association::NVector(Mode::Nvalue),
-    Association::NVector(Mode::Projection),
-    Association::NVector(Mode::Independent),
-    Association::NVector(Mode::Best),
+    Association::NVector(Contractor::Nvalue),
+    Association::NVector(Contractor::Projection),
+    Association::NVector(Contractor::Independent),
+    Association::NVector(Contractor::Best),
 ];
 
 /// Missions per test (fixed seeds): 24, or `PROPTEST_CASES` / 40 (at
@@ -86,7 +87,7 @@ fn same_status(a: &SolveStatus, b: &SolveStatus) -> bool {
 /// stronger contractor), where the new boxes may only be tighter and the
 /// groups only larger.
 fn same_association(association: Association) -> bool {
-    association != Association::NVector(Mode::Best)
+    association != Association::NVector(Contractor::Best)
 }
 
 /// Whether every group of `old` lies in one group of `new`.

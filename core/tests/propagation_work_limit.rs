@@ -3,11 +3,12 @@
 //! the truth inside, not "infeasible" (the propagator once read every error
 //! of atmost_nvector as infeasibility).
 
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve_model, Association, SolveOptions};
 use nvector_core::slam::result::SolveStatus;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::solve::solve_model;
+use nvector_core::slam::types::{Association, SolveOptions};
 use std::sync::atomic::AtomicBool;
 
 #[test]
@@ -17,7 +18,7 @@ fn exact_out_of_budget_proves_nothing() {
     let m = Mission::from_value(&simulate(&o)).expect("valid");
     assert!(m.detections.len() > 40, "{} detections", m.detections.len());
     let exact = SolveOptions {
-        association: Association::NVector(Mode::Exact),
+        association: Association::NVector(Contractor::Exact),
         ..SolveOptions::default()
     };
     let none = SolveOptions {

@@ -14,6 +14,7 @@
 // Axes and detections index several parallel arrays at once.
 #![allow(clippy::needless_range_loop)]
 
+use nvector_core::contractors::motion_chain::{sweep_backward, sweep_forward, Sweep};
 use nvector_core::shapes::branch::branch;
 use nvector_core::shapes::chain_sums::ChainSums;
 use nvector_core::shapes::distinct::{Distinct, Uf};
@@ -23,7 +24,6 @@ use nvector_core::shapes::shape::{disjoint_paved, distance_between, Shape};
 use nvector_core::shapes::witnesses::{find_witnesses, Item};
 use nvector_core::slam::association::{sightings, Chain, Domains, ShapesState};
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward, Sweep};
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 use serde_json::json;
@@ -244,17 +244,19 @@ impl Planted {
             let t = d.step;
             let p = &mut self.pos[t * dim..(t + 1) * dim];
             let mut r = d.range;
-            let ok =
-                nvector_core::slam::distance::contract_distance(p, self.det[j].axes_mut(), &mut r)
-                    && d.bearing.is_none_or(|b| {
-                        nvector_core::slam::bearing::contract_bearing(
-                            p,
-                            self.det[j].axes_mut(),
-                            self.heading_at[j],
-                            b,
-                            r,
-                        )
-                    });
+            let ok = nvector_core::contractors::distance::contract_distance(
+                p,
+                self.det[j].axes_mut(),
+                &mut r,
+            ) && d.bearing.is_none_or(|b| {
+                nvector_core::contractors::bearing::contract_bearing(
+                    p,
+                    self.det[j].axes_mut(),
+                    self.heading_at[j],
+                    b,
+                    r,
+                )
+            });
             if !ok {
                 return Err(format!("detection {j} emptied"));
             }

@@ -7,16 +7,17 @@
 //! `PROPTEST_CASES` scales the number of cases (halved here); seeds and
 //! persisted failures: tests/common/mod.rs (`config`).
 
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve, Association, SolveOptions};
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
+use nvector_core::slam::solve::solve;
+use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
 use std::sync::atomic::AtomicBool;
 
 mod common;
 
-fn run(mission: &Mission, mode: Mode) -> serde_json::Value {
+fn run(mission: &Mission, mode: Contractor) -> serde_json::Value {
     let options = SolveOptions {
         association: Association::NVector(mode),
         ..SolveOptions::default()
@@ -45,7 +46,7 @@ proptest! {
         o.range_only = range_only;
         o.operator = operator;
         let mission = Mission::from_value(&simulate(&o)).expect("valid");
-        for mode in [Mode::Shapes, Mode::Best] {
+        for mode in [Contractor::Shapes, Contractor::Best] {
             let r = run(&mission, mode);
             prop_assert_eq!(&r["status"], "consistent", "seed {} {:?}: {}", seed, mode, r["reason"]);
             prop_assert_eq!(&r["score"]["truth_inside"], true, "seed {} {:?}", seed, mode);
@@ -90,10 +91,10 @@ fn shapes_is_best_on_plain_boxes() {
         b(9.0, 11.0, 0.0, 5.0),
     ];
     let (mut a, mut c) = (boxes.clone(), boxes);
-    let x = atmost_nvector(2, &mut a, Mode::Shapes).expect("valid");
-    let y = atmost_nvector(2, &mut c, Mode::Best).expect("valid");
+    let x = atmost_nvector(2, &mut a, Contractor::Shapes).expect("valid");
+    let y = atmost_nvector(2, &mut c, Contractor::Best).expect("valid");
     assert_eq!(a, c);
     assert_eq!(x, y);
-    assert_eq!(Mode::parse("shapes"), Some(Mode::Shapes));
-    assert_eq!(Mode::Shapes.name(), "shapes");
+    assert_eq!(Contractor::parse("shapes"), Some(Contractor::Shapes));
+    assert_eq!(Contractor::Shapes.name(), "shapes");
 }

@@ -9,12 +9,12 @@
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
-use nvector_core::shapes::shape::distance_between;
-use nvector_core::slam::bearing::contract_bearing;
-use nvector_core::slam::distance::contract_distance;
-use nvector_core::slam::motion_chain::{
+use nvector_core::contractors::bearing::contract_bearing;
+use nvector_core::contractors::distance::contract_distance;
+use nvector_core::contractors::motion_chain::{
     auv_displacement, sweep_backward, sweep_forward, unicycle_displacement, Sweep,
 };
+use nvector_core::shapes::shape::distance_between;
 use nvector_core::Interval;
 use proptest::prelude::*;
 

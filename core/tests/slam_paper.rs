@@ -2,10 +2,11 @@
 //! association mode; the truth stays inside every box and no two
 //! detections of different landmarks are grouped.
 
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve, Association, SolveOptions};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::solve::solve;
+use nvector_core::slam::types::{Association, SolveOptions};
 use std::sync::atomic::AtomicBool;
 
 fn run(mission: &Mission, association: Association) -> serde_json::Value {
@@ -18,10 +19,10 @@ fn run(mission: &Mission, association: Association) -> serde_json::Value {
 
 const MODES: [Association; 5] = [
     Association::None,
-    Association::NVector(Mode::Nvalue),
-    Association::NVector(Mode::Projection),
-    Association::NVector(Mode::Independent),
-    Association::NVector(Mode::Best),
+    Association::NVector(Contractor::Nvalue),
+    Association::NVector(Contractor::Projection),
+    Association::NVector(Contractor::Independent),
+    Association::NVector(Contractor::Best),
 ];
 
 #[test]

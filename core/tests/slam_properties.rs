@@ -3,10 +3,11 @@
 //! is never read; the same input gives the same bits; a wrong operator
 //! matching is proved infeasible.
 
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve, Association, SolveOptions};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::solve::solve;
+use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
 use serde_json::Value;
 use std::sync::atomic::AtomicBool;
@@ -21,10 +22,10 @@ fn run(mission: &Mission, association: Association) -> Value {
 
 const MODES: [Association; 5] = [
     Association::None,
-    Association::NVector(Mode::Nvalue),
-    Association::NVector(Mode::Projection),
-    Association::NVector(Mode::Independent),
-    Association::NVector(Mode::Best),
+    Association::NVector(Contractor::Nvalue),
+    Association::NVector(Contractor::Projection),
+    Association::NVector(Contractor::Independent),
+    Association::NVector(Contractor::Best),
 ];
 
 mod common;
@@ -58,11 +59,11 @@ fn the_truth_is_never_read() {
     without.as_object_mut().unwrap().remove("truth");
     let a = run(
         &Mission::from_value(&with).unwrap(),
-        Association::NVector(Mode::Best),
+        Association::NVector(Contractor::Best),
     );
     let b = run(
         &Mission::from_value(&without).unwrap(),
-        Association::NVector(Mode::Best),
+        Association::NVector(Contractor::Best),
     );
     for key in [
         "trajectory",
@@ -81,8 +82,8 @@ fn same_input_same_bits() {
     let mut o = SimulateOptions::new(Scenario::Paper, 12);
     o.steps = Some(3000);
     let m = Mission::from_value(&simulate(&o)).unwrap();
-    let a = run(&m, Association::NVector(Mode::Independent)).to_string();
-    let b = run(&m, Association::NVector(Mode::Independent)).to_string();
+    let a = run(&m, Association::NVector(Contractor::Independent)).to_string();
+    let b = run(&m, Association::NVector(Contractor::Independent)).to_string();
     assert_eq!(a, b);
 }
 
@@ -121,7 +122,7 @@ fn auv_survey_keeps_the_truth() {
     o.steps = Some(15_000);
     let m = Mission::from_value(&simulate(&o)).unwrap();
     assert!(!m.detections.is_empty());
-    for assoc in [Association::None, Association::NVector(Mode::Best)] {
+    for assoc in [Association::None, Association::NVector(Contractor::Best)] {
         let r = run(&m, assoc);
         assert_eq!(r["status"], "consistent", "{assoc:?}: {}", r["reason"]);
         assert_eq!(r["score"]["truth_inside"], true, "{assoc:?}");

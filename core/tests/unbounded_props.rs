@@ -22,7 +22,12 @@
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
-use nvector_core::nvector::Mode;
+use nvector_core::contractors::bearing::contract_bearing;
+use nvector_core::contractors::distance::contract_distance;
+use nvector_core::contractors::motion_chain::{
+    auv_displacement, sweep_backward, sweep_forward, unicycle_displacement, Sweep,
+};
+use nvector_core::nvector::Contractor;
 use nvector_core::shapes::branch::branch;
 use nvector_core::shapes::chain_sums::ChainSums;
 use nvector_core::shapes::distinct::Uf;
@@ -30,15 +35,11 @@ use nvector_core::shapes::region::Paving;
 use nvector_core::shapes::registration::{register, LocalGroup, RegisterOptions};
 use nvector_core::shapes::shape::{disjoint_paved, distance_between, Shape};
 use nvector_core::slam::association::{Chain, Domains, ShapesState};
-use nvector_core::slam::bearing::contract_bearing;
-use nvector_core::slam::distance::contract_distance;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::motion_chain::{
-    auv_displacement, sweep_backward, sweep_forward, unicycle_displacement, Sweep,
-};
-use nvector_core::slam::propagator::{solve_model, Association, SolveOptions};
 use nvector_core::slam::result::{score, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
+use nvector_core::slam::solve::solve_model;
+use nvector_core::slam::types::{Association, SolveOptions};
 use nvector_core::{Interval, IntervalBox};
 use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;
@@ -1051,14 +1052,14 @@ fn shapes_rounds_keep_the_truth_across_unbounded_steps() {
 fn associations(k: usize) -> Vec<Association> {
     let mut v = vec![
         Association::None,
-        Association::NVector(Mode::Nvalue),
-        Association::NVector(Mode::Projection),
-        Association::NVector(Mode::Independent),
-        Association::NVector(Mode::Shapes),
-        Association::NVector(Mode::Best),
+        Association::NVector(Contractor::Nvalue),
+        Association::NVector(Contractor::Projection),
+        Association::NVector(Contractor::Independent),
+        Association::NVector(Contractor::Shapes),
+        Association::NVector(Contractor::Best),
     ];
     if k <= 16 {
-        v.push(Association::NVector(Mode::Exact));
+        v.push(Association::NVector(Contractor::Exact));
     }
     v
 }

@@ -4,7 +4,7 @@
 //! `nvector` binary calls, so that the answers agree bit for bit:
 //! - `contract` -> `nvector::contract::contract_json` (as `nvector contract`);
 //! - `simulate` -> `slam::simulate::simulate` (as `nvector simulate`);
-//! - `run` -> `slam::mission::Mission` + `slam::propagator::solve` (as
+//! - `run` -> `slam::mission::Mission` + `slam::solve::solve` (as
 //!   `nvector run`).
 //!
 //! Python values cross as JSON values (`serde_json::Value`), converted here
@@ -18,9 +18,10 @@ use nvector_core::format::leaf::{Finite, Integer};
 use nvector_core::json::{bound, field_path, index_path};
 use nvector_core::nvector::contract::contract_json;
 use nvector_core::slam::mission::{Mission, MAX_STEPS};
-use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
 use nvector_core::slam::simulate::simulate as simulate_mission;
 use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
+use nvector_core::slam::solve::solve;
+use nvector_core::slam::types::{Association, Progress, SolveOptions};
 use nvector_core::InputError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -58,74 +59,17 @@ fn to_value(obj: &Bound<'_, PyAny>, path: &str, depth: usize) -> Result<Value, I
             format!("nested more than {MAX_DEPTH} levels deep"),
         ));
     }
-    if obj.is_none() {
-        return Ok(Value::Null);
-    }
-    if let Ok(b) = obj.cast::<PyBool>() {
-        return Ok(Value::Bool(b.is_true()));
-    }
-    if obj.is_instance_of::<PyInt>() {
-        if let Ok(i) = obj.extract::<i64>() {
-            return Ok(Value::from(i));
-        }
-        if let Ok(u) = obj.extract::<u64>() {
-            return Ok(Value::from(u));
-        }
-        return Err(InputError::new(
-            path,
-            "integer out of range (a JSON integer fits in 64 bits)",
-        ));
-    }
-    if obj.is_instance_of::<PyFloat>() {
-        let x: f64 = obj
-            .extract()
-            .map_err(|_| InputError::new(path, "expected a float"))?;
-        return match Number::from_f64(x) {
-            Some(n) => Ok(Value::Number(n)),
-            None if x == f64::INFINITY => Ok(Value::from("inf")),
-            None if x == f64::NEG_INFINITY => Ok(Value::from("-inf")),
-            None => Err(InputError::new(path, "NaN is not a valid number")),
-        };
-    }
-    if let Ok(s) = obj.cast::<PyString>() {
-        return s
-            .to_str()
-            .map(|s| Value::from(s.to_owned()))
-            .map_err(|_| InputError::new(path, "string is not valid UTF-8"));
+    if let Some(v) = scalar_to_value(obj, path) {
+        return v;
     }
     if let Ok(d) = obj.cast::<PyDict>() {
-        let mut map = Map::new();
-        for (k, v) in d.iter() {
-            let key = match k.cast::<PyString>() {
-                Ok(s) => s
-                    .to_str()
-                    .map_err(|_| InputError::new(path, "key is not valid UTF-8"))?
-                    .to_owned(),
-                Err(_) => {
-                    return Err(InputError::new(
-                        path,
-                        format!("keys must be strings, found {}", type_name(&k)),
-                    ))
-                }
-            };
-            let value = to_value(&v, &field_path(path, &key), depth + 1)?;
-            map.insert(key, value);
-        }
-        return Ok(Value::Object(map));
+        return dict_to_value(d, path, depth);
     }
     if let Ok(l) = obj.cast::<PyList>() {
-        let mut out = Vec::with_capacity(l.len());
-        for (i, item) in l.iter().enumerate() {
-            out.push(to_value(&item, &index_path(path, i), depth + 1)?);
-        }
-        return Ok(Value::Array(out));
+        return items_to_value(l.iter(), l.len(), path, depth);
     }
     if let Ok(t) = obj.cast::<PyTuple>() {
-        let mut out = Vec::with_capacity(t.len());
-        for (i, item) in t.iter().enumerate() {
-            out.push(to_value(&item, &index_path(path, i), depth + 1)?);
-        }
-        return Ok(Value::Array(out));
+        return items_to_value(t.iter(), t.len(), path, depth);
     }
     if obj.hasattr("tolist").unwrap_or(false) {
         if let Ok(plain) = obj.call_method0("tolist") {
@@ -139,6 +83,84 @@ fn to_value(obj: &Bound<'_, PyAny>, path: &str, depth: usize) -> Result<Value, I
         path,
         format!("{} has no JSON form", type_name(obj)),
     ))
+}
+
+/// None, a bool, an int, a float or a str as a JSON value (`None`: none
+/// of those).
+fn scalar_to_value(obj: &Bound<'_, PyAny>, path: &str) -> Option<Result<Value, InputError>> {
+    if obj.is_none() {
+        return Some(Ok(Value::Null));
+    }
+    if let Ok(b) = obj.cast::<PyBool>() {
+        return Some(Ok(Value::Bool(b.is_true())));
+    }
+    if obj.is_instance_of::<PyInt>() {
+        if let Ok(i) = obj.extract::<i64>() {
+            return Some(Ok(Value::from(i)));
+        }
+        if let Ok(u) = obj.extract::<u64>() {
+            return Some(Ok(Value::from(u)));
+        }
+        return Some(Err(InputError::new(
+            path,
+            "integer out of range (a JSON integer fits in 64 bits)",
+        )));
+    }
+    if obj.is_instance_of::<PyFloat>() {
+        let Ok(x) = obj.extract::<f64>() else {
+            return Some(Err(InputError::new(path, "expected a float")));
+        };
+        return Some(match Number::from_f64(x) {
+            Some(n) => Ok(Value::Number(n)),
+            None if x == f64::INFINITY => Ok(Value::from("inf")),
+            None if x == f64::NEG_INFINITY => Ok(Value::from("-inf")),
+            None => Err(InputError::new(path, "NaN is not a valid number")),
+        });
+    }
+    if let Ok(s) = obj.cast::<PyString>() {
+        return Some(
+            s.to_str()
+                .map(|s| Value::from(s.to_owned()))
+                .map_err(|_| InputError::new(path, "string is not valid UTF-8")),
+        );
+    }
+    None
+}
+
+/// A dict with str keys as a JSON object.
+fn dict_to_value(d: &Bound<'_, PyDict>, path: &str, depth: usize) -> Result<Value, InputError> {
+    let mut map = Map::new();
+    for (k, v) in d.iter() {
+        let key = match k.cast::<PyString>() {
+            Ok(s) => s
+                .to_str()
+                .map_err(|_| InputError::new(path, "key is not valid UTF-8"))?
+                .to_owned(),
+            Err(_) => {
+                return Err(InputError::new(
+                    path,
+                    format!("keys must be strings, found {}", type_name(&k)),
+                ))
+            }
+        };
+        let value = to_value(&v, &field_path(path, &key), depth + 1)?;
+        map.insert(key, value);
+    }
+    Ok(Value::Object(map))
+}
+
+/// The items of a list or tuple as a JSON array.
+fn items_to_value<'py>(
+    items: impl Iterator<Item = Bound<'py, PyAny>>,
+    len: usize,
+    path: &str,
+    depth: usize,
+) -> Result<Value, InputError> {
+    let mut out = Vec::with_capacity(len);
+    for (i, item) in items.enumerate() {
+        out.push(to_value(&item, &index_path(path, i), depth + 1)?);
+    }
+    Ok(Value::Array(out))
 }
 
 fn type_name(obj: &Bound<'_, PyAny>) -> String {
@@ -320,7 +342,7 @@ fn run<'py>(
             )
         })?,
         None if mission.landmark_count.is_some() => {
-            Association::NVector(nvector_core::nvector::Mode::Best)
+            Association::NVector(nvector_core::nvector::Contractor::Best)
         }
         None => Association::None,
     };

@@ -25,7 +25,7 @@ enum Command {
     Contract {
         /// nvalue, projection, independent, exact, shapes or best (overrides the request).
         #[arg(long, value_parser = cli::contract::parse_mode)]
-        contractor: Option<nvector_core::nvector::Mode>,
+        contractor: Option<nvector_core::nvector::Contractor>,
         /// Most search nodes of the exact contractor (default 16000000);
         /// out of them, exit 1 naming the limit.
         #[arg(long)]

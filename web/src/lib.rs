@@ -6,12 +6,13 @@
 use nvector_core::format::{self, Object};
 use nvector_core::nvector::contract::{response_json, ContractRequest};
 use nvector_core::nvector::nvalue::{atmost_nvalue, NValue, NValueScratch};
-use nvector_core::nvector::{atmost_nvector, Mode};
+use nvector_core::nvector::{atmost_nvector, Contractor};
 use nvector_core::outline::{shape_outline, union_boundary};
 use nvector_core::shapes::shape::{Shape, MAX_DIM};
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve, Association, Progress, SolveOptions};
 use nvector_core::slam::simulate::{simulate, SimulateLimits, SimulateRequest};
+use nvector_core::slam::solve::solve;
+use nvector_core::slam::types::{Association, Progress, SolveOptions};
 use nvector_core::{InputError, Interval, IntervalBox};
 use serde_json::{json, Value};
 use std::cmp::Ordering;
@@ -280,11 +281,11 @@ impl Nvector {
     /// The modes accepted by `contract`.
     pub fn modes(&self) -> String {
         json!([
-            Mode::Nvalue.name(),
-            Mode::Projection.name(),
-            Mode::Independent.name(),
-            Mode::Exact.name(),
-            Mode::Best.name()
+            Contractor::Nvalue.name(),
+            Contractor::Projection.name(),
+            Contractor::Independent.name(),
+            Contractor::Exact.name(),
+            Contractor::Best.name()
         ])
         .to_string()
     }

@@ -77,7 +77,14 @@ pub fn from_str<T: DeserializeOwned>(text: &str) -> Result<T, InputError> {
 
 /// Reads a parsed JSON value as `T` (same checks and messages as
 /// [`from_str`] of its text).
+///
+/// Natively a valid value is read untracked first (the fast path of
+/// [`from_str`]). On wasm32 it is read once, tracked: each format type's
+/// reader is then compiled once instead of twice (untracked and tracked),
+/// which keeps the page's download under its budget (scripts/web.sh); the
+/// result and every message are the same.
 pub fn from_value<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
+    #[cfg(not(target_arch = "wasm32"))]
     if let Ok(t) = T::deserialize(v) {
         return Ok(t);
     }

@@ -4,7 +4,7 @@
 
 pub use super::error::ContractError;
 use super::hitting_set::Limits;
-use super::{atmost_nvector_with, Mode, Outcome, Status};
+use super::{atmost_nvector_with, Contractor, Outcome, Status};
 use crate::error::InputError;
 use crate::format::{self, contract::ContractDoc, leaf::List};
 use crate::ibox::IntervalBox;
@@ -24,7 +24,7 @@ pub struct ContractRequest {
     /// The k boxes, one dimension.
     pub boxes: Vec<IntervalBox>,
     /// The contractor.
-    pub mode: Mode,
+    pub mode: Contractor,
 }
 
 impl ContractRequest {
@@ -72,8 +72,8 @@ impl ContractRequest {
             boxes.push(parsed);
         }
         let mode = match doc.contractor {
-            None => Mode::Best,
-            Some(s) => Mode::parse(&s).ok_or_else(|| {
+            None => Contractor::Best,
+            Some(s) => Contractor::parse(&s).ok_or_else(|| {
                 InputError::new(
                     "contractor",
                     format!("unknown contractor \"{s}\" (expected nvalue, projection, independent, exact or best)"),
@@ -126,7 +126,10 @@ pub fn response_json(boxes: &[IntervalBox], outcome: &Outcome) -> Value {
 /// `mode_override` (from the CLI's `--contractor`) wins over the request's.
 /// `exact` runs with the default [`Limits`]; running out of them is an
 /// `InputError` naming the limit (path `""`).
-pub fn contract_json(request: &Value, mode_override: Option<Mode>) -> Result<Value, InputError> {
+pub fn contract_json(
+    request: &Value,
+    mode_override: Option<Contractor>,
+) -> Result<Value, InputError> {
     contract_json_with(request, mode_override, &Limits::default()).map_err(InputError::from)
 }
 
@@ -135,7 +138,7 @@ pub fn contract_json(request: &Value, mode_override: Option<Mode>) -> Result<Val
 /// error when they run out ([`ContractError::Limit`]).
 pub fn contract_json_with(
     request: &Value,
-    mode_override: Option<Mode>,
+    mode_override: Option<Contractor>,
     limits: &Limits,
 ) -> Result<Value, ContractError> {
     let mut req = ContractRequest::from_value(request)?;
@@ -225,7 +228,8 @@ mod tests {
         let e = contract_json_with(&bad, None, &limits).unwrap_err();
         assert_eq!((e.code(), e.path()), ("invalid_request", "n"));
         // The same request with a polynomial contractor needs no budget.
-        let out = contract_json_with(&worst_case_request(), Some(Mode::Best), &limits).unwrap();
+        let out =
+            contract_json_with(&worst_case_request(), Some(Contractor::Best), &limits).unwrap();
         assert_eq!(out["format"], RESPONSE_FORMAT);
     }
 

@@ -23,7 +23,7 @@
 //! at box bounds, where it is largest (a bound point belongs to both the
 //! pieces around it), so the extreme feasible coordinate on axis a is a box
 //! bound: the new lower bound of box i on axis a is the smallest bound value
-//! e in box_i[a] for which some v with v[a] = e is feasible, the other
+//! e in box_i\[a\] for which some v with v\[a\] = e is feasible, the other
 //! coordinates of v ranging over the box bounds inside box_i (and likewise
 //! from above). An unbounded side stays unbounded when the piece beyond the
 //! outermost bound is feasible.

@@ -1,7 +1,7 @@
 //! The nvector global constraint atmost_nvector(n, {d(1)..d(k)}) and its
 //! contractors (Chabert, Jaulin, Lorca, CP 2009).
 //!
-//! [`atmost_nvector`] runs one of the contractors of [`Mode`] to a fixpoint:
+//! [`atmost_nvector`] runs one of the contractors of [`Contractor`] to a fixpoint:
 //! - `nvalue` ([`nvalue`]): atmost_nvalue on each axis projection (an
 //!   axis needs at most n values when the vectors are at most n).
 //! - `projection` (paper, section 5): when an axis needs exactly n values,
@@ -22,6 +22,7 @@
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use crate::union_find::Uf;
 use error::ContractError;
 use hitting_set::Limits;
 use independent::IndependentScratch;
@@ -35,7 +36,7 @@ pub mod nvalue;
 
 /// Which contractor enforces atmost_nvector.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Mode {
+pub enum Contractor {
     /// atmost_nvalue on each axis projection independently (paper, section 5).
     Nvalue,
     /// `Nvalue` plus whole-box intersection of groups, to a fixpoint.
@@ -51,16 +52,26 @@ pub enum Mode {
     Shapes,
 }
 
-impl Mode {
+impl Contractor {
+    /// Every contractor, in the order of the spec.
+    pub const ALL: [Contractor; 6] = [
+        Contractor::Nvalue,
+        Contractor::Projection,
+        Contractor::Independent,
+        Contractor::Exact,
+        Contractor::Shapes,
+        Contractor::Best,
+    ];
+
     /// Parses the spec's name (`"nvalue"`, `"projection"`, ...).
-    pub fn parse(s: &str) -> Option<Mode> {
+    pub fn parse(s: &str) -> Option<Contractor> {
         Some(match s {
-            "nvalue" => Mode::Nvalue,
-            "projection" => Mode::Projection,
-            "independent" => Mode::Independent,
-            "exact" => Mode::Exact,
-            "best" => Mode::Best,
-            "shapes" => Mode::Shapes,
+            "nvalue" => Contractor::Nvalue,
+            "projection" => Contractor::Projection,
+            "independent" => Contractor::Independent,
+            "exact" => Contractor::Exact,
+            "best" => Contractor::Best,
+            "shapes" => Contractor::Shapes,
             _ => return None,
         })
     }
@@ -68,15 +79,38 @@ impl Mode {
     /// The spec's name.
     pub fn name(self) -> &'static str {
         match self {
-            Mode::Nvalue => "nvalue",
-            Mode::Projection => "projection",
-            Mode::Independent => "independent",
-            Mode::Exact => "exact",
-            Mode::Best => "best",
-            Mode::Shapes => "shapes",
+            Contractor::Nvalue => "nvalue",
+            Contractor::Projection => "projection",
+            Contractor::Independent => "independent",
+            Contractor::Exact => "exact",
+            Contractor::Best => "best",
+            Contractor::Shapes => "shapes",
         }
     }
 }
+
+/// The OpenAPI schema of a contractor: its spec names (the `contractor`
+/// of a contraction request).
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for Contractor {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        use utoipa::openapi::schema::{ObjectBuilder, Type};
+        ObjectBuilder::new()
+            .schema_type(Type::String)
+            .enum_values(Some(Contractor::ALL.map(Contractor::name)))
+            .description(Some(
+                "A box contractor of atmost_nvector: nvalue (atmost_nvalue on each axis, \
+                 the paper's naive one), projection (the paper's improved one), independent \
+                 (pairwise-disjoint witnesses, with projection), exact (bound consistency; \
+                 exponential, k <= 40, bounded work), shapes (the detection shapes in SLAM; \
+                 on plain boxes, as best), best (the strongest polynomial one).",
+            ))
+            .into()
+    }
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for Contractor {}
 
 /// What a contraction proved.
 #[derive(Debug, Clone, PartialEq)]
@@ -114,9 +148,12 @@ pub struct Outcome {
 
 pub use hitting_set::MAX_ROUNDS;
 
-/// Union-find over box indices: the groups proved so far.
+/// The groups proved so far: the crate's one union-find
+/// ([`crate::union_find::Uf`], smallest index as root) with the count of
+/// unions done. The fixpoint reads the roots as `u32`, like its scratch
+/// arrays (box indices below 2^32, as throughout this module).
 struct Groups {
-    parent: Vec<u32>,
+    uf: Uf,
     /// Unions done (0: every group is a singleton).
     merged: usize,
 }
@@ -124,7 +161,7 @@ struct Groups {
 impl Groups {
     fn new(k: usize) -> Groups {
         Groups {
-            parent: (0..k as u32).collect(),
+            uf: Uf::new(k),
             merged: 0,
         }
     }
@@ -132,45 +169,33 @@ impl Groups {
     /// The root (smallest member) of each index's group, into `out`.
     fn roots_into(&mut self, out: &mut Vec<u32>) {
         out.clear();
-        for i in 0..self.parent.len() as u32 {
+        for i in 0..self.uf.len() as u32 {
             let r = self.find(i);
             out.push(r);
         }
     }
 
     fn find(&mut self, i: u32) -> u32 {
-        let mut r = i;
-        while self.parent[r as usize] != r {
-            r = self.parent[r as usize];
-        }
-        let mut j = i;
-        while self.parent[j as usize] != r {
-            let next = self.parent[j as usize];
-            self.parent[j as usize] = r;
-            j = next;
-        }
-        r
+        self.uf.find(i as usize) as u32
     }
 
     /// Merges; returns whether the two were apart.
     fn union(&mut self, a: u32, b: u32) -> bool {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra == rb {
+        if self.find(a) == self.find(b) {
             return false;
         }
-        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-        self.parent[hi as usize] = lo;
+        self.uf.union(a as usize, b as usize);
         self.merged += 1;
         true
     }
 
     /// The partition: sorted members, groups ordered by smallest index.
     fn partition(&mut self) -> Vec<Vec<usize>> {
-        let k = self.parent.len();
+        let k = self.uf.len();
         let mut slot = vec![usize::MAX; k];
         let mut out: Vec<Vec<usize>> = Vec::new();
         for i in 0..k {
-            let r = self.find(i as u32) as usize;
+            let r = self.uf.find(i);
             if slot[r] == usize::MAX {
                 slot[r] = out.len();
                 out.push(Vec::new());
@@ -289,7 +314,7 @@ fn infeasible(boxes: &mut [IntervalBox], reason: String, lower: usize, rounds: u
 pub fn atmost_nvector(
     n: usize,
     boxes: &mut [IntervalBox],
-    mode: Mode,
+    mode: Contractor,
 ) -> Result<Outcome, InputError> {
     atmost_nvector_with(n, boxes, mode, &Limits::default()).map_err(InputError::from)
 }
@@ -301,7 +326,7 @@ pub fn atmost_nvector(
 pub fn atmost_nvector_with(
     n: usize,
     boxes: &mut [IntervalBox],
-    mode: Mode,
+    mode: Contractor,
     limits: &Limits,
 ) -> Result<Outcome, ContractError> {
     contract(n, boxes, mode, true, limits)
@@ -309,7 +334,7 @@ pub fn atmost_nvector_with(
 
 /// The input checks of [`contract`]: an error for n = 0, boxes of
 /// dimension 0 or of different dimensions, `exact` past its box limit.
-fn check_input(n: usize, boxes: &[IntervalBox], mode: Mode) -> Result<(), ContractError> {
+fn check_input(n: usize, boxes: &[IntervalBox], mode: Contractor) -> Result<(), ContractError> {
     if n == 0 {
         return Err(InputError::new("n", "n must be at least 1").into());
     }
@@ -331,7 +356,7 @@ fn check_input(n: usize, boxes: &[IntervalBox], mode: Mode) -> Result<(), Contra
         .into());
     }
     let k = boxes.len();
-    if mode == Mode::Exact && k > hitting_set::MAX_K {
+    if mode == Contractor::Exact && k > hitting_set::MAX_K {
         return Err(InputError::new(
             "boxes",
             format!(
@@ -350,7 +375,7 @@ fn check_input(n: usize, boxes: &[IntervalBox], mode: Mode) -> Result<(), Contra
 fn contract(
     n: usize,
     boxes: &mut [IntervalBox],
-    mode: Mode,
+    mode: Contractor,
     by_group_passes: bool,
     limits: &Limits,
 ) -> Result<Outcome, ContractError> {
@@ -389,7 +414,7 @@ fn contract(
         }
     }
     let mut upper = run.hitting_set_upper().max(run.lower);
-    if mode == Mode::Exact {
+    if mode == Contractor::Exact {
         if let Some(out) = run.exact(limits, &mut upper)? {
             return Ok(out);
         }
@@ -447,7 +472,12 @@ struct Run<'a> {
 }
 
 impl<'a> Run<'a> {
-    fn new(n: usize, boxes: &'a mut [IntervalBox], mode: Mode, by_group_passes: bool) -> Run<'a> {
+    fn new(
+        n: usize,
+        boxes: &'a mut [IntervalBox],
+        mode: Contractor,
+        by_group_passes: bool,
+    ) -> Run<'a> {
         let k = boxes.len();
         let dim = boxes[0].dim();
         Run {
@@ -456,10 +486,10 @@ impl<'a> Run<'a> {
             dim,
             boxes,
             by_group_passes,
-            whole_boxes: mode != Mode::Nvalue,
+            whole_boxes: mode != Contractor::Nvalue,
             with_witnesses: matches!(
                 mode,
-                Mode::Independent | Mode::Best | Mode::Shapes | Mode::Exact
+                Contractor::Independent | Contractor::Best | Contractor::Shapes | Contractor::Exact
             ),
             contracted: false,
             groups: Groups::new(k),
@@ -714,12 +744,12 @@ mod tests {
     fn spec_example() {
         // The contract example of spec/formats.md.
         for mode in [
-            Mode::Nvalue,
-            Mode::Projection,
-            Mode::Independent,
-            Mode::Exact,
-            Mode::Best,
-            Mode::Shapes,
+            Contractor::Nvalue,
+            Contractor::Projection,
+            Contractor::Independent,
+            Contractor::Exact,
+            Contractor::Best,
+            Contractor::Shapes,
         ] {
             let mut boxes = vec![
                 b2(0.0, 2.0, 0.0, 2.0),
@@ -769,7 +799,11 @@ mod tests {
                 })
                 .collect();
             for n in [clusters.saturating_sub(1).max(1), clusters, clusters + 1] {
-                for mode in [Mode::Projection, Mode::Independent, Mode::Best] {
+                for mode in [
+                    Contractor::Projection,
+                    Contractor::Independent,
+                    Contractor::Best,
+                ] {
                     let (mut a, mut b) = (boxes.clone(), boxes.clone());
                     let limits = Limits::default();
                     let fast = contract(n, &mut a, mode, true, &limits).unwrap();

@@ -39,9 +39,9 @@
 //!
 //! O(1) per step, O(N) per sweep, no allocation in the sweeps.
 
+use crate::contractors::motion_chain::{shrinkage, Sweep};
 use crate::interval::Interval;
 use crate::odometry::angle::contract_heading;
-use crate::slam::motion_chain::{shrinkage, Sweep};
 
 /// The inputs of an odometry2d chain of N steps, precomputed as intervals.
 #[derive(Debug, Clone, PartialEq)]
@@ -232,7 +232,7 @@ impl OdometryChain {
 
     /// Forward sweep from state `from` (steps from..N), stopping at the
     /// first state that does not change, or whose bounds move by at most
-    /// `tol` (as [`crate::slam::motion_chain::sweep_forward`] does: what
+    /// `tol` (as [`crate::contractors::motion_chain::sweep_forward`] does: what
     /// lies beyond would only move by that much; stopping early is sound,
     /// it only contracts less). `Sweep::Done(steps visited)` or
     /// `Sweep::Empty(state)`.

@@ -8,7 +8,7 @@
 //! W(1..n) (so every landmark is one witness's, [`super::witnesses`]); for
 //! groups g near a step s, their landmark in the frame of s,
 //! `L(g) - p(s) ∈ R(g)` (the local-frame pavings of [`super::frames`],
-//! moved to the frame of s with the displacement sums, [`ChainSums`]);
+//! moved to the frame of s with the displacement sums, [`ChainSums`](super::chain_sums::ChainSums));
 //! pairs of groups proved distinct ([`super::distinct`]).
 //!
 //! # Math

@@ -502,34 +502,9 @@ impl Mission {
     /// depends on other fields (the model's dimension and channels, N,
     /// landmark_count), in one order.
     pub fn from_doc(mut doc: MissionDoc) -> Result<Mission, InputError> {
-        let format = need(doc.format.take(), "", "format")?;
-        if format.as_str() != Some(FORMAT) {
-            return Err(err(
-                "format",
-                format!("expected \"{FORMAT}\", found {format}"),
-            ));
-        }
-        let name = doc.name.take().unwrap_or_else(|| "mission".to_string());
-        let model = match need(doc.model.take(), "", "model")? {
-            Value::String(s) if s == "unicycle2d" => Model::Unicycle2d,
-            Value::String(s) if s == "auv3d" => Model::Auv3d,
-            Value::String(s) if s == "odometry2d" => Model::Odometry2d,
-            o => {
-                return Err(err(
-                    "model",
-                    format!("expected \"unicycle2d\", \"auv3d\" or \"odometry2d\", found {o}"),
-                ))
-            }
-        };
+        let (name, model) = header(&mut doc)?;
         let dim = model.dim();
-        let dt = need(doc.dt, "", "dt")?.0;
-        if dt <= 0.0 {
-            return Err(err("dt", format!("the time step must be > 0, found {dt}")));
-        }
-        let steps = need(doc.steps, "", "steps")?.at_most(MAX_STEPS as u64, "steps")? as usize;
-        if steps == 0 {
-            return Err(err("steps", "a mission needs at least 1 step"));
-        }
+        let (dt, steps) = clock(&doc)?;
         let initial_position = need(doc.initial_position.take(), "", "initial_position")?
             .dim("initial_position", Some(dim))?;
         let final_position = doc
@@ -538,62 +513,21 @@ impl Mission {
             .map(|b| b.dim("final_position", Some(dim)))
             .transpose()?;
         let heading = headings(&mut doc, model, steps)?;
-        let mut inputs_doc = need(doc.inputs.take(), "", "inputs")?;
-        let present: Vec<(&str, bool)> =
-            inputs_doc.names().into_iter().map(|n| (n, true)).collect();
-        only(&present, model.channels(), "inputs")?;
-        let mut inputs = Vec::with_capacity(model.channels().len());
-        for ch in model.channels() {
-            let path = field_path("inputs", ch);
-            let c = inputs_doc.take(ch).ok_or_else(|| missing(&path))?;
-            inputs.push(channel(c, &path, steps)?);
-        }
+        let inputs = inputs(&mut doc, model, steps)?;
         let motion_error = match doc.motion_error.take() {
             None => vec![0.0; steps],
             Some(v) => v.non_negative("motion_error", steps, "the motion error")?,
         };
         let sensor_offset = sensor_offset(doc.sensor_offset.take(), model)?;
-        let landmark_count = doc
-            .landmark_count
-            .map(|v| v.at_most(u32::MAX as u64, "landmark_count"))
-            .transpose()?
-            .map(|n| n as usize);
-        if landmark_count == Some(0) {
-            return Err(err("landmark_count", "landmark_count must be at least 1"));
-        }
-        let landmark_region = doc
-            .landmark_region
-            .take()
-            .map(|b| b.dim("landmark_region", Some(dim)))
-            .transpose()?;
-        let landmark_min_separation = doc.landmark_min_separation.map_or(0.0, |x| x.0);
-        if landmark_min_separation < 0.0 {
-            return Err(err(
-                "landmark_min_separation",
-                format!("the separation must be >= 0, found {landmark_min_separation}"),
-            ));
-        }
-        let max_outliers = doc
-            .max_outliers
-            .map(|v| v.at_most(u32::MAX as u64, "max_outliers"))
-            .transpose()?
-            .map_or(0, |q| q as usize);
+        let lm = landmark_options(&mut doc, dim)?;
+        let landmark_count = lm.count;
         let List(dets) = need(doc.detections.take(), "", "detections")?;
         let detections = dets
             .into_iter()
             .enumerate()
             .map(|(i, d)| detection(d, &format!("detections[{i}]"), model, steps, landmark_count))
             .collect::<Result<Vec<_>, _>>()?;
-        let meta = match doc.meta.take() {
-            None | Some(Value::Null) => Value::Object(Map::new()),
-            Some(v @ Value::Object(_)) => v,
-            Some(o) => {
-                return Err(err(
-                    "meta",
-                    format!("expected an object, found {}", json::kind(&o)),
-                ))
-            }
-        };
+        let meta = meta(doc.meta.take())?;
         let truth = doc
             .truth
             .take()
@@ -611,15 +545,15 @@ impl Mission {
             motion_error,
             detections,
             landmark_count,
-            landmark_region,
-            max_outliers,
+            landmark_region: lm.region,
+            max_outliers: lm.max_outliers,
             meta,
             truth,
             initial_heading: heading.initial,
             final_heading: heading.last,
             heading_error: heading.error,
             sensor_offset,
-            landmark_min_separation,
+            landmark_min_separation: lm.min_separation,
         })
     }
 
@@ -670,31 +604,7 @@ impl Mission {
                 self.landmark_min_separation.into(),
             );
         }
-        let dets: Vec<Value> = self
-            .detections
-            .iter()
-            .map(|d| {
-                let mut m = Map::new();
-                m.insert("step".into(), d.step.into());
-                m.insert("range".into(), json::interval_to_json(d.range));
-                if let Some(b) = d.bearing {
-                    m.insert("bearing".into(), json::interval_to_json(b));
-                }
-                if let Some(r) = &d.region {
-                    m.insert("region".into(), json::box_to_json(r));
-                }
-                if let Some(z) = d.depth {
-                    m.insert("depth".into(), json::interval_to_json(z));
-                }
-                if let Some(l) = d.landmark {
-                    m.insert("landmark".into(), l.into());
-                }
-                if let Some(scan) = d.scan {
-                    m.insert("scan".into(), scan.into());
-                }
-                Value::Object(m)
-            })
-            .collect();
+        let dets: Vec<Value> = self.detections.iter().map(detection_json).collect();
         o.insert("detections".into(), Value::Array(dets));
         if let Some(n) = self.landmark_count {
             o.insert("landmark_count".into(), n.into());
@@ -707,23 +617,163 @@ impl Mission {
         }
         o.insert("meta".into(), self.meta.clone());
         if let Some(t) = &self.truth {
-            let positions = match &t.positions_known {
-                None => serde_json::json!(t.positions),
-                Some(known) => Value::Array(
-                    t.positions
-                        .iter()
-                        .zip(known)
-                        .map(|(p, &k)| if k { serde_json::json!(p) } else { Value::Null })
-                        .collect(),
-                ),
-            };
-            let mut truth = serde_json::json!({"positions": positions, "landmarks": t.landmarks, "matching": t.matching});
-            if let Some(h) = &t.headings {
-                truth["headings"] = serde_json::json!(h);
-            }
-            o.insert("truth".into(), truth);
+            o.insert("truth".into(), truth_json(t));
         }
         Value::Object(o)
+    }
+}
+
+/// A detection in the spec's format (the optional fields when present).
+fn detection_json(d: &Detection) -> Value {
+    let mut m = Map::new();
+    m.insert("step".into(), d.step.into());
+    m.insert("range".into(), json::interval_to_json(d.range));
+    if let Some(b) = d.bearing {
+        m.insert("bearing".into(), json::interval_to_json(b));
+    }
+    if let Some(r) = &d.region {
+        m.insert("region".into(), json::box_to_json(r));
+    }
+    if let Some(z) = d.depth {
+        m.insert("depth".into(), json::interval_to_json(z));
+    }
+    if let Some(l) = d.landmark {
+        m.insert("landmark".into(), l.into());
+    }
+    if let Some(scan) = d.scan {
+        m.insert("scan".into(), scan.into());
+    }
+    Value::Object(m)
+}
+
+/// The truth in the spec's format (`null` for an unknown position).
+fn truth_json(t: &Truth) -> Value {
+    let positions = match &t.positions_known {
+        None => serde_json::json!(t.positions),
+        Some(known) => Value::Array(
+            t.positions
+                .iter()
+                .zip(known)
+                .map(|(p, &k)| if k { serde_json::json!(p) } else { Value::Null })
+                .collect(),
+        ),
+    };
+    let mut truth = serde_json::json!({"positions": positions, "landmarks": t.landmarks, "matching": t.matching});
+    if let Some(h) = &t.headings {
+        truth["headings"] = serde_json::json!(h);
+    }
+    truth
+}
+
+/// `format` (checked), `name` (default "mission") and `model`.
+fn header(doc: &mut MissionDoc) -> Result<(String, Model), InputError> {
+    let format = need(doc.format.take(), "", "format")?;
+    if format.as_str() != Some(FORMAT) {
+        return Err(err(
+            "format",
+            format!("expected \"{FORMAT}\", found {format}"),
+        ));
+    }
+    let name = doc.name.take().unwrap_or_else(|| "mission".to_string());
+    let model = match need(doc.model.take(), "", "model")? {
+        Value::String(s) if s == "unicycle2d" => Model::Unicycle2d,
+        Value::String(s) if s == "auv3d" => Model::Auv3d,
+        Value::String(s) if s == "odometry2d" => Model::Odometry2d,
+        o => {
+            return Err(err(
+                "model",
+                format!("expected \"unicycle2d\", \"auv3d\" or \"odometry2d\", found {o}"),
+            ))
+        }
+    };
+    Ok((name, model))
+}
+
+/// `dt` (> 0) and `steps` (1 to [`MAX_STEPS`]).
+fn clock(doc: &MissionDoc) -> Result<(f64, usize), InputError> {
+    let dt = need(doc.dt, "", "dt")?.0;
+    if dt <= 0.0 {
+        return Err(err("dt", format!("the time step must be > 0, found {dt}")));
+    }
+    let steps = need(doc.steps, "", "steps")?.at_most(MAX_STEPS as u64, "steps")? as usize;
+    if steps == 0 {
+        return Err(err("steps", "a mission needs at least 1 step"));
+    }
+    Ok((dt, steps))
+}
+
+/// The model's input channels, each of `steps` intervals, no other.
+fn inputs(
+    doc: &mut MissionDoc,
+    model: Model,
+    steps: usize,
+) -> Result<Vec<Vec<Interval>>, InputError> {
+    let mut inputs_doc = need(doc.inputs.take(), "", "inputs")?;
+    let present: Vec<(&str, bool)> = inputs_doc.names().into_iter().map(|n| (n, true)).collect();
+    only(&present, model.channels(), "inputs")?;
+    let mut inputs = Vec::with_capacity(model.channels().len());
+    for ch in model.channels() {
+        let path = field_path("inputs", ch);
+        let c = inputs_doc.take(ch).ok_or_else(|| missing(&path))?;
+        inputs.push(channel(c, &path, steps)?);
+    }
+    Ok(inputs)
+}
+
+/// What a mission says of its landmarks and false detections.
+struct LandmarkOptions {
+    count: Option<usize>,
+    region: Option<IntervalBox>,
+    min_separation: f64,
+    max_outliers: usize,
+}
+
+/// `landmark_count` (>= 1), `landmark_region` (of the model's dimension),
+/// `landmark_min_separation` (>= 0, default 0), `max_outliers` (default 0),
+/// checked in that order.
+fn landmark_options(doc: &mut MissionDoc, dim: usize) -> Result<LandmarkOptions, InputError> {
+    let count = doc
+        .landmark_count
+        .map(|v| v.at_most(u32::MAX as u64, "landmark_count"))
+        .transpose()?
+        .map(|n| n as usize);
+    if count == Some(0) {
+        return Err(err("landmark_count", "landmark_count must be at least 1"));
+    }
+    let region = doc
+        .landmark_region
+        .take()
+        .map(|b| b.dim("landmark_region", Some(dim)))
+        .transpose()?;
+    let min_separation = doc.landmark_min_separation.map_or(0.0, |x| x.0);
+    if min_separation < 0.0 {
+        return Err(err(
+            "landmark_min_separation",
+            format!("the separation must be >= 0, found {min_separation}"),
+        ));
+    }
+    let max_outliers = doc
+        .max_outliers
+        .map(|v| v.at_most(u32::MAX as u64, "max_outliers"))
+        .transpose()?
+        .map_or(0, |q| q as usize);
+    Ok(LandmarkOptions {
+        count,
+        region,
+        min_separation,
+        max_outliers,
+    })
+}
+
+/// `meta`: absent or null is `{}`; anything but an object is refused.
+fn meta(v: Option<Value>) -> Result<Value, InputError> {
+    match v {
+        None | Some(Value::Null) => Ok(Value::Object(Map::new())),
+        Some(v @ Value::Object(_)) => Ok(v),
+        Some(o) => Err(err(
+            "meta",
+            format!("expected an object, found {}", json::kind(&o)),
+        )),
     }
 }
 

@@ -13,8 +13,7 @@
 //!
 //! [`simulate`] writes missions (it sits beside the pipeline, on
 //! `mission`). The basic contractors (distance, bearing, motion chain) are
-//! in [`crate::contractors`], below this module and [`crate::shapes`]; they
-//! are re-exported here under their former paths.
+//! in [`crate::contractors`], below this module and [`crate::shapes`].
 
 pub mod association;
 pub mod diagnose;
@@ -23,11 +22,8 @@ pub mod kept;
 pub mod mission;
 pub mod model;
 pub mod outliers;
-pub mod propagator;
 pub mod result;
 pub mod rounds;
 pub mod simulate;
 pub mod solve;
 pub mod types;
-
-pub use crate::contractors::{bearing, distance, motion_chain};

@@ -184,6 +184,47 @@ impl Serialize for Diameter {
     }
 }
 
+impl ResultView<'_> {
+    /// One paving per entry of `landmarks`: the group's landmark region
+    /// when the shapes contractor built one (each box cut to the
+    /// landmark's box), else that box.
+    fn landmark_pavings(&self, landmarks: &[IntervalBox]) -> Vec<Vec<IntervalBox>> {
+        let m = &self.s.model;
+        self.s
+            .matching
+            .iter()
+            .zip(landmarks)
+            .map(
+                |(g, b)| match g.iter().find_map(|&j| m.landmark_regions.get(j)?.as_ref()) {
+                    Some(boxes) => boxes
+                        .iter()
+                        .map(|x| x.intersect(b))
+                        .filter(|x| !x.is_empty())
+                        .collect(),
+                    None => vec![b.clone()],
+                },
+            )
+            .collect()
+    }
+
+    /// The `metrics` object: work done and the sizes of the boxes.
+    fn metrics(&self) -> Metrics {
+        let (s, m) = (self.s, &self.s.model);
+        let (max_d, mean_d) = m.trajectory_diameters();
+        let max_det = m.det.iter().map(|b| b.diameter()).fold(0.0, f64::max);
+        let matched: usize = s.matching.iter().map(|g| g.len()).sum();
+        Metrics {
+            contractions: s.contractions,
+            elapsed_ms: self.elapsed_ms,
+            matched_detections: matched,
+            max_detection_diameter: Diameter(max_det),
+            max_trajectory_diameter: Diameter(max_d),
+            mean_trajectory_diameter: Diameter(mean_d),
+            rounds: s.rounds,
+        }
+    }
+}
+
 impl Serialize for ResultView<'_> {
     fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
         let (s, m) = (self.s, &self.s.model);
@@ -193,24 +234,7 @@ impl Serialize for ResultView<'_> {
         o.serialize_entry("format", "nvector-result/1")?;
         let landmarks = s.landmarks();
         if !m.landmark_regions.is_empty() {
-            // One paving per entry of `landmarks`: the group's landmark
-            // region when the shapes contractor built one (each box cut to
-            // the landmark's box), else that box.
-            let pavings: Vec<Vec<IntervalBox>> = s
-                .matching
-                .iter()
-                .zip(&landmarks)
-                .map(
-                    |(g, b)| match g.iter().find_map(|&j| m.landmark_regions.get(j)?.as_ref()) {
-                        Some(boxes) => boxes
-                            .iter()
-                            .map(|x| x.intersect(b))
-                            .filter(|x| !x.is_empty())
-                            .collect(),
-                        None => vec![b.clone()],
-                    },
-                )
-                .collect();
+            let pavings = self.landmark_pavings(&landmarks);
             let views: Vec<Vec<BoxView>> = pavings
                 .iter()
                 .map(|p| p.iter().map(|x| BoxView(x.axes())).collect())
@@ -222,21 +246,7 @@ impl Serialize for ResultView<'_> {
             &Seq(landmarks.iter().map(|b| BoxView(b.axes()))),
         )?;
         o.serialize_entry("matching", &s.matching)?;
-        let (max_d, mean_d) = m.trajectory_diameters();
-        let max_det = m.det.iter().map(|b| b.diameter()).fold(0.0, f64::max);
-        let matched: usize = s.matching.iter().map(|g| g.len()).sum();
-        o.serialize_entry(
-            "metrics",
-            &Metrics {
-                contractions: s.contractions,
-                elapsed_ms: self.elapsed_ms,
-                matched_detections: matched,
-                max_detection_diameter: Diameter(max_det),
-                max_trajectory_diameter: Diameter(max_d),
-                mean_trajectory_diameter: Diameter(mean_d),
-                rounds: s.rounds,
-            },
-        )?;
+        o.serialize_entry("metrics", &self.metrics())?;
         o.serialize_entry("mission", &self.mission.name)?;
         o.serialize_entry(
             "options",
@@ -457,8 +467,9 @@ mod tests {
     #[test]
     fn streamed_result_is_the_former_bytes() {
         let mut regions_seen = 0;
-        use crate::slam::propagator::{solve_model, Association, SolveOptions};
         use crate::slam::simulate::{simulate, Scenario, SimulateOptions};
+        use crate::slam::solve::solve_model;
+        use crate::slam::types::{Association, SolveOptions};
         use std::sync::atomic::AtomicBool;
         for (scenario, seed, operator, max_rounds) in [
             (Scenario::Paper, 1, false, 10_000),
@@ -479,7 +490,7 @@ mod tests {
                 let m = Mission::from_value(&v).unwrap();
                 for association in [
                     Association::None,
-                    Association::NVector(crate::nvector::Mode::Best),
+                    Association::NVector(crate::nvector::Contractor::Best),
                 ] {
                     let options = SolveOptions {
                         association,

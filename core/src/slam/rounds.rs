@@ -69,7 +69,7 @@ use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
 use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
 use crate::interval::Interval;
-use crate::nvector::{atmost_nvector, Mode, Status};
+use crate::nvector::{atmost_nvector, Contractor, Status};
 use crate::union_find::Uf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -176,7 +176,7 @@ impl<'a> Propagation<'a> {
             work: WorkEstimate::new(k),
             shapes: matches!(
                 options.association,
-                Association::NVector(Mode::Best | Mode::Shapes)
+                Association::NVector(Contractor::Best | Contractor::Shapes)
             )
             .then(|| ShapesState::new(k)),
         }

@@ -327,35 +327,42 @@ struct Seen {
     point: [f64; 2],
 }
 
-fn paper(o: &SimulateOptions) -> Value {
-    let mut rng = Rng::new(o.seed);
-    // Only the options beyond the default draw from this one.
-    let mut extra = Rng::new(o.seed ^ EXTRA_STREAM);
-    let steps = o.steps.unwrap_or(PAPER_STEPS).max(2);
-    let n_landmarks = o.landmarks.unwrap_or(4).max(1);
-    let dt = 0.1;
-    let noise = o.noise.max(0.0);
-    let speed_err = 0.03 * noise;
-    let heading_err = 0.02 * noise;
-    let range_err = 0.1 * noise;
-    let bearing_err: f64 = 0.1;
-    let threshold = 6.0;
-    // `line`: landmarks spread around the start, 10 m apart along x and
-    // alternating north and south (as in the paper's Figure 9, their
-    // projections on the first axis are apart, so that the per-axis
-    // contractors can work too). Drawn in every layout, so the main stream
-    // (path and sensor noise) is the same for a seed whatever the layout.
-    let line: Vec<[f64; 2]> = (0..n_landmarks)
+/// The paper scenario's noise bounds for a noise scale.
+struct PaperNoise {
+    speed: f64,
+    heading: f64,
+    range: f64,
+}
+
+/// The paper scenario's drive: the true positions (steps + 1) and
+/// headings, and the measured speed and heading of each step.
+struct Drive {
+    positions: Vec<[f64; 2]>,
+    headings: Vec<f64>,
+    speed_meas: Vec<f64>,
+    heading_meas: Vec<f64>,
+}
+
+/// `line`: landmarks spread around the start, 10 m apart along x and
+/// alternating north and south (as in the paper's Figure 9, their
+/// projections on the first axis are apart, so that the per-axis
+/// contractors can work too). Drawn in every layout, so the main stream
+/// (path and sensor noise) is the same for a seed whatever the layout.
+fn line_layout(rng: &mut Rng, n_landmarks: usize) -> Vec<[f64; 2]> {
+    (0..n_landmarks)
         .map(|j| {
             let x = 10.0 * (j as f64 - (n_landmarks as f64 - 1.0) / 2.0) + rng.sym(1.0);
             let y = if j % 2 == 0 { 10.0 } else { -10.0 } + rng.sym(2.0);
             [x, y]
         })
-        .collect();
-    // Feedback loop: the robot pursues a point running along an epicycle
-    // around the start (small loops whose centre turns on a circle): the
-    // robot loops around its start in a cycloid-like path, passing by every
-    // landmark once per turn.
+        .collect()
+}
+
+/// Feedback loop: the robot pursues a point running along an epicycle
+/// around the start (small loops whose centre turns on a circle): the
+/// robot loops around its start in a cycloid-like path, passing by every
+/// landmark once per turn.
+fn paper_drive(rng: &mut Rng, steps: usize, dt: f64, noise: &PaperNoise) -> Drive {
     let (big_r, big_w) = (
         11.0 + rng.sym(1.0),
         2.0 * std::f64::consts::PI / (110.0 + rng.sym(10.0)),
@@ -374,9 +381,12 @@ fn paper(o: &SimulateOptions) -> Value {
     let p0 = path(0.0);
     let (mut x, mut y) = (0.0f64, 0.0f64);
     let mut h = libm::atan2(p0[1], p0[0]);
-    let mut positions = vec![[x, y]];
-    let (mut speed_meas, mut heading_meas) = (Vec::with_capacity(steps), Vec::with_capacity(steps));
-    let mut headings = Vec::with_capacity(steps);
+    let mut d = Drive {
+        positions: vec![[x, y]],
+        headings: Vec::with_capacity(steps),
+        speed_meas: Vec::with_capacity(steps),
+        heading_meas: Vec::with_capacity(steps),
+    };
     for i in 0..steps {
         // The pursued point starts at the start and joins the epicycle.
         let t = i as f64 * dt;
@@ -387,21 +397,31 @@ fn paper(o: &SimulateOptions) -> Value {
         let turn = wrap(want - h).clamp(-1.2 * dt, 1.2 * dt);
         h = wrap(h + turn);
         let v = libm::hypot(target[0] - x, target[1] - y).clamp(0.3, 2.0);
-        headings.push(h);
-        speed_meas.push(v + rng.sym(speed_err));
-        heading_meas.push(h + rng.sym(heading_err));
+        d.headings.push(h);
+        d.speed_meas.push(v + rng.sym(noise.speed));
+        d.heading_meas.push(h + rng.sym(noise.heading));
         x += dt * v * libm::cos(h);
         y += dt * v * libm::sin(h);
-        positions.push([x, y]);
+        d.positions.push([x, y]);
     }
-    let landmarks = match o.layout {
-        Layout::Line => line,
-        Layout::Ring => ring_layout(&mut extra, n_landmarks),
-        Layout::Random => random_layout(&mut extra, n_landmarks, &positions, threshold),
-    };
+    d
+}
+
+/// What the robot sees: the closest approaches to each landmark, then
+/// the false detections. By step, true detections by landmark, false ones
+/// after them (in the order drawn): a stable sort keeps the true ones as
+/// they were. (Ties broken by the drawn order: the order of a stable sort,
+/// without the stable sort's code in the page's wasm.)
+fn paper_seen(
+    o: &SimulateOptions,
+    extra: &mut Rng,
+    landmarks: &[[f64; 2]],
+    positions: &[[f64; 2]],
+    (threshold, range_err): (f64, f64),
+) -> Vec<Seen> {
     let mut seen: Vec<Seen> = Vec::new();
     for (j, &l) in landmarks.iter().enumerate() {
-        for s in closest_approaches(&distances(&positions, l), threshold) {
+        for s in closest_approaches(&distances(positions, l), threshold) {
             seen.push(Seen {
                 step: s,
                 landmark: Some(j),
@@ -410,17 +430,13 @@ fn paper(o: &SimulateOptions) -> Value {
         }
     }
     seen.extend(false_detections(
-        &mut extra,
+        extra,
         o.false_detections,
-        &positions,
-        &landmarks,
+        positions,
+        landmarks,
         threshold,
         range_err,
     ));
-    // By step, true detections by landmark, false ones after them (in the
-    // order drawn): a stable sort keeps the true ones as they were.
-    // (Ties broken by the drawn order: the order of a stable sort, without
-    // the stable sort's code in the page's wasm.)
     let mut keyed: Vec<(usize, usize, usize)> = seen
         .iter()
         .enumerate()
@@ -428,17 +444,29 @@ fn paper(o: &SimulateOptions) -> Value {
         .collect();
     keyed.sort_unstable();
     let mut slots: Vec<Option<Seen>> = seen.into_iter().map(Some).collect();
-    let seen: Vec<Seen> = keyed
+    keyed
         .iter()
         .filter_map(|&(_, _, i)| slots[i].take())
-        .collect();
+        .collect()
+}
+
+/// The detections as JSON, and the true matching (`null` for a false
+/// detection). The main stream draws the noise of true detections only.
+fn paper_detections(
+    o: &SimulateOptions,
+    (rng, extra): (&mut Rng, &mut Rng),
+    seen: &[Seen],
+    drive: &Drive,
+    range_err: f64,
+) -> (Vec<Value>, Vec<Value>) {
+    let bearing_err: f64 = 0.1;
+    let steps = drive.headings.len();
     let mut det_json = Vec::new();
     let mut matching = Vec::new();
-    for d in &seen {
+    for d in seen {
         let (s, l) = (d.step, d.point);
-        let p = positions[s];
+        let p = drive.positions[s];
         let r = libm::hypot(l[0] - p[0], l[1] - p[1]);
-        // The main stream draws the noise of true detections only.
         let r_meas = r + if d.landmark.is_some() {
             rng.sym(range_err)
         } else {
@@ -449,9 +477,9 @@ fn paper(o: &SimulateOptions) -> Value {
             "range": interval_json((r_meas - range_err - MARGIN).max(0.0), r_meas + range_err + MARGIN),
         });
         if o.range_only {
-            dj["region"] = region(&mut extra, l);
+            dj["region"] = region(extra, l);
         } else {
-            let hd = headings[s.min(steps - 1)];
+            let hd = drive.headings[s.min(steps - 1)];
             let beta = wrap(libm::atan2(l[1] - p[1], l[0] - p[0]) - hd);
             dj["bearing"] = bearing_interval(beta, bearing_err);
         }
@@ -463,7 +491,12 @@ fn paper(o: &SimulateOptions) -> Value {
         det_json.push(dj);
         matching.push(d.landmark.map_or(Value::Null, |j| json!(j)));
     }
-    let e0 = 0.01;
+    (det_json, matching)
+}
+
+/// The mission's name (without the seed) and `meta`, naming the options
+/// beyond the default.
+fn paper_name_meta(o: &SimulateOptions) -> (String, Value) {
     let mut name = String::from("paper");
     let mut meta = json!({"scenario": "paper", "seed": o.seed, "generator": "nvector simulate"});
     if o.layout != Layout::Line {
@@ -478,6 +511,41 @@ fn paper(o: &SimulateOptions) -> Value {
         name += &format!("-false-{}", o.false_detections);
         meta["false_detections"] = json!(o.false_detections);
     }
+    (name, meta)
+}
+
+fn paper(o: &SimulateOptions) -> Value {
+    let mut rng = Rng::new(o.seed);
+    // Only the options beyond the default draw from this one.
+    let mut extra = Rng::new(o.seed ^ EXTRA_STREAM);
+    let steps = o.steps.unwrap_or(PAPER_STEPS).max(2);
+    let n_landmarks = o.landmarks.unwrap_or(4).max(1);
+    let dt = 0.1;
+    let noise = o.noise.max(0.0);
+    let err = PaperNoise {
+        speed: 0.03 * noise,
+        heading: 0.02 * noise,
+        range: 0.1 * noise,
+    };
+    let threshold = 6.0;
+    let line = line_layout(&mut rng, n_landmarks);
+    let drive = paper_drive(&mut rng, steps, dt, &err);
+    let landmarks = match o.layout {
+        Layout::Line => line,
+        Layout::Ring => ring_layout(&mut extra, n_landmarks),
+        Layout::Random => random_layout(&mut extra, n_landmarks, &drive.positions, threshold),
+    };
+    let seen = paper_seen(
+        o,
+        &mut extra,
+        &landmarks,
+        &drive.positions,
+        (threshold, err.range),
+    );
+    let (det_json, matching) =
+        paper_detections(o, (&mut rng, &mut extra), &seen, &drive, err.range);
+    let e0 = 0.01;
+    let (name, meta) = paper_name_meta(o);
     let mut mission = json!({
         "format": "nvector-mission/1",
         "name": format!("{name}-seed-{}", o.seed),
@@ -487,15 +555,15 @@ fn paper(o: &SimulateOptions) -> Value {
         "initial_position": box_to_json(&IntervalBox::new(&[Interval::new(-e0, e0), Interval::new(-e0, e0)])),
         "final_position": null,
         "inputs": {
-            "speed": channel(&speed_meas, speed_err + MARGIN),
-            "heading": channel(&heading_meas, heading_err + MARGIN),
+            "speed": channel(&drive.speed_meas, err.speed + MARGIN),
+            "heading": channel(&drive.heading_meas, err.heading + MARGIN),
         },
         "motion_error": MARGIN,
         "detections": det_json,
         "landmark_count": n_landmarks,
         "meta": meta,
         "truth": {
-            "positions": positions,
+            "positions": drive.positions,
             "landmarks": landmarks,
             "matching": matching,
         }
@@ -564,16 +632,8 @@ fn distance3(q: &[f64; 3], l: &[f64; 3]) -> f64 {
     libm::sqrt(dx * dx + dy * dy + dz * dz)
 }
 
-fn auv(o: &SimulateOptions) -> Value {
-    let mut rng = Rng::new(o.seed);
-    let steps = o.steps.unwrap_or(AUV_STEPS).max(2);
-    let dt = 0.1;
-    let noise = o.noise.max(0.0);
-    let (angle_err, yaw_err, vel_err) = (0.001 * noise, 0.002 * noise, 0.004 * noise);
-    let range_err = 0.2 * noise;
-    let sonar_range = 60.0;
-    let auv_depth = 5.0;
-    // Lawn-mower survey: legs along y, 50 m apart, over the seamark area.
+/// The survey's waypoints: legs along y, 50 m apart, x from 60 to 660 m.
+fn auv_waypoints() -> Vec<[f64; 2]> {
     let mut waypoints = Vec::new();
     let mut xw = 60.0;
     let mut up = true;
@@ -584,7 +644,19 @@ fn auv(o: &SimulateOptions) -> Value {
         xw += 50.0;
         up = !up;
     }
-    let start = [waypoints[0][0], waypoints[0][1] - 20.0, auv_depth];
+    waypoints
+}
+
+/// The auv scenario's drive along the waypoints: the true positions
+/// (steps + 1) and the six measured channels (roll, pitch, yaw, vx, vy,
+/// vz) of each step, with the angle, yaw and velocity error bounds.
+fn auv_drive(
+    rng: &mut Rng,
+    (steps, dt): (usize, f64),
+    waypoints: &[[f64; 2]],
+    start: [f64; 3],
+    [angle_err, yaw_err, vel_err]: [f64; 3],
+) -> (Vec<[f64; 3]>, [Vec<f64>; 6]) {
     let mut p = start;
     let mut yaw = std::f64::consts::FRAC_PI_2;
     let mut wp = 0usize;
@@ -619,6 +691,17 @@ fn auv(o: &SimulateOptions) -> Value {
             ch[3 + a].push(v[a] + rng.sym(vel_err));
         }
     }
+    (positions, ch)
+}
+
+/// The sonar detections (closest approaches within the sonar range, by
+/// step then seamark) as JSON, and the true matching.
+fn auv_detections(
+    o: &SimulateOptions,
+    rng: &mut Rng,
+    positions: &[[f64; 3]],
+    (sonar_range, range_err): (f64, f64),
+) -> (Vec<Value>, Vec<usize>) {
     let mut detections: Vec<(usize, usize)> = Vec::new();
     for (j, l) in SEAMARKS.iter().enumerate() {
         let dist: Vec<f64> = positions.iter().map(|q| distance3(q, l)).collect();
@@ -645,6 +728,23 @@ fn auv(o: &SimulateOptions) -> Value {
         det_json.push(d);
         matching.push(j);
     }
+    (det_json, matching)
+}
+
+fn auv(o: &SimulateOptions) -> Value {
+    let mut rng = Rng::new(o.seed);
+    let steps = o.steps.unwrap_or(AUV_STEPS).max(2);
+    let dt = 0.1;
+    let noise = o.noise.max(0.0);
+    let (angle_err, yaw_err, vel_err) = (0.001 * noise, 0.002 * noise, 0.004 * noise);
+    let range_err = 0.2 * noise;
+    let sonar_range = 60.0;
+    let auv_depth = 5.0;
+    let waypoints = auv_waypoints();
+    let start = [waypoints[0][0], waypoints[0][1] - 20.0, auv_depth];
+    let errs3 = [angle_err, yaw_err, vel_err];
+    let (positions, ch) = auv_drive(&mut rng, (steps, dt), &waypoints, start, errs3);
+    let (det_json, matching) = auv_detections(o, &mut rng, &positions, (sonar_range, range_err));
     let gps = 2.0;
     let end = positions[steps];
     let names = ["roll", "pitch", "yaw", "vx", "vy", "vz"];

@@ -8,7 +8,7 @@
 //! May import: `mission`, `model`, `crate::nvector` (the contractor names).
 
 use super::model::Model;
-use crate::nvector::Mode;
+use crate::nvector::Contractor;
 
 /// How to tie detections to landmarks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,17 +16,26 @@ pub enum Association {
     /// Basic model: only operator `landmark` fields tie detections.
     None,
     /// atmost_nvector with this contractor (with the operator's fields too).
-    NVector(Mode),
+    NVector(Contractor),
 }
 
 impl Association {
+    /// The names a job accepts, in the order of the spec: `none` and every
+    /// contractor but `exact` (exponential).
+    pub fn names() -> Vec<&'static str> {
+        std::iter::once("none")
+            .chain(Contractor::ALL.map(Contractor::name))
+            .filter(|n| Association::parse(n).is_some())
+            .collect()
+    }
+
     /// Parses `--contractor`: `none`, `nvalue`, `projection`, `independent`,
     /// `shapes`, `best` (`exact` is refused: it is exponential).
     pub fn parse(s: &str) -> Option<Association> {
         match s {
             "none" => Some(Association::None),
             "exact" => None,
-            _ => Mode::parse(s).map(Association::NVector),
+            _ => Contractor::parse(s).map(Association::NVector),
         }
     }
 
@@ -38,6 +47,27 @@ impl Association {
         }
     }
 }
+
+/// The OpenAPI schema of a SLAM job's `contractor`: the names of
+/// [`Association::names`].
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for Association {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        use utoipa::openapi::schema::{ObjectBuilder, Type};
+        ObjectBuilder::new()
+            .schema_type(Type::String)
+            .enum_values(Some(Association::names()))
+            .description(Some(
+                "The contractor of a SLAM job: none (the basic model: operator matches \
+                 only) or atmost_nvector with one of its box contractors (exact is refused \
+                 for jobs: exponential).",
+            ))
+            .into()
+    }
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for Association {}
 
 /// Options of a SLAM job.
 #[derive(Debug, Clone)]
@@ -53,7 +83,7 @@ pub struct SolveOptions {
 impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
-            association: Association::NVector(Mode::Best),
+            association: Association::NVector(Contractor::Best),
             max_rounds: 10_000,
             tolerance: 1e-9,
         }
@@ -173,4 +203,30 @@ pub struct Solution {
     pub contractions: u64,
     /// Final domains.
     pub model: Model,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The job's names are the spec's, each parsed back, `exact` refused.
+    #[test]
+    fn association_names_are_the_parsed_ones() {
+        let names = Association::names();
+        assert_eq!(
+            names,
+            [
+                "none",
+                "nvalue",
+                "projection",
+                "independent",
+                "shapes",
+                "best"
+            ]
+        );
+        for n in &names {
+            assert_eq!(Association::parse(n).map(Association::name), Some(*n));
+        }
+        assert_eq!(Association::parse("exact"), None);
+    }
 }

@@ -18,9 +18,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::Rng;
+use nvector_core::contractors::motion_chain::{auv_displacement, unicycle_displacement};
 use nvector_core::shapes::shape::distance_between;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::motion_chain::{auv_displacement, unicycle_displacement};
 use nvector_core::slam::result::{Solution, SolveStatus};
 use nvector_core::Interval;
 use serde_json::{json, Value};

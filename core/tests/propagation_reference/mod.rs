@@ -3,14 +3,14 @@
 //! as the reference the new propagator is compared with. Progress reports
 //! are left out; nothing else changed.
 
+use nvector_core::contractors::bearing::contract_bearing;
+use nvector_core::contractors::distance::contract_distance;
+use nvector_core::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
 use nvector_core::nvector::{atmost_nvector, Status};
-use nvector_core::slam::bearing::contract_bearing;
-use nvector_core::slam::distance::contract_distance;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::model::Model;
-use nvector_core::slam::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
-use nvector_core::slam::propagator::{Association, SolveOptions};
 use nvector_core::slam::result::{Solution, SolveStatus};
+use nvector_core::slam::types::{Association, SolveOptions};
 use nvector_core::Interval;
 use std::sync::atomic::{AtomicBool, Ordering};
 

@@ -7,7 +7,7 @@
 
 use crate::CliError;
 use nvector_core::nvector::nvalue::{atmost_nvalue, NValueScratch};
-use nvector_core::nvector::{atmost_nvector, Mode};
+use nvector_core::nvector::{atmost_nvector, Contractor};
 use nvector_core::{Interval, IntervalBox};
 use serde_json::{json, Value};
 use std::time::Instant;
@@ -300,7 +300,7 @@ pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
             || data.clone(),
             sort_f64,
             || boxes.clone(),
-            |mut b| atmost_nvector(100, &mut b, Mode::Projection),
+            |mut b| atmost_nvector(100, &mut b, Contractor::Projection),
         );
         emit(line(
             &name,
@@ -319,7 +319,7 @@ pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
         let ms = median_ms(
             runs,
             || boxes.clone(),
-            |mut b| atmost_nvector(50, &mut b, Mode::Independent),
+            |mut b| atmost_nvector(50, &mut b, Contractor::Independent),
         );
         let mut v = line(&name, ms, None, None);
         v["aim_ms"] = json!(50);
@@ -338,7 +338,7 @@ pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
             let ms = median_ms(
                 3,
                 || boxes.clone(),
-                |mut b| atmost_nvector(4, &mut b, Mode::Exact),
+                |mut b| atmost_nvector(4, &mut b, Contractor::Exact),
             );
             if ms < limit_ms {
                 best = k;

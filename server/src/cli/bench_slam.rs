@@ -5,12 +5,13 @@
 //! and propagation on a 10^6-step mission against a 10^5-step one.
 
 use super::bench::{median_ms, paired_ms};
-use nvector_core::nvector::Mode;
+use nvector_core::contractors::motion_chain::{sweep_backward, sweep_forward, Sweep};
+use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::motion_chain::{sweep_backward, sweep_forward, Sweep};
-use nvector_core::slam::propagator::{solve, solve_model, Association, SolveOptions};
 use nvector_core::slam::result::{score, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+use nvector_core::slam::solve::{solve, solve_model};
+use nvector_core::slam::types::{Association, SolveOptions};
 use nvector_core::Interval;
 use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;
@@ -106,7 +107,7 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
         let ms = median_ms(
             runs,
             || (),
-            |_| solve_with(&m, Association::NVector(Mode::Best)),
+            |_| solve_with(&m, Association::NVector(Contractor::Best)),
         );
         emit(
             json!({"name": name, "ms": ms, "steps": m.steps, "detections": m.detections.len(), "goal_ms": 50.0}),
@@ -127,7 +128,7 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
                 // The parse of `nvector run` and of the service's jobs:
                 // straight into typed data.
                 let m = Mission::from_json(&text).expect("valid mission");
-                solve_with(&m, Association::NVector(Mode::Best))
+                solve_with(&m, Association::NVector(Contractor::Best))
             },
         );
         emit(
@@ -180,8 +181,8 @@ pub fn run(quick: bool, only: Option<&str>, emit: &mut dyn FnMut(Value)) {
         };
         let modes = [
             ("none", Association::None),
-            ("projection", Association::NVector(Mode::Projection)),
-            ("independent", Association::NVector(Mode::Independent)),
+            ("projection", Association::NVector(Contractor::Projection)),
+            ("independent", Association::NVector(Contractor::Independent)),
         ];
         let mut diam: Vec<Vec<f64>> = vec![Vec::new(); modes.len() + 1];
         let mut recall: Vec<Vec<f64>> = vec![Vec::new(); modes.len() + 1];

@@ -4,13 +4,13 @@
 use crate::CliError;
 use nvector_core::nvector::contract::contract_json_with;
 use nvector_core::nvector::hitting_set::Limits;
-use nvector_core::nvector::Mode;
+use nvector_core::nvector::Contractor;
 use std::io::{Read, Write};
 use std::time::Instant;
 
 /// Parses `--contractor`: an unknown name is a usage error (exit 2).
-pub fn parse_mode(name: &str) -> Result<Mode, String> {
-    Mode::parse(name).ok_or_else(|| {
+pub fn parse_mode(name: &str) -> Result<Contractor, String> {
+    Contractor::parse(name).ok_or_else(|| {
         format!(
             "unknown contractor '{name}' (expected nvalue, projection, independent, exact, shapes or best)"
         )
@@ -19,7 +19,7 @@ pub fn parse_mode(name: &str) -> Result<Mode, String> {
 
 /// Runs the subcommand; `node_budget` bounds the exact contractor's search
 /// (default [`nvector_core::nvector::hitting_set::DEFAULT_NODE_BUDGET`]).
-pub fn run(mode: Option<Mode>, node_budget: Option<u64>) -> Result<(), CliError> {
+pub fn run(mode: Option<Contractor>, node_budget: Option<u64>) -> Result<(), CliError> {
     let mut text = String::new();
     std::io::stdin()
         .read_to_string(&mut text)

@@ -6,8 +6,9 @@
 use crate::CliError;
 use nvector_core::figure::metres;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
 use nvector_core::slam::result::{result_json, score, write_result, Solution, SolveStatus};
+use nvector_core::slam::solve::solve_model;
+use nvector_core::slam::types::{Association, Progress, SolveOptions};
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -64,7 +65,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )));
     }
     let association = a.contractor.unwrap_or(if mission.landmark_count.is_some() {
-        Association::NVector(nvector_core::nvector::Mode::Best)
+        Association::NVector(nvector_core::nvector::Contractor::Best)
     } else {
         Association::None
     });

@@ -11,7 +11,7 @@ pub struct Args {
     #[arg(long, default_value = "127.0.0.1:8080")]
     addr: std::net::SocketAddr,
     /// Storage: sqlite://PATH (created on first run) or
-    /// postgres://USER[:PASSWORD]@HOST:PORT/DB (shared by several processes).
+    /// `postgres://USER[:PASSWORD]@HOST:PORT/DB` (shared by several processes).
     #[arg(long, default_value = "sqlite://data/nvector.db")]
     database: String,
     /// Job workers, each running one job at a time in a worker process of

@@ -494,24 +494,6 @@ pub enum ContractFormat {
     V1,
 }
 
-/// The contractor of a contraction request.
-#[derive(Deserialize, ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum ContractMode {
-    /// atmost_nvalue on each axis (the paper's naive contractor).
-    Nvalue,
-    /// The paper's improved contractor.
-    Projection,
-    /// Pairwise-disjoint boxes as witnesses, with projection.
-    Independent,
-    /// Bound consistency, exactly (exponential; k <= 40, bounded work).
-    Exact,
-    /// SLAM only; in a contraction request it acts as `best`.
-    Shapes,
-    /// The strongest polynomial contractor.
-    Best,
-}
-
 /// One atmost_nvector contraction (`nvector-contract/1`).
 ///
 /// Rules beyond the schema (422 naming the JSON path): every box has the
@@ -537,7 +519,8 @@ pub struct ContractRequest {
     pub boxes: Vec<IntervalBox>,
     /// The contractor (default `best`).
     #[serde(default)]
-    pub contractor: Option<ContractMode>,
+    #[schema(value_type = Option<nvector_core::nvector::Contractor>)]
+    pub contractor: Option<String>,
 }
 
 /// Bounds on the minimum number of distinct vectors.

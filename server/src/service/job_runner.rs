@@ -21,8 +21,9 @@
 //! reads that on the worker's standard error as `memory_limit`.
 
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::propagator::{solve_model, Association, Progress, SolveOptions};
 use nvector_core::slam::result::write_result;
+use nvector_core::slam::solve::solve_model;
+use nvector_core::slam::types::{Association, Progress, Solution, SolveOptions};
 use serde::{Deserialize, Serialize};
 use std::io::{BufRead, BufWriter, Read, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -210,6 +211,33 @@ fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<()
         return Err(e);
     }
     let elapsed_ms = start.elapsed().as_secs_f64() * 1e3;
+    let run = Finished {
+        options,
+        solution,
+        elapsed_ms,
+        timed_out,
+    };
+    send_result(out, mission, run)
+}
+
+/// A job's run, to be reported.
+struct Finished {
+    options: SolveOptions,
+    solution: Solution,
+    elapsed_ms: f64,
+    timed_out: bool,
+}
+
+/// Reports a job's end: `Done` with the result's length, then the result
+/// (or `Failed` if it cannot be written). The mission and the solution are
+/// freed before the result is sent.
+fn send_result(out: &mut impl Write, mission: Mission, run: Finished) -> Result<(), String> {
+    let Finished {
+        options,
+        solution,
+        elapsed_ms,
+        timed_out,
+    } = run;
     // The whole result first: its length goes before it.
     let mut text = Vec::new();
     if let Err(e) = write_result(&mut text, &mission, &options, &solution, elapsed_ms) {

@@ -15,32 +15,16 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use futures_util::stream::{self, Stream};
 use nvector_core::format::leaf::{Finite, Integer};
-use nvector_core::slam::propagator::Association;
+use nvector_core::slam::types::Association;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 use std::convert::Infallible;
 use std::time::Duration;
 use utoipa::{IntoParams, ToSchema};
 
-/// The association modes a job may name (`Association::parse` decides; the
-/// document lists those it accepts: see `contractor_names`).
-pub const CONTRACTOR_CANDIDATES: [&str; 7] = [
-    "none",
-    "nvalue",
-    "projection",
-    "independent",
-    "exact",
-    "shapes",
-    "best",
-];
-
-/// The contractors core accepts for a SLAM job, in the order of
-/// `CONTRACTOR_CANDIDATES`.
+/// The contractors core accepts for a SLAM job ([`Association::names`]).
 pub fn contractor_names() -> Vec<&'static str> {
-    CONTRACTOR_CANDIDATES
-        .into_iter()
-        .filter(|c| Association::parse(c).is_some())
-        .collect()
+    Association::names()
 }
 
 /// "a, b or c".
@@ -50,27 +34,6 @@ pub(super) fn or_list(names: &[&str]) -> String {
         Some((last, _)) => last.to_string(),
         None => String::new(),
     }
-}
-
-/// A job's association mode. The document lists the ones core accepts.
-#[derive(Deserialize, ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum JobContractor {
-    /// The basic model: no nvector (operator matches only).
-    None,
-    /// atmost_nvalue per axis.
-    Nvalue,
-    /// The paper's improved contractor.
-    Projection,
-    /// Pairwise-disjoint witnesses, with projection.
-    Independent,
-    /// Refused for jobs (exponential); listed only if core accepts it.
-    Exact,
-    /// Detection shapes (annuli, sectors), landmark regions, branch
-    /// contraction.
-    Shapes,
-    /// The strongest polynomial contractor.
-    Best,
 }
 
 // The body of `POST /jobs`, read by `Body`.
@@ -83,10 +46,10 @@ pub struct JobRequest {
     #[serde(default)]
     #[schema(value_type = String, required = true)]
     pub mission: Option<Value>,
-    /// The association mode (default: `best` when the mission has a
+    /// The contractor (default: `best` when the mission has a
     /// `landmark_count`, else `none`).
     #[serde(default)]
-    #[schema(value_type = Option<JobContractor>)]
+    #[schema(value_type = Option<Association>)]
     pub contractor: Option<Value>,
     /// The round cap (default 10,000; 0 reads as 1).
     #[serde(default)]

@@ -5,15 +5,15 @@
 //! the spec's formats, each resource's file for its own bodies).
 //!
 //! [`finish`] then fits the document to the running service: its limits
-//! (steps, detections, job time limit), the contractor names core accepts,
-//! the multipart encoding of a mission upload, and the bearer security when
-//! API keys are on. The test tests/http_openapi.rs checks real responses
+//! (steps, detections, job time limit), the multipart encoding of a
+//! mission upload, and the bearer security when API keys are on. The
+//! contractor names are core's (`Contractor` and `Association` have their
+//! schemas in core, behind its `openapi` feature). The test tests/http_openapi.rs checks real responses
 //! against it, and `make test` validates it and fuzzes the live service
 //! from it (scripts/fuzz.sh).
 
 use super::config::Config;
 use super::formats::MAX_STEPS;
-use super::jobs::contractor_names;
 use axum::{Extension, Json};
 use serde_json::{json, Value};
 use std::sync::Arc;
@@ -129,27 +129,38 @@ fn unsigned_formats(v: &mut Value) {
 pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
     let mut doc = serde_json::to_value(api).unwrap_or_else(|_| json!({}));
     doc["info"]["version"] = json!(env!("CARGO_PKG_VERSION"));
+    fit_limits(&mut doc, config);
+    camel_case_links(&mut doc["paths"]);
+    unsigned_formats(&mut doc);
+    encodings(&mut doc);
+    security(&mut doc, config);
+    doc
+}
+
+/// This service's limits: steps, detections, false detections, the job
+/// time limit; and auv's `range_only`, which may only be its default.
+fn fit_limits(doc: &mut Value, config: &Config) {
     let max_steps = (config.max_steps as u64).min(MAX_STEPS);
-    set(&mut doc, "Mission", "steps", "maximum", json!(max_steps));
+    set(doc, "Mission", "steps", "maximum", json!(max_steps));
     set(
-        &mut doc,
+        doc,
         "Mission",
         "detections",
         "maxItems",
         json!(config.max_detections),
     );
     set(
-        &mut doc,
+        doc,
         "PaperSimulation",
         "false_detections",
         "maximum",
         json!(config.max_detections.min(100_000)),
     );
     for s in ["PaperSimulation", "AuvSimulation"] {
-        set(&mut doc, s, "steps", "maximum", json!(max_steps));
+        set(doc, s, "steps", "maximum", json!(max_steps));
     }
     set(
-        &mut doc,
+        doc,
         "JobRequest",
         "time_limit_s",
         "maximum",
@@ -157,34 +168,18 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
     );
     // With auv, range_only may only be its default.
     set(
-        &mut doc,
+        doc,
         "AuvSimulation",
         "range_only",
         "enum",
         json!([false, null]),
     );
-    // The contractors core accepts (a mode added in core appears here).
-    let jobs: Vec<Value> = contractor_names().into_iter().map(Value::from).collect();
-    if let Some(e) = doc.pointer_mut("/components/schemas/JobContractor") {
-        e["enum"] = Value::Array(jobs);
-    }
-    let modes: Vec<Value> = [
-        "nvalue",
-        "projection",
-        "independent",
-        "exact",
-        "shapes",
-        "best",
-    ]
-    .into_iter()
-    .filter(|m| nvector_core::nvector::Mode::parse(m).is_some())
-    .map(Value::from)
-    .collect();
-    if let Some(e) = doc.pointer_mut("/components/schemas/ContractMode") {
-        e["enum"] = Value::Array(modes);
-    }
-    camel_case_links(&mut doc["paths"]);
-    unsigned_formats(&mut doc);
+}
+
+/// What the generator cannot say of the bodies' encodings: a form's part
+/// names, the schema of one event of the progress stream, the content
+/// type of a mission upload's `file` part.
+fn encodings(doc: &mut Value) {
     // A form's part names travel in a header: header characters only.
     if let Some(upload) = doc.pointer_mut("/components/schemas/MissionUpload") {
         upload["propertyNames"] = json!({"pattern": "^[A-Za-z0-9_.-]+$"});
@@ -201,6 +196,11 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
     {
         form["encoding"] = json!({"file": {"contentType": "application/json"}});
     }
+}
+
+/// The bearer security scheme, required on every /api/v1 operation when
+/// API keys are on.
+fn security(doc: &mut Value, config: &Config) {
     doc["components"]["securitySchemes"] = json!({"apiKey": {
         "type": "http", "scheme": "bearer",
         "description": "With --api-key-file, every /api/v1 call needs `Authorization: Bearer KEY`; a key sees only its own missions and jobs."
@@ -223,7 +223,6 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
             }
         }
     }
-    doc
 }
 
 #[cfg(test)]
@@ -313,7 +312,7 @@ mod tests {
             s["JobRequest"]["properties"]["time_limit_s"]["maximum"],
             7.5
         );
-        let names: Vec<&str> = s["JobContractor"]["enum"]
+        let names: Vec<&str> = s["Association"]["enum"]
             .as_array()
             .unwrap()
             .iter()
