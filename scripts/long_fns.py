@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""Lists the functions of core/src (outside `#[cfg(test)]` modules) of more
+"""Lists the functions of the workspace's crates (core/src, server/src,
+web/src, python/src; outside `#[cfg(test)]` modules) of more
 than LIMIT lines, with whether a reason is written above them: a comment
 line starting with `// Long:` among the attributes and comments right
 above the `fn`. Exit status 1 when one has no reason (`--check`).
 
-    scripts/long_fns.py [--check] [DIR...]     (default: core/src)
+    scripts/long_fns.py [--check] [DIR...]     (default: the four crates' src)
 """
 import os
 import re
@@ -59,7 +60,7 @@ def block_end(lines, start):
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith('--')]
     check = '--check' in sys.argv
-    roots = args or ['core/src']
+    roots = args or [r for r in ('core/src', 'server/src', 'web/src', 'python/src') if os.path.isdir(r)]
     rows = []
     for root in roots:
         for d, _, files in os.walk(root):
