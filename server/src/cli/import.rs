@@ -424,7 +424,12 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) {
     for (new, d) in all.iter().enumerate() {
         new_index[d.1] = new;
     }
-    if let Some(outside) = mission["meta"]["outlier_share"]["outside"].as_array_mut() {
+    let outside = mission
+        .get_mut("meta")
+        .and_then(|m| m.get_mut("outlier_share"))
+        .and_then(|o| o.get_mut("outside"))
+        .and_then(Value::as_array_mut);
+    if let Some(outside) = outside {
         for j in outside.iter_mut() {
             *j = json!(new_index[j.as_u64().unwrap_or(0) as usize]);
         }
