@@ -6,7 +6,9 @@
 //! and checks that exactly the ranges `meta.outlier_share.outside` names
 //! miss the true distance, that `max_outliers` covers them, that they are
 //! at most the share asked for, and that the bands are narrower than the
-//! bands holding every range.
+//! bands holding every range. The same for `--utias-woods` (range and
+//! bearing from the laser point to the true tube, at rows with a valid
+//! truth).
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -148,6 +150,97 @@ fn cmu_plaza_outlier_share_names_exactly_the_ranges_left_outside() {
             "share {share}: mean width {width} not below {wide_width}"
         );
     }
+}
+
+/// The rows of a CSV with a header.
+fn csv(path: &Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.split(',').map(|s| s.trim().parse().unwrap()).collect())
+        .collect()
+}
+
+/// Whether some `x + 2 pi k` lies in `[lo, hi]`.
+fn inside_mod_2pi(x: f64, lo: f64, hi: f64) -> bool {
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let k = ((lo - x) / two_pi).ceil();
+    x + two_pi * k <= hi
+}
+
+#[test]
+fn utias_woods_outlier_share_names_exactly_the_detections_left_outside() {
+    let dir =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/utias-lost-in-the-woods");
+    assert!(
+        dir.join("truth.csv").exists(),
+        "the data must be at {}",
+        dir.display()
+    );
+    let odo = csv(&dir.join("odometry.csv"));
+    let truth = csv(&dir.join("truth.csv"));
+    let meas = csv(&dir.join("measurements.csv"));
+    let tubes = csv(&dir.join("landmarks.csv"));
+    let (t0, n) = (odo[0][0], odo.len() - 1);
+    let dt = (odo[n][0] - t0) / n as f64;
+    let out_path = tmp("woods-0.02.json");
+    let out = nvector(&[
+        "import",
+        "--utias-woods",
+        dir.to_str().unwrap(),
+        "--outlier-share",
+        "0.02",
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let m: Value = serde_json::from_str(&std::fs::read_to_string(&out_path).unwrap()).unwrap();
+    let dets = m["detections"].as_array().unwrap();
+    assert_eq!(dets.len(), meas.len());
+    let (mut outside, mut checked) = (Vec::new(), 0usize);
+    for (j, (d, row)) in dets.iter().zip(&meas).enumerate() {
+        let step = ((row[0] - t0) / dt).round() as usize;
+        let tr = &truth[step];
+        if tr[4] == 0.0 {
+            continue;
+        }
+        checked += 1;
+        let tube = tubes.iter().find(|l| l[0] == row[1]).expect("a known tube");
+        let (sx, sy) = (
+            tr[1] + 0.219016 * tr[3].cos(),
+            tr[2] + 0.219016 * tr[3].sin(),
+        );
+        let (dx, dy) = (tube[1] - sx, tube[2] - sy);
+        let (range, bearing) = (dx.hypot(dy), dy.atan2(dx) - tr[3]);
+        let iv = |k: &str, i: usize| d[k][i].as_f64().unwrap();
+        let ok = iv("range", 0) <= range
+            && range <= iv("range", 1)
+            && inside_mod_2pi(bearing, iv("bearing", 0), iv("bearing", 1));
+        if !ok {
+            outside.push(j);
+        }
+    }
+    let named: Vec<usize> = m["meta"]["outlier_share"]["outside"]
+        .as_array()
+        .expect("meta.outlier_share.outside")
+        .iter()
+        .map(|x| x.as_u64().unwrap() as usize)
+        .collect();
+    assert_eq!(outside, named);
+    assert_eq!(m["max_outliers"].as_u64(), Some(outside.len() as u64));
+    // Each of the two bands leaves at most floor(0.02 k) out.
+    let most = 2 * (0.02 * checked as f64).floor() as usize;
+    assert!(
+        !outside.is_empty() && outside.len() <= most,
+        "{} of {most}",
+        outside.len()
+    );
 }
 
 #[test]
