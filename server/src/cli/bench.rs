@@ -174,7 +174,7 @@ pub fn clustered_boxes(
 }
 
 /// The measures of the table, by name (without the `_quick` suffix).
-pub const MEASURES: [&str; 9] = [
+pub const MEASURES: [&str; 10] = [
     "nvalue_1e6",
     "nvector_projection_1e5_3d",
     "nvector_independent_1e4_2d",
@@ -183,6 +183,7 @@ pub const MEASURES: [&str; 9] = [
     "paper_fixpoint",
     "auv_60k_total",
     "propagate_1e6",
+    "best_1e6",
     "paper_seeds_1_10",
 ];
 
@@ -257,102 +258,134 @@ fn check_only(only: Option<&str>, suffix: &str) {
     }
 }
 
+/// What every measure reads: the sizes (`quick`), the name suffix, the
+/// runs per timing, the `--only` filter and where its line goes.
+pub struct Bench<'e> {
+    /// Quick sizes.
+    pub quick: bool,
+    /// "_quick" or "".
+    pub suffix: &'static str,
+    only: Option<&'e str>,
+    emit: &'e mut dyn FnMut(Value),
+}
+
+impl Bench<'_> {
+    /// The measure's name with the suffix, when `--only` wants it.
+    pub fn wanted(&self, base: &str) -> Option<String> {
+        let name = format!("{base}{}", self.suffix);
+        self.only.is_none_or(|o| name.contains(o)).then_some(name)
+    }
+
+    /// Hands a measure's line on.
+    pub fn emit(&mut self, v: Value) {
+        (self.emit)(v)
+    }
+}
+
+fn nvalue_1e6(b: &mut Bench, runs: usize) {
+    let Some(name) = b.wanted("nvalue_1e6") else {
+        return;
+    };
+    let k = if b.quick { 100_000 } else { 1_000_000 };
+    // Each measure draws from its own stream: `--only` sees the same data.
+    let mut rng = Rng::new(2009);
+    let data = sort_data(&mut rng, k);
+    let domains = clustered_intervals(&mut rng, k, 1000);
+    let mut scratch = NValueScratch::default();
+    let (base, ms, ratio) = paired_ms(
+        runs,
+        || data.clone(),
+        sort_f64,
+        || domains.clone(),
+        |mut d| atmost_nvalue(1000, &mut d, &mut scratch),
+    );
+    let baseline = format!("sort_f64_1e6{}", b.suffix);
+    b.emit(line(&name, ms, Some((&baseline, base, ratio)), Some(2.5)));
+}
+
+fn nvector_projection_1e5_3d(b: &mut Bench, runs: usize) {
+    let Some(name) = b.wanted("nvector_projection_1e5_3d") else {
+        return;
+    };
+    let k = if b.quick { 10_000 } else { 100_000 };
+    // Each measure draws from its own stream: `--only` sees the same data.
+    let mut rng = Rng::new(2009);
+    let data = sort_data(&mut rng, k);
+    let boxes = clustered_boxes(&mut rng, k, 100, 3, 4.0);
+    let (base, ms, ratio) = paired_ms(
+        runs,
+        || data.clone(),
+        sort_f64,
+        || boxes.clone(),
+        |mut bx| atmost_nvector(100, &mut bx, Contractor::Projection),
+    );
+    let baseline = format!("sort_f64_1e5{}", b.suffix);
+    b.emit(line(&name, ms, Some((&baseline, base, ratio)), Some(10.0)));
+}
+
+fn nvector_independent_1e4_2d(b: &mut Bench, runs: usize) {
+    let Some(name) = b.wanted("nvector_independent_1e4_2d") else {
+        return;
+    };
+    let k = if b.quick { 1_000 } else { 10_000 };
+    // Each measure draws from its own stream: `--only` sees the same data.
+    let mut rng = Rng::new(2009);
+    let boxes = clustered_boxes(&mut rng, k, 50, 2, 4.0);
+    let ms = median_ms(
+        runs,
+        || boxes.clone(),
+        |mut bx| atmost_nvector(50, &mut bx, Contractor::Independent),
+    );
+    let mut v = line(&name, ms, None, None);
+    v["aim_ms"] = json!(50);
+    b.emit(v);
+}
+
+fn exact_max_k_1s(b: &mut Bench) {
+    let Some(name) = b.wanted("exact_max_k_1s") else {
+        return;
+    };
+    // Paper-like: 4 landmarks, k detections with overlapping boxes in 2-D.
+    let limit_ms = if b.quick { 100.0 } else { 1000.0 };
+    let mut best = 0usize;
+    let mut best_ms = 0.0;
+    let mut rng = Rng::new(2009);
+    for k in (4..=40).step_by(4) {
+        let boxes = clustered_boxes(&mut rng, k, 4, 2, 6.0);
+        let ms = median_ms(
+            3,
+            || boxes.clone(),
+            |mut bx| atmost_nvector(4, &mut bx, Contractor::Exact),
+        );
+        if ms < limit_ms {
+            best = k;
+            best_ms = ms;
+        } else {
+            break;
+        }
+    }
+    let mut v = line(&name, best_ms, None, None);
+    v["k"] = json!(best);
+    v["limit_ms"] = json!(limit_ms);
+    b.emit(v);
+}
+
 /// Runs the benchmarks.
 pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
     let suffix = if quick { "_quick" } else { "" };
     check_only(only, suffix);
-    let mut emit = |v: Value| println!("{}", mark(v, quick));
-    let wanted = |name: &str| only.is_none_or(|o| name.contains(o));
+    let mut print = |v: Value| println!("{}", mark(v, quick));
+    let mut b = Bench {
+        quick,
+        suffix,
+        only,
+        emit: &mut print,
+    };
     let runs = if quick { 3 } else { 7 };
-
-    let name = format!("nvalue_1e6{suffix}");
-    if wanted(&name) {
-        let k = if quick { 100_000 } else { 1_000_000 };
-        // Each measure draws from its own stream: `--only` sees the same data.
-        let mut rng = Rng::new(2009);
-        let data = sort_data(&mut rng, k);
-        let domains = clustered_intervals(&mut rng, k, 1000);
-        let mut scratch = NValueScratch::default();
-        let (base, ms, ratio) = paired_ms(
-            runs,
-            || data.clone(),
-            sort_f64,
-            || domains.clone(),
-            |mut d| atmost_nvalue(1000, &mut d, &mut scratch),
-        );
-        emit(line(
-            &name,
-            ms,
-            Some((&format!("sort_f64_1e6{suffix}"), base, ratio)),
-            Some(2.5),
-        ));
-    }
-
-    let name = format!("nvector_projection_1e5_3d{suffix}");
-    if wanted(&name) {
-        let k = if quick { 10_000 } else { 100_000 };
-        // Each measure draws from its own stream: `--only` sees the same data.
-        let mut rng = Rng::new(2009);
-        let data = sort_data(&mut rng, k);
-        let boxes = clustered_boxes(&mut rng, k, 100, 3, 4.0);
-        let (base, ms, ratio) = paired_ms(
-            runs,
-            || data.clone(),
-            sort_f64,
-            || boxes.clone(),
-            |mut b| atmost_nvector(100, &mut b, Contractor::Projection),
-        );
-        emit(line(
-            &name,
-            ms,
-            Some((&format!("sort_f64_1e5{suffix}"), base, ratio)),
-            Some(10.0),
-        ));
-    }
-
-    let name = format!("nvector_independent_1e4_2d{suffix}");
-    if wanted(&name) {
-        let k = if quick { 1_000 } else { 10_000 };
-        // Each measure draws from its own stream: `--only` sees the same data.
-        let mut rng = Rng::new(2009);
-        let boxes = clustered_boxes(&mut rng, k, 50, 2, 4.0);
-        let ms = median_ms(
-            runs,
-            || boxes.clone(),
-            |mut b| atmost_nvector(50, &mut b, Contractor::Independent),
-        );
-        let mut v = line(&name, ms, None, None);
-        v["aim_ms"] = json!(50);
-        emit(v);
-    }
-
-    let name = format!("exact_max_k_1s{suffix}");
-    if wanted(&name) {
-        // Paper-like: 4 landmarks, k detections with overlapping boxes in 2-D.
-        let limit_ms = if quick { 100.0 } else { 1000.0 };
-        let mut best = 0usize;
-        let mut best_ms = 0.0;
-        let mut rng = Rng::new(2009);
-        for k in (4..=40).step_by(4) {
-            let boxes = clustered_boxes(&mut rng, k, 4, 2, 6.0);
-            let ms = median_ms(
-                3,
-                || boxes.clone(),
-                |mut b| atmost_nvector(4, &mut b, Contractor::Exact),
-            );
-            if ms < limit_ms {
-                best = k;
-                best_ms = ms;
-            } else {
-                break;
-            }
-        }
-        let mut v = line(&name, best_ms, None, None);
-        v["k"] = json!(best);
-        v["limit_ms"] = json!(limit_ms);
-        emit(v);
-    }
-
-    super::bench_slam::run(quick, only, &mut emit);
+    nvalue_1e6(&mut b, runs);
+    nvector_projection_1e5_3d(&mut b, runs);
+    nvector_independent_1e4_2d(&mut b, runs);
+    exact_max_k_1s(&mut b);
+    super::bench_slam::run(&mut b);
     Ok(())
 }

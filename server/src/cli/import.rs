@@ -55,10 +55,16 @@ pub struct Args {
     #[arg(long)]
     operator: bool,
     /// With --cmu-plaza or --utias-woods: plant this many false ranges (random steps, ranges
-    /// drawn over the measured span, `truth.matching` null) and set
-    /// `max_outliers` to it.
+    /// drawn over the measured span, `truth.matching` null) and
+    /// add it to `max_outliers`.
     #[arg(long, default_value_t = 0)]
     false_detections: usize,
+    /// With --cmu-plaza or --utias-woods: the share P of the residuals left
+    /// outside the error bands (0 <= P < 0.5): the bands hold the central
+    /// (1 - P) share, and `max_outliers` is the count of detections left
+    /// outside (listed in `meta.outlier_share`).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    outlier_share: f64,
     /// With --false-detections: the seed of the planted ranges.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -142,38 +148,8 @@ fn channels(model: &str) -> Result<&'static [&'static str], CliError> {
     }
 }
 
-fn generic(a: &Args) -> Result<Value, CliError> {
-    let model = a
-        .model
-        .as_deref()
-        .ok_or_else(|| CliError("--model is required (or --cmu-plaza DIR)".into()))?;
-    let chans = channels(model)?;
-    let dim = if model == "auv3d" { 3 } else { 2 };
-    let log_path = a
-        .log
-        .as_ref()
-        .ok_or_else(|| CliError("--log is required".into()))?;
-    let det_path = a
-        .detections
-        .as_ref()
-        .ok_or_else(|| CliError("--detections is required".into()))?;
-    let log = read_csv(log_path, true)?;
-    let col = |name: &str| {
-        log.header.iter().position(|h| h == name).ok_or_else(|| {
-            CliError(format!(
-                "{}: missing column '{name}' in the header",
-                log_path.display()
-            ))
-        })
-    };
-    let t_col = col("t")?;
-    if log.rows.len() < 2 {
-        return Err(CliError(format!(
-            "{}: at least 2 rows are needed",
-            log_path.display()
-        )));
-    }
-    let t: Vec<f64> = log.rows.iter().map(|r| r[t_col]).collect();
+/// The time step: `--dt`, or the median spacing of the log's times.
+fn time_step(a: &Args, t: &[f64], log_path: &Path) -> Result<f64, CliError> {
     let dt = match a.dt {
         Some(d) if d > 0.0 && d.is_finite() => d,
         Some(d) => return Err(CliError(format!("--dt must be > 0, found {d}"))),
@@ -189,6 +165,11 @@ fn generic(a: &Args) -> Result<Value, CliError> {
             log_path.display()
         )));
     }
+    Ok(dt)
+}
+
+/// The `--error CHANNEL=E` bounds, by channel.
+fn channel_errors(a: &Args, model: &str, chans: &[&str]) -> Result<Map<String, Value>, CliError> {
     let mut errors: Map<String, Value> = Map::new();
     for e in &a.errors {
         let (k, v) = e
@@ -206,10 +187,24 @@ fn generic(a: &Args) -> Result<Value, CliError> {
         }
         errors.insert(k.into(), json!(v));
     }
-    let steps = log.rows.len();
+    Ok(errors)
+}
+
+/// The model's inputs from the log's channel columns and their bounds.
+fn channel_inputs(
+    log: &Csv,
+    log_path: &Path,
+    chans: &[&str],
+    errors: &Map<String, Value>,
+) -> Result<Map<String, Value>, CliError> {
     let mut inputs = Map::new();
     for ch in chans {
-        let c = col(ch)?;
+        let c = log.header.iter().position(|h| h == ch).ok_or_else(|| {
+            CliError(format!(
+                "{}: missing column '{ch}' in the header",
+                log_path.display()
+            ))
+        })?;
         let err = errors.get(*ch).cloned().ok_or_else(|| {
             CliError(format!(
                 "--error {ch}=E is required (the bound of channel {ch})"
@@ -218,24 +213,24 @@ fn generic(a: &Args) -> Result<Value, CliError> {
         let values: Vec<f64> = log.rows.iter().map(|r| r[c]).collect();
         inputs.insert((*ch).into(), json!({"value": values, "error": err}));
     }
+    Ok(inputs)
+}
+
+/// The detections CSV (`t,range_lo,range_hi[,landmark]`), each time
+/// matched to the step `round((t - t0) / dt)` in `0..=steps`.
+fn csv_detections(det_path: &Path, t0: f64, dt: f64, steps: usize) -> Result<Vec<Value>, CliError> {
     let det = read_csv(det_path, true)?;
-    for name in ["t", "range_lo", "range_hi"] {
-        if !det.header.iter().any(|h| h == name) {
-            return Err(CliError(format!(
+    let dcol = |name: &str| {
+        det.header.iter().position(|h| h == name).ok_or_else(|| {
+            CliError(format!(
                 "{}: missing column '{name}' in the header",
                 det_path.display()
-            )));
-        }
-    }
-    let dcol = |name: &str| det.header.iter().position(|h| h == name);
-    let (tc, lc, hc, mc) = (
-        dcol("t").unwrap(),
-        dcol("range_lo").unwrap(),
-        dcol("range_hi").unwrap(),
-        dcol("landmark"),
-    );
-    let t0 = t[0];
-    let mut dets = Vec::new();
+            ))
+        })
+    };
+    let (tc, lc, hc) = (dcol("t")?, dcol("range_lo")?, dcol("range_hi")?);
+    let mc = dcol("landmark").ok();
+    let mut dets = Vec::with_capacity(det.rows.len());
     for (i, r) in det.rows.iter().enumerate() {
         let step = ((r[tc] - t0) / dt).round();
         let line = i + 2;
@@ -266,30 +261,72 @@ fn generic(a: &Args) -> Result<Value, CliError> {
         }
         dets.push(d);
     }
-    let initial = match &a.initial {
-        Some(s) => {
-            let v: Vec<f64> = s
-                .split(',')
-                .map(|x| x.trim().parse::<f64>())
-                .collect::<Result<_, _>>()
-                .map_err(|_| CliError(format!("--initial {s}: expected numbers")))?;
-            if v.len() != 2 * dim {
-                return Err(CliError(format!(
-                    "--initial {s}: expected {} numbers (lo,hi per axis)",
-                    2 * dim
-                )));
-            }
-            json!(v.chunks(2).map(|c| json!([c[0], c[1]])).collect::<Vec<_>>())
-        }
-        None => json!(vec![json!([0.0, 0.0]); dim]),
+    Ok(dets)
+}
+
+/// The `--initial` box (lo,hi per axis), the origin when absent.
+fn initial_box(a: &Args, dim: usize) -> Result<Value, CliError> {
+    let Some(s) = &a.initial else {
+        return Ok(json!(vec![json!([0.0, 0.0]); dim]));
     };
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| CliError(format!("--initial {s}: expected numbers")))?;
+    if v.len() != 2 * dim {
+        return Err(CliError(format!(
+            "--initial {s}: expected {} numbers (lo,hi per axis)",
+            2 * dim
+        )));
+    }
+    Ok(json!(v
+        .chunks(2)
+        .map(|c| json!([c[0], c[1]]))
+        .collect::<Vec<_>>()))
+}
+
+fn generic(a: &Args) -> Result<Value, CliError> {
+    let model = a
+        .model
+        .as_deref()
+        .ok_or_else(|| CliError("--model is required (or --cmu-plaza DIR)".into()))?;
+    let chans = channels(model)?;
+    let dim = if model == "auv3d" { 3 } else { 2 };
+    let log_path = a
+        .log
+        .as_ref()
+        .ok_or_else(|| CliError("--log is required".into()))?;
+    let det_path = a
+        .detections
+        .as_ref()
+        .ok_or_else(|| CliError("--detections is required".into()))?;
+    let log = read_csv(log_path, true)?;
+    let t_col = log.header.iter().position(|h| h == "t").ok_or_else(|| {
+        CliError(format!(
+            "{}: missing column 't' in the header",
+            log_path.display()
+        ))
+    })?;
+    if log.rows.len() < 2 {
+        return Err(CliError(format!(
+            "{}: at least 2 rows are needed",
+            log_path.display()
+        )));
+    }
+    let t: Vec<f64> = log.rows.iter().map(|r| r[t_col]).collect();
+    let dt = time_step(a, &t, log_path)?;
+    let errors = channel_errors(a, model, chans)?;
+    let steps = log.rows.len();
+    let inputs = channel_inputs(&log, log_path, chans, &errors)?;
+    let dets = csv_detections(det_path, t[0], dt, steps)?;
     let mut m = json!({
         "format": "nvector-mission/1",
         "name": a.name.clone().unwrap_or_else(|| log_path.file_stem().and_then(|s| s.to_str()).unwrap_or("import").to_string()),
         "model": model,
         "dt": dt,
         "steps": steps,
-        "initial_position": initial,
+        "initial_position": initial_box(a, dim)?,
         "inputs": Value::Object(inputs),
         "motion_error": a.motion_error,
         "detections": dets,
@@ -310,44 +347,44 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "--false-detections must be at most {most}"
         )));
     }
-    if let Some(dir) = &a.utias_woods {
-        let mut m = crate::cli::import_woods::utias_woods(dir, a.operator)?;
-        if a.false_detections > 0 {
-            plant_false_ranges(&mut m, a.false_detections, a.seed);
-        }
-        return crate::cli::import_woods::write(&m, a.out.as_deref());
+    if !(0.0..0.5).contains(&a.outlier_share) {
+        return Err(CliError(format!(
+            "--outlier-share must be in [0, 0.5), found {}",
+            a.outlier_share
+        )));
     }
-    let mission = match &a.cmu_plaza {
-        Some(dir) => {
-            let mut m = cmu_plaza(dir, a.operator)?;
-            if a.false_detections > 0 {
-                plant_false_ranges(&mut m, a.false_detections, a.seed);
-            }
-            m
-        }
-        None if a.false_detections > 0 => {
-            return Err(CliError(
-                "--false-detections needs --cmu-plaza (plant false ranges in a real log)".into(),
-            ))
-        }
-        None => generic(&a)?,
+    let real = a.cmu_plaza.is_some() || a.utias_woods.is_some();
+    if !real && a.false_detections > 0 {
+        return Err(CliError(
+            "--false-detections needs --cmu-plaza (plant false ranges in a real log)".into(),
+        ));
+    }
+    if !real && a.outlier_share > 0.0 {
+        return Err(CliError(
+            "--outlier-share needs --cmu-plaza or --utias-woods (bands derived against a truth)"
+                .into(),
+        ));
+    }
+    let mut mission = if let Some(dir) = &a.utias_woods {
+        crate::cli::import_woods::utias_woods(dir, a.operator, a.outlier_share)?
+    } else if let Some(dir) = &a.cmu_plaza {
+        cmu_plaza(dir, a.operator, a.outlier_share)?
+    } else {
+        generic(&a)?
     };
+    if a.false_detections > 0 {
+        plant_false_ranges(&mut mission, a.false_detections, a.seed);
+    }
     // Whatever was built must be a valid mission.
     nvector_core::slam::mission::Mission::from_value(&mission)
         .map_err(|e| CliError(format!("the imported mission is invalid: {e}")))?;
-    let text = serde_json::to_string(&mission)?;
-    match &a.out {
-        Some(p) => std::fs::write(p, text + "\n")
-            .map_err(|e| CliError(format!("writing {}: {e}", p.display())))?,
-        None => println!("{text}"),
-    }
-    Ok(())
+    crate::cli::import_woods::write(&mission, a.out.as_deref())
 }
 
 /// Plants `count` false ranges in an imported mission: each at a random
 /// step, with a range interval as wide as the real ones, drawn over the
 /// span of the real ranges, and no operator label; `truth.matching` is null
-/// for them, and `max_outliers` is set to `count`. Detections stay in step
+/// for them, and `count` is added to `max_outliers`. Detections stay in step
 /// order. Deterministic for a seed.
 pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) {
     let mut rng = nvector_core::slam::simulate::Rng::new(seed);
@@ -382,9 +419,25 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) {
         all.push((step, dets.len() + x, d, Value::Null));
     }
     all.sort_by_key(|d| (d.0, d.1));
+    // The ranges an outlier share left outside, renumbered.
+    let mut new_index = vec![0usize; all.len()];
+    for (new, d) in all.iter().enumerate() {
+        new_index[d.1] = new;
+    }
+    let outside = mission
+        .get_mut("meta")
+        .and_then(|m| m.get_mut("outlier_share"))
+        .and_then(|o| o.get_mut("outside"))
+        .and_then(Value::as_array_mut);
+    if let Some(outside) = outside {
+        for j in outside.iter_mut() {
+            *j = json!(new_index[j.as_u64().unwrap_or(0) as usize]);
+        }
+    }
     mission["detections"] = Value::Array(all.iter().map(|d| d.2.clone()).collect());
     mission["truth"]["matching"] = Value::Array(all.into_iter().map(|d| d.3).collect());
-    mission["max_outliers"] = json!(count);
+    let before = mission["max_outliers"].as_u64().unwrap_or(0) as usize;
+    mission["max_outliers"] = json!(before + count);
     if let Some(name) = mission["name"].as_str() {
         mission["name"] = json!(format!("{name}-false-{count}"));
     }
@@ -412,32 +465,23 @@ pub mod cmu {
     pub const ORDINARY_MARGIN: f64 = 0.005;
 }
 
-/// The CMU Plaza 1 dataset as a mission (beacon ids hidden unless
-/// `operator`), with the ground truth.
-pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
-    let dr = read_csv(&dir.join("Plaza1_DR.txt"), false)?.rows;
-    let gt = read_csv(&dir.join("Plaza1_GT.csv"), false)?.rows;
-    let td = read_csv(&dir.join("Plaza1_TD.txt"), false)?.rows;
-    let tl = read_csv(&dir.join("Plaza1_TL.csv"), false)?.rows;
-    let n = dr.len();
-    if gt.len() != n + 1 || tl.is_empty() {
-        return Err(CliError(format!(
-            "{}: expected one more ground-truth row than odometry rows ({} and {})",
-            dir.display(),
-            gt.len(),
-            n
-        )));
-    }
-    // Heading integrated from the odometry, from the known initial heading.
-    let mut heading = Vec::with_capacity(n);
+/// The odometry of Plaza 1 as the model's inputs: the heading integrated
+/// from the known initial heading, and the speed per step (dt = 1 step:
+/// `delta_distance`, its sign unknown below [`cmu::BACKUP_BELOW`]).
+struct CmuInputs {
+    heading: Vec<f64>,
+    speed: Vec<[f64; 2]>,
+}
+
+fn cmu_inputs(dr: &[Vec<f64>], gt: &[Vec<f64>]) -> CmuInputs {
+    use cmu::*;
+    let mut heading = Vec::with_capacity(dr.len());
     let mut h = gt[0][3];
-    for row in &dr {
+    for row in dr {
         heading.push(h);
         h += row[2];
     }
-    // Speed per step (dt = 1 step): delta_distance, sign unknown when small.
-    use cmu::*;
-    let speed: Vec<[f64; 2]> = dr
+    let speed = dr
         .iter()
         .map(|r| {
             let d = r[1];
@@ -449,39 +493,58 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
             [lo, d + SPEED_ERROR]
         })
         .collect();
-    // Per-step motion error: the residual of the true step against the
-    // interval model (speed and heading intervals), from the ground truth:
-    // a global bound for ordinary steps, the residual itself (plus margin)
-    // for the few anomalous steps (sideways jumps with no sign in the
-    // odometry).
-    let mut residual = Vec::with_capacity(n);
-    for i in 0..n {
-        let (dx, dy) = (gt[i + 1][1] - gt[i][1], gt[i + 1][2] - gt[i][2]);
-        let (mut bx, mut by) = (
-            (f64::INFINITY, f64::NEG_INFINITY),
-            (f64::INFINITY, f64::NEG_INFINITY),
-        );
-        // Enclose v·(cos, sin) over the speed and heading intervals by
-        // sampling their corners and the extremal angles inside.
-        for v in [
-            speed[i][0],
-            speed[i][1],
-            0.0f64.clamp(speed[i][0], speed[i][1]),
-        ] {
-            for k in 0..=8 {
-                let a = heading[i] - HEADING_ERROR + 2.0 * HEADING_ERROR * k as f64 / 8.0;
-                let (x, y) = (v * a.cos(), v * a.sin());
-                bx = (bx.0.min(x), bx.1.max(x));
-                by = (by.0.min(y), by.1.max(y));
+    CmuInputs { heading, speed }
+}
+
+/// The per-step motion error of Plaza 1 (docs/cmu-plaza1.md, "Motion
+/// error per step") and the figures `meta` records.
+struct CmuMotion {
+    per_step: Vec<f64>,
+    ordinary: f64,
+    stationary: f64,
+    stationary_steps: usize,
+    anomalous_steps: usize,
+}
+
+/// The residual of each true step against the interval model (speed and
+/// heading intervals): v·(cos, sin) enclosed by sampling the corners and
+/// the extremal angles inside.
+fn cmu_residuals(gt: &[Vec<f64>], inputs: &CmuInputs) -> Vec<f64> {
+    use cmu::*;
+    let (speed, heading) = (&inputs.speed, &inputs.heading);
+    (0..speed.len())
+        .map(|i| {
+            let (dx, dy) = (gt[i + 1][1] - gt[i][1], gt[i + 1][2] - gt[i][2]);
+            let (mut bx, mut by) = (
+                (f64::INFINITY, f64::NEG_INFINITY),
+                (f64::INFINITY, f64::NEG_INFINITY),
+            );
+            for v in [
+                speed[i][0],
+                speed[i][1],
+                0.0f64.clamp(speed[i][0], speed[i][1]),
+            ] {
+                for k in 0..=8 {
+                    let a = heading[i] - HEADING_ERROR + 2.0 * HEADING_ERROR * k as f64 / 8.0;
+                    let (x, y) = (v * a.cos(), v * a.sin());
+                    bx = (bx.0.min(x), bx.1.max(x));
+                    by = (by.0.min(y), by.1.max(y));
+                }
             }
-        }
-        let ex = (bx.0 - dx).max(dx - bx.1).max(0.0);
-        let ey = (by.0 - dy).max(dy - by.1).max(0.0);
-        residual.push(ex.max(ey));
-    }
-    // Two classes of ordinary steps: zero-velocity steps (the odometry
-    // reports under STILL_BELOW) and moving ones, each bounded by its own
-    // largest residual plus a margin.
+            let ex = (bx.0 - dx).max(dx - bx.1).max(0.0);
+            let ey = (by.0 - dy).max(dy - by.1).max(0.0);
+            ex.max(ey)
+        })
+        .collect()
+}
+
+/// Two classes of ordinary steps (zero-velocity ones, where the odometry
+/// reports under [`cmu::STILL_BELOW`], and moving ones), each bounded by
+/// its own largest residual plus a margin; the anomalies (residual above
+/// [`cmu::FLAG_ABOVE`]) get their own residual × 1.5 + margin.
+fn cmu_motion(dr: &[Vec<f64>], residual: &[f64]) -> CmuMotion {
+    use cmu::*;
+    let n = residual.len();
     let still = |i: usize| dr[i][1] < STILL_BELOW;
     let class_max = |moving: bool| {
         (0..n)
@@ -493,7 +556,7 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
         class_max(true) + ORDINARY_MARGIN,
         class_max(false) + STILL_MARGIN,
     );
-    let motion_error: Vec<f64> = (0..n)
+    let per_step = (0..n)
         .map(|i| {
             let r = residual[i];
             if r > FLAG_ABOVE {
@@ -505,17 +568,40 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
             }
         })
         .collect();
-    // Ranges: matched to the nearest odometry row; true distance from the
-    // ground truth at that row; bias bounds from all ranges.
+    CmuMotion {
+        per_step,
+        ordinary,
+        stationary,
+        stationary_steps: (0..n)
+            .filter(|&i| still(i) && residual[i] <= FLAG_ABOVE)
+            .count(),
+        anomalous_steps: residual.iter().filter(|&&r| r > FLAG_ABOVE).count(),
+    }
+}
+
+/// The ranges of Plaza 1, each matched to the nearest odometry row by
+/// time, with its beacon (0-based index of the sorted ids) and its error
+/// against the true distance at that row.
+struct CmuRanges {
+    /// (step, measured range, landmark index).
+    dets: Vec<(usize, f64, usize)>,
+    /// Measured minus true distance, per range.
+    errs: Vec<f64>,
+    /// The beacons' positions, by landmark index.
+    landmarks: Vec<[f64; 2]>,
+}
+
+fn cmu_ranges(td: &[Vec<f64>], tl: &[Vec<f64>], gt: &[Vec<f64>]) -> Result<CmuRanges, CliError> {
     let times: Vec<f64> = gt.iter().map(|r| r[0]).collect();
     let mut ids: Vec<i64> = tl.iter().map(|r| r[0] as i64).collect();
     ids.sort_unstable();
-    let landmark_index = |id: i64| ids.binary_search(&id).ok();
-    let beacon = |id: i64| tl.iter().find(|r| r[0] as i64 == id).map(|r| (r[1], r[2]));
-    let mut dets = Vec::new();
-    let mut errs = Vec::new();
-    let mut matching = Vec::new();
-    for r in &td {
+    let beacon = |id: i64| tl.iter().find(|r| r[0] as i64 == id).map(|r| [r[1], r[2]]);
+    let mut out = CmuRanges {
+        dets: Vec::with_capacity(td.len()),
+        errs: Vec::with_capacity(td.len()),
+        landmarks: ids.iter().filter_map(|&id| beacon(id)).collect(),
+    };
+    for r in td {
         let (t, id, range) = (r[0], r[2] as i64, r[3]);
         let step = match times.binary_search_by(|x| x.total_cmp(&t)) {
             Ok(i) => i,
@@ -529,95 +615,188 @@ pub fn cmu_plaza(dir: &Path, operator: bool) -> Result<Value, CliError> {
                 }
             }
         };
-        let (Some(li), Some((bx, by))) = (landmark_index(id), beacon(id)) else {
+        let (Ok(li), Some([bx, by])) = (ids.binary_search(&id), beacon(id)) else {
             return Err(CliError(format!(
                 "Plaza1_TD.txt: beacon {id} is not in Plaza1_TL.csv"
             )));
         };
         let truth = ((gt[step][1] - bx).powi(2) + (gt[step][2] - by).powi(2)).sqrt();
-        errs.push(range - truth);
-        dets.push((step, range, li));
-        matching.push(li);
+        out.errs.push(range - truth);
+        out.dets.push((step, range, li));
     }
-    // Range error model: error = measured - true distance lies in
-    // [a_lo + b·measured, a_hi + b·measured] (a scale error of the ranging,
-    // as UWB clocks give, plus an offset), with the slope b that makes the
-    // band narrowest over all ranges: the width max(e - b·r) - min(e - b·r)
-    // is convex in b (a maximum of linear functions minus a minimum of
-    // linear functions), so a ternary search finds it.
-    let band = |b: f64| {
-        dets.iter()
-            .zip(&errs)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, (d, &e)| {
-                let x = e - b * d.1;
-                (a.0.min(x), a.1.max(x))
-            })
-    };
-    let width = |b: f64| {
-        let (lo, hi) = band(b);
-        hi - lo
+    Ok(out)
+}
+
+/// The range band of the import: error = measured - true distance lies in
+/// `[offset.0 + slope·r, offset.1 + slope·r]` (r the measured range), on
+/// all ranges but `outside`.
+struct RangeBand {
+    slope: f64,
+    offset: (f64, f64),
+    /// The ranges left outside the band (by index), at most the share
+    /// asked for; their true distance is outside their interval.
+    outside: Vec<usize>,
+}
+
+/// The lowest and highest values of `x` once the `drop_lo` lowest and the
+/// `drop_hi` highest are left out (all of `x` when both are 0).
+fn trimmed_span(x: &mut [f64], drop_lo: usize, drop_hi: usize) -> (f64, f64) {
+    x.sort_unstable_by(f64::total_cmp);
+    (x[drop_lo], x[x.len() - 1 - drop_hi])
+}
+
+/// The range band (docs/cmu-plaza1.md): a scale error of the ranging plus
+/// an offset, with the slope b that makes the band narrowest. With the
+/// outlier share P > 0 the band is the central (1 - P) share: of the k
+/// residuals e - b·r, the floor(P·k / 2) lowest and the rest of floor(P·k)
+/// highest are left out, and b makes that trimmed band narrowest (the
+/// ternary search of the P = 0 case; the trimmed width need not be convex,
+/// so b is a local optimum; which ranges fall outside is then counted
+/// exactly on the final intervals, margin included).
+fn range_band(ranges: &CmuRanges, share: f64) -> RangeBand {
+    let k = ranges.errs.len();
+    let dropped = ((share * k as f64).floor() as usize).min(k.saturating_sub(1));
+    let (drop_lo, drop_hi) = (dropped / 2, dropped - dropped / 2);
+    let mut buf = vec![0.0; k];
+    let mut band = |b: f64| {
+        for ((x, d), &e) in buf.iter_mut().zip(&ranges.dets).zip(&ranges.errs) {
+            *x = e - b * d.1;
+        }
+        trimmed_span(&mut buf, drop_lo, drop_hi)
     };
     let (mut b_lo, mut b_hi) = (-1.0f64, 1.0f64);
     for _ in 0..200 {
         let (m1, m2) = (b_lo + (b_hi - b_lo) / 3.0, b_hi - (b_hi - b_lo) / 3.0);
-        if width(m1) <= width(m2) {
+        let (w1, w2) = (band(m1), band(m2));
+        if w1.1 - w1.0 <= w2.1 - w2.0 {
             b_hi = m2;
         } else {
             b_lo = m1;
         }
     }
     let slope = (b_lo + b_hi) / 2.0;
-    let (alo, ahi) = band(slope);
-    let (emin, emax) = errs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &e| {
-            (a.0.min(e), a.1.max(e))
-        });
-    let detections: Vec<Value> = dets
+    let offset = band(slope);
+    let mut out = RangeBand {
+        slope,
+        offset,
+        outside: Vec::new(),
+    };
+    out.outside = (0..k)
+        .filter(|&j| {
+            let truth = ranges.dets[j].1 - ranges.errs[j];
+            let [lo, hi] = out.interval(ranges.dets[j].1);
+            !(lo <= truth && truth <= hi)
+        })
+        .collect();
+    out
+}
+
+impl RangeBand {
+    /// The interval of the true distance for a measured range:
+    /// true = measured - error, error in offset + slope·measured, widened
+    /// by the margin.
+    fn interval(&self, range: f64) -> [f64; 2] {
+        let (alo, ahi) = self.offset;
+        [
+            (range - (ahi + self.slope * range) - cmu::MARGIN).max(0.0),
+            range - (alo + self.slope * range) + cmu::MARGIN,
+        ]
+    }
+}
+
+/// The CMU Plaza 1 dataset as a mission (beacon ids hidden unless
+/// `operator`), with the ground truth. `outlier_share` P: the range band
+/// holds the central (1 - P) share of the residuals, and `max_outliers` is
+/// the count left outside (0: every range inside, no `max_outliers`).
+pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, CliError> {
+    let dr = read_csv(&dir.join("Plaza1_DR.txt"), false)?.rows;
+    let gt = read_csv(&dir.join("Plaza1_GT.csv"), false)?.rows;
+    let td = read_csv(&dir.join("Plaza1_TD.txt"), false)?.rows;
+    let tl = read_csv(&dir.join("Plaza1_TL.csv"), false)?.rows;
+    let n = dr.len();
+    if gt.len() != n + 1 || tl.is_empty() {
+        return Err(CliError(format!(
+            "{}: expected one more ground-truth row than odometry rows ({} and {})",
+            dir.display(),
+            gt.len(),
+            n
+        )));
+    }
+    let inputs = cmu_inputs(&dr, &gt);
+    let motion = cmu_motion(&dr, &cmu_residuals(&gt, &inputs));
+    let ranges = cmu_ranges(&td, &tl, &gt)?;
+    let band = range_band(&ranges, outlier_share);
+    let detections: Vec<Value> = ranges
+        .dets
         .iter()
         .map(|&(step, range, li)| {
-            // true = measured - error, error in [alo, ahi] + slope·measured
-            // (+ margin).
-            let lo = (range - (ahi + slope * range) - MARGIN).max(0.0);
-            let hi = range - (alo + slope * range) + MARGIN;
-            let mut d = json!({"step": step, "range": [lo, hi]});
+            let mut d = json!({"step": step, "range": band.interval(range)});
             if operator {
                 d["landmark"] = json!(li);
             }
             d
         })
         .collect();
+    let mut mission = cmu_document(operator, &gt, &inputs, &motion, detections);
+    let meta = &mut mission["meta"];
+    meta["range_error_bounds"] =
+        json!(ranges
+            .errs
+            .iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |a, &e| [
+                a[0].min(e),
+                a[1].max(e)
+            ]));
+    meta["range_error_model"] = json!({"slope": band.slope, "offset": [band.offset.0, band.offset.1], "margin": cmu::MARGIN});
+    if outlier_share > 0.0 {
+        meta["outlier_share"] = json!({
+            "share": outlier_share,
+            "method": "the range band holds the central (1 - share) of the residuals: floor(share k / 2) lowest and the rest of floor(share k) highest left out, the slope making that band narrowest; `outside` lists the ranges (by index) whose true distance is outside their interval, margin included, and max_outliers is their count",
+            "outside": band.outside,
+        });
+        mission["max_outliers"] = json!(band.outside.len());
+    }
+    let matching: Vec<usize> = ranges.dets.iter().map(|d| d.2).collect();
+    mission["truth"]["landmarks"] = json!(ranges.landmarks);
+    mission["truth"]["matching"] = json!(matching);
+    mission["landmark_count"] = json!(ranges.landmarks.len());
+    Ok(mission)
+}
+
+/// The mission document of Plaza 1 around its detections (the range
+/// model's `meta`, the landmarks and the matching are added by the caller).
+fn cmu_document(
+    operator: bool,
+    gt: &[Vec<f64>],
+    inputs: &CmuInputs,
+    motion: &CmuMotion,
+    detections: Vec<Value>,
+) -> Value {
+    let speed = &inputs.speed;
     let positions: Vec<[f64; 2]> = gt.iter().map(|r| [r[1], r[2]]).collect();
-    let landmarks: Vec<[f64; 2]> = ids
-        .iter()
-        .map(|&id| beacon(id).map(|(x, y)| [x, y]).unwrap())
-        .collect();
     let e0 = 0.01;
-    Ok(json!({
+    json!({
         "format": "nvector-mission/1",
         "name": if operator { "cmu-plaza1-operator" } else { "cmu-plaza1" },
         "model": "unicycle2d",
         "dt": 1.0,
-        "steps": n,
+        "steps": speed.len(),
         "initial_position": [[gt[0][1] - e0, gt[0][1] + e0], [gt[0][2] - e0, gt[0][2] + e0]],
         "final_position": null,
         "inputs": {
             "speed": {"lo": speed.iter().map(|s| s[0]).collect::<Vec<_>>(), "hi": speed.iter().map(|s| s[1]).collect::<Vec<_>>()},
-            "heading": {"value": heading, "error": HEADING_ERROR},
+            "heading": {"value": inputs.heading, "error": cmu::HEADING_ERROR},
         },
-        "motion_error": motion_error,
+        "motion_error": motion.per_step,
         "detections": detections,
-        "landmark_count": ids.len(),
         "meta": {
             "source": "CMU Plaza 1 (Djugash and Singh), via GTSAM's examples",
-            "range_error_bounds": [emin, emax],
-            "range_error_model": {"slope": slope, "offset": [alo, ahi], "margin": MARGIN},
-            "ordinary_motion_error": ordinary,
-            "stationary_motion_error": stationary,
-            "stationary_steps": (0..n).filter(|&i| still(i) && residual[i] <= FLAG_ABOVE).count(),
-            "anomalous_steps": residual.iter().filter(|&&r| r > FLAG_ABOVE).count(),
+            "ordinary_motion_error": motion.ordinary,
+            "stationary_motion_error": motion.stationary,
+            "stationary_steps": motion.stationary_steps,
+            "anomalous_steps": motion.anomalous_steps,
             "dt_note": "one step per odometry row; speed is metres per step",
         },
-        "truth": {"positions": positions, "landmarks": landmarks, "matching": matching},
-    }))
+        "truth": {"positions": positions},
+    })
 }

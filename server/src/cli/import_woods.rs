@@ -26,11 +26,11 @@
 //! - `landmark_min_separation`: the smallest true distance between two
 //!   tubes less a margin; `scan`: detections at the same time.
 
-use crate::cli::import::read_csv;
+use crate::cli::import::{read_csv, Csv};
 use crate::CliError;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The bounds' constants (docs/utias-woods.md explains each).
 pub mod bounds {
@@ -69,11 +69,7 @@ fn wrap(a: f64) -> f64 {
 }
 
 /// The columns of a CSV by name, or an error naming the file and column.
-fn columns(
-    csv: &crate::cli::import::Csv,
-    path: &Path,
-    names: &[&str],
-) -> Result<Vec<usize>, CliError> {
+fn columns(csv: &Csv, path: &Path, names: &[&str]) -> Result<Vec<usize>, CliError> {
     names
         .iter()
         .map(|n| {
@@ -109,23 +105,32 @@ fn flagged_bounds(residual: &[f64], flag: f64, margin: f64) -> (Vec<f64>, f64, u
     (per_step, ordinary, flagged)
 }
 
-/// The line `y <= a + b·x` over every point `(x, y)` with the smallest mean
-/// `a + b·mean(x)` (the bound's mean over the points): for a slope b the
-/// least a is `max(y - b·x)`, and the mean is convex in b (a maximum of
-/// linear functions plus a linear one), so a ternary search over
-/// b in [-2, 2] finds it. Returns `(a, b)`.
-fn fit_upper_line(points: &[(f64, f64)]) -> (f64, f64) {
+/// The line `y <= a + b·x` over every point `(x, y)` but the `skip`
+/// highest above it, with the smallest mean `a + b·mean(x)` (the bound's
+/// mean over the points): for a slope b the least a is the (skip + 1)-th
+/// largest `y - b·x`, and with `skip` = 0 the mean is convex in b (a
+/// maximum of linear functions plus a linear one), so a ternary search
+/// over b in [-2, 2] finds it (with `skip` > 0 it finds a local optimum;
+/// the points left above are counted afterwards on the final bands).
+/// Returns `(a, b)`.
+fn fit_upper_line(points: &[(f64, f64)], skip: usize) -> (f64, f64) {
     let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len().max(1) as f64;
-    let a_of = |b: f64| {
-        points
-            .iter()
-            .fold(f64::NEG_INFINITY, |m, &(x, y)| m.max(y - b * x))
+    let skip = skip.min(points.len().saturating_sub(1));
+    let mut buf = vec![0.0; points.len()];
+    let mut a_of = |b: f64| {
+        if points.is_empty() {
+            return f64::NEG_INFINITY;
+        }
+        for (x, &(px, py)) in buf.iter_mut().zip(points) {
+            *x = py - b * px;
+        }
+        let k = buf.len() - 1 - skip;
+        *buf.select_nth_unstable_by(k, f64::total_cmp).1
     };
-    let cost = |b: f64| a_of(b) + b * mean_x;
     let (mut lo, mut hi) = (-2.0f64, 2.0f64);
     for _ in 0..200 {
         let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
-        if cost(m1) <= cost(m2) {
+        if a_of(m1) + m1 * mean_x <= a_of(m2) + m2 * mean_x {
             hi = m2;
         } else {
             lo = m1;
@@ -135,35 +140,58 @@ fn fit_upper_line(points: &[(f64, f64)]) -> (f64, f64) {
     (a_of(b), b)
 }
 
-/// The Lost in the Woods data set in `dir` as a mission (tube labels kept
-/// as the operator's matching when `operator`), with the truth.
-pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
-    use bounds::*;
-    let (odo_p, truth_p, meas_p, lm_p) = (
-        dir.join("odometry.csv"),
-        dir.join("truth.csv"),
-        dir.join("measurements.csv"),
-        dir.join("landmarks.csv"),
-    );
-    let odo = read_csv(&odo_p, true)?;
-    let tru = read_csv(&truth_p, true)?;
-    let meas = read_csv(&meas_p, true)?;
-    let lms = read_csv(&lm_p, true)?;
-    let [ot, ov, oom] = columns(&odo, &odo_p, &["t", "v", "om"])?[..] else {
-        unreachable!()
-    };
-    let [tt, tx, ty, tth, tvalid] =
-        columns(&tru, &truth_p, &["t", "x", "y", "theta", "valid"])?[..]
-    else {
-        unreachable!()
-    };
-    let [mt, ml, mr, mb] = columns(&meas, &meas_p, &["t", "landmark", "range", "bearing"])?[..]
-    else {
-        unreachable!()
-    };
-    let [ll, lx, ly] = columns(&lms, &lm_p, &["landmark", "x", "y"])?[..] else {
-        unreachable!()
-    };
+/// The CSV files of the data set, with the columns the import reads.
+struct WoodsFiles {
+    odo: (PathBuf, Csv, [usize; 3]),
+    truth: (PathBuf, Csv, [usize; 5]),
+    meas: (PathBuf, Csv, [usize; 4]),
+    lms: (PathBuf, Csv, [usize; 3]),
+}
+
+fn read_with<const N: usize>(
+    dir: &Path,
+    name: &str,
+    names: [&str; N],
+) -> Result<(PathBuf, Csv, [usize; N]), CliError> {
+    let path = dir.join(name);
+    let csv = read_csv(&path, true)?;
+    let cols = columns(&csv, &path, &names)?;
+    let cols: [usize; N] = cols.try_into().unwrap_or([0; N]);
+    Ok((path, csv, cols))
+}
+
+fn woods_files(dir: &Path) -> Result<WoodsFiles, CliError> {
+    Ok(WoodsFiles {
+        odo: read_with(dir, "odometry.csv", ["t", "v", "om"])?,
+        truth: read_with(dir, "truth.csv", ["t", "x", "y", "theta", "valid"])?,
+        meas: read_with(
+            dir,
+            "measurements.csv",
+            ["t", "landmark", "range", "bearing"],
+        )?,
+        lms: read_with(dir, "landmarks.csv", ["landmark", "x", "y"])?,
+    })
+}
+
+/// The odometry on its time grid and the motion-capture truth.
+struct WoodsLog {
+    t0: f64,
+    dt: f64,
+    /// Steps (rows - 1).
+    n: usize,
+    v: Vec<f64>,
+    om: Vec<f64>,
+    valid: Vec<bool>,
+    /// Unwrapped true headings at valid rows.
+    heading: Vec<Option<f64>>,
+    position: Vec<Option<[f64; 2]>>,
+}
+
+/// Checks the time grid of the odometry and of the truth, and unwraps the
+/// true headings.
+fn woods_log(f: &WoodsFiles) -> Result<WoodsLog, CliError> {
+    let (odo_p, odo, [ot, ov, oom]) = &f.odo;
+    let (truth_p, tru, [tt, tx, ty, tth, tvalid]) = &f.truth;
     let rows = odo.rows.len();
     if rows < 2 {
         return Err(CliError(format!(
@@ -179,8 +207,8 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
         )));
     }
     let n = rows - 1;
-    let t0 = odo.rows[0][ot];
-    let dt = (odo.rows[n][ot] - t0) / n as f64;
+    let t0 = odo.rows[0][*ot];
+    let dt = (odo.rows[n][*ot] - t0) / n as f64;
     if !(dt.is_finite() && dt > 0.0) {
         return Err(CliError(format!(
             "{}: times must increase",
@@ -188,60 +216,91 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
         )));
     }
     for (k, (o, t)) in odo.rows.iter().zip(&tru.rows).enumerate() {
-        if (o[ot] - t0 - k as f64 * dt).abs() > dt / 4.0 {
+        if (o[*ot] - t0 - k as f64 * dt).abs() > dt / 4.0 {
             return Err(CliError(format!(
                 "{}:{}: time {} is not on the grid t0 + k*dt (dt = {dt})",
                 odo_p.display(),
                 k + 2,
-                o[ot]
+                o[*ot]
             )));
         }
-        if (t[tt] - o[ot]).abs() > dt / 4.0 {
+        if (t[*tt] - o[*ot]).abs() > dt / 4.0 {
             return Err(CliError(format!(
                 "{}:{}: time {} differs from the odometry's {}",
                 truth_p.display(),
                 k + 2,
-                t[tt],
-                o[ot]
+                t[*tt],
+                o[*ot]
             )));
         }
     }
-    let v: Vec<f64> = odo.rows[..n].iter().map(|r| r[ov]).collect();
-    let om: Vec<f64> = odo.rows[..n].iter().map(|r| r[oom]).collect();
-    let valid: Vec<bool> = tru.rows.iter().map(|r| r[tvalid] != 0.0).collect();
+    let v: Vec<f64> = odo.rows[..n].iter().map(|r| r[*ov]).collect();
+    let om: Vec<f64> = odo.rows[..n].iter().map(|r| r[*oom]).collect();
+    let valid: Vec<bool> = tru.rows.iter().map(|r| r[*tvalid] != 0.0).collect();
     if !valid[0] {
         return Err(CliError(format!(
             "{}:2: the truth at the first row is not valid (the initial pose comes from it)",
             truth_p.display()
         )));
     }
-    // Unwrapped true headings at valid rows.
-    let mut heading: Vec<Option<f64>> = vec![None; rows];
+    let theta: Vec<f64> = tru.rows.iter().map(|r| r[*tth]).collect();
+    let heading = unwrap_headings(&theta, &valid, &om, dt);
+    let position = tru
+        .rows
+        .iter()
+        .zip(&valid)
+        .map(|(r, &ok)| ok.then_some([r[*tx], r[*ty]]))
+        .collect();
+    Ok(WoodsLog {
+        t0,
+        dt,
+        n,
+        v,
+        om,
+        valid,
+        heading,
+        position,
+    })
+}
+
+/// The true headings unwrapped at valid rows: consecutive valid rows
+/// differ by less than pi; across a gap the copy closest to the
+/// odometry's integral is taken.
+fn unwrap_headings(theta: &[f64], valid: &[bool], om: &[f64], dt: f64) -> Vec<Option<f64>> {
+    let mut heading: Vec<Option<f64>> = vec![None; theta.len()];
     let mut last = 0usize;
-    heading[0] = Some(tru.rows[0][tth]);
-    for k in 1..rows {
+    heading[0] = Some(theta[0]);
+    for k in 1..theta.len() {
         if !valid[k] {
             continue;
         }
         let prev = heading[last].unwrap_or(0.0);
-        let raw = tru.rows[k][tth];
         let predicted = prev + (last..k).map(|i| dt * om[i]).sum::<f64>();
-        heading[k] = Some(raw + 2.0 * PI * ((predicted - raw) / (2.0 * PI)).round());
+        heading[k] = Some(theta[k] + 2.0 * PI * ((predicted - theta[k]) / (2.0 * PI)).round());
         last = k;
     }
-    let position: Vec<Option<[f64; 2]>> = tru
-        .rows
-        .iter()
-        .zip(&valid)
-        .map(|(r, &ok)| ok.then_some([r[tx], r[ty]]))
-        .collect();
-    // The completed truth (only for the bounds of the gap steps).
+    heading
+}
+
+/// The truth completed across its gaps (only for the bounds of the gap
+/// steps): headings and positions, and the number of gaps.
+struct Completed {
+    heading: Vec<f64>,
+    position: Vec<[f64; 2]>,
+    gaps: usize,
+}
+
+/// Interpolates linearly between the valid ends of each gap; after the
+/// last valid row, dead reckoning.
+fn complete_truth(log: &WoodsLog) -> Completed {
+    let rows = log.n + 1;
+    let (dt, v, om) = (log.dt, &log.v, &log.om);
     let mut ch: Vec<f64> = vec![0.0; rows];
     let mut cp: Vec<[f64; 2]> = vec![[0.0; 2]; rows];
     let mut gaps = 0usize;
     let mut k = 0usize;
     while k < rows {
-        if let (Some(h), Some(p)) = (heading[k], position[k]) {
+        if let (Some(h), Some(p)) = (log.heading[k], log.position[k]) {
             ch[k] = h;
             cp[k] = p;
             k += 1;
@@ -249,10 +308,12 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
         }
         gaps += 1;
         let a = k - 1;
-        let b = (k..rows).find(|&j| valid[j]);
-        match b {
+        match (k..rows).find(|&j| log.valid[j]) {
             Some(b) => {
-                let (hb, pb) = (heading[b].unwrap_or(0.0), position[b].unwrap_or([0.0; 2]));
+                let (hb, pb) = (
+                    log.heading[b].unwrap_or(0.0),
+                    log.position[b].unwrap_or([0.0; 2]),
+                );
                 for j in k..b {
                     let s = (j - a) as f64 / (b - a) as f64;
                     ch[j] = ch[a] + s * (hb - ch[a]);
@@ -275,26 +336,46 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
             }
         }
     }
-    // Per-step residuals of the completed truth against the model.
-    let heading_residual: Vec<f64> = (0..n)
+    Completed {
+        heading: ch,
+        position: cp,
+        gaps,
+    }
+}
+
+/// Per-step heading and motion bounds (flagged-steps model).
+struct WoodsMotion {
+    heading: (Vec<f64>, f64, usize),
+    motion: (Vec<f64>, f64, usize),
+}
+
+fn woods_motion(log: &WoodsLog, c: &Completed) -> WoodsMotion {
+    use bounds::*;
+    let (dt, v, om, ch, cp) = (log.dt, &log.v, &log.om, &c.heading, &c.position);
+    let heading_residual: Vec<f64> = (0..log.n)
         .map(|i| (ch[i + 1] - ch[i] - dt * om[i]).abs())
         .collect();
-    let motion_residual: Vec<f64> = (0..n)
+    let motion_residual: Vec<f64> = (0..log.n)
         .map(|i| {
             let ex = cp[i + 1][0] - cp[i][0] - dt * v[i] * ch[i].cos();
             let ey = cp[i + 1][1] - cp[i][1] - dt * v[i] * ch[i].sin();
             ex.abs().max(ey.abs())
         })
         .collect();
-    let (heading_error, heading_ordinary, heading_flagged) =
-        flagged_bounds(&heading_residual, HEADING_FLAG, HEADING_MARGIN);
-    let (motion_error, motion_ordinary, motion_flagged) =
-        flagged_bounds(&motion_residual, MOTION_FLAG, MOTION_MARGIN);
-    // Landmarks, indexed by their label.
+    WoodsMotion {
+        heading: flagged_bounds(&heading_residual, HEADING_FLAG, HEADING_MARGIN),
+        motion: flagged_bounds(&motion_residual, MOTION_FLAG, MOTION_MARGIN),
+    }
+}
+
+/// The tubes, indexed by their label, and the smallest true distance
+/// between two of them.
+fn woods_landmarks(f: &WoodsFiles) -> Result<(Vec<[f64; 2]>, f64), CliError> {
+    let (lm_p, lms, [ll, lx, ly]) = &f.lms;
     let count = lms.rows.len();
     let mut landmarks = vec![[f64::NAN; 2]; count];
     for (i, r) in lms.rows.iter().enumerate() {
-        let id = r[ll];
+        let id = r[*ll];
         if id < 0.0 || id.fract() != 0.0 || id as usize >= count {
             return Err(CliError(format!(
                 "{}:{}: landmark {id} is not an integer in 0..{count}",
@@ -302,7 +383,7 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
                 i + 2
             )));
         }
-        landmarks[id as usize] = [r[lx], r[ly]];
+        landmarks[id as usize] = [r[*lx], r[*ly]];
     }
     if landmarks.iter().any(|l| l[0].is_nan()) {
         return Err(CliError(format!(
@@ -317,168 +398,295 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
             separation = separation.min(d);
         }
     }
-    // Detections: step, label, range, bearing; residuals at valid steps.
+    Ok((landmarks, separation))
+}
+
+/// A detection: step, label, measured range and bearing, and its
+/// (range, bearing) residuals against the truth when its step has one.
+struct WoodsDetection {
+    step: usize,
+    id: usize,
+    range: f64,
+    bearing: f64,
+    residual: Option<(f64, f64)>,
+}
+
+fn woods_detections(
+    f: &WoodsFiles,
+    log: &WoodsLog,
+    landmarks: &[[f64; 2]],
+) -> Result<Vec<WoodsDetection>, CliError> {
+    use bounds::*;
+    let (meas_p, meas, [mt, ml, mr, mb]) = &f.meas;
+    let (t0, dt, n, count) = (log.t0, log.dt, log.n, landmarks.len());
     let mut dets = Vec::with_capacity(meas.rows.len());
-    let (mut rmin, mut rmax, mut bmin, mut bmax) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    let mut checked = 0usize;
-    // (measured range, range residual, bearing residual) at valid steps.
-    let mut residuals: Vec<(f64, f64, f64)> = Vec::with_capacity(meas.rows.len());
     for (i, r) in meas.rows.iter().enumerate() {
         let line = i + 2;
-        let step = ((r[mt] - t0) / dt).round();
-        if !(0.0..=n as f64).contains(&step) || (r[mt] - t0 - step * dt).abs() > dt / 4.0 {
+        let step = ((r[*mt] - t0) / dt).round();
+        if !(0.0..=n as f64).contains(&step) || (r[*mt] - t0 - step * dt).abs() > dt / 4.0 {
             return Err(CliError(format!(
                 "{}:{line}: time {} is not one of the odometry times",
                 meas_p.display(),
-                r[mt]
+                r[*mt]
             )));
         }
         let step = step as usize;
-        let id = r[ml];
+        let id = r[*ml];
         if id < 0.0 || id.fract() != 0.0 || id as usize >= count {
             return Err(CliError(format!(
                 "{}:{line}: landmark {id} is not an integer in 0..{count}",
                 meas_p.display()
             )));
         }
-        let (id, range, bearing) = (id as usize, r[mr], r[mb]);
+        let (id, range, bearing) = (id as usize, r[*mr], r[*mb]);
         if range < 0.0 {
             return Err(CliError(format!(
                 "{}:{line}: range {range} is negative",
                 meas_p.display()
             )));
         }
-        if let (Some(p), Some(h)) = (position[step], heading[step]) {
-            let s = [
-                p[0] + SENSOR_OFFSET * h.cos(),
-                p[1] + SENSOR_OFFSET * h.sin(),
-            ];
-            let (dx, dy) = (landmarks[id][0] - s[0], landmarks[id][1] - s[1]);
-            let re = range - dx.hypot(dy);
-            let be = wrap(bearing - (dy.atan2(dx) - h));
-            (rmin, rmax) = (rmin.min(re), rmax.max(re));
-            (bmin, bmax) = (bmin.min(be), bmax.max(be));
-            residuals.push((range, re, be));
-            checked += 1;
-        }
-        dets.push((step, id, range, bearing));
+        let residual = match (log.position[step], log.heading[step]) {
+            (Some(p), Some(h)) => {
+                let s = [
+                    p[0] + SENSOR_OFFSET * h.cos(),
+                    p[1] + SENSOR_OFFSET * h.sin(),
+                ];
+                let (dx, dy) = (landmarks[id][0] - s[0], landmarks[id][1] - s[1]);
+                Some((range - dx.hypot(dy), wrap(bearing - (dy.atan2(dx) - h))))
+            }
+            _ => None,
+        };
+        dets.push(WoodsDetection {
+            step,
+            id,
+            range,
+            bearing,
+            residual,
+        });
     }
-    if checked == 0 {
+    if dets.iter().all(|d| d.residual.is_none()) {
         return Err(CliError(format!(
             "{}: no detection at a step with valid truth: no bound can be derived",
             meas_p.display()
         )));
     }
-    // Residual bands that depend on the measured range r: the range
-    // residual between two lines in r, the bearing residual between two
-    // lines in 1/r (a lateral error of the truth or of the tube's centre
-    // turns into a bearing error that shrinks with the range), each the
-    // narrowest on average over the detections ([`fit_upper_line`]), and
-    // intersected with the constant bands (both hold every residual).
-    let inverse = |r: f64| 1.0 / r.max(MIN_RANGE_FOR_BEARING_MODEL);
-    let range_hi = fit_upper_line(&residuals.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>());
-    let range_lo = fit_upper_line(&residuals.iter().map(|p| (p.0, -p.1)).collect::<Vec<_>>());
-    let bearing_hi = fit_upper_line(
-        &residuals
-            .iter()
-            .map(|p| (inverse(p.0), p.2))
-            .collect::<Vec<_>>(),
-    );
-    let bearing_lo = fit_upper_line(
-        &residuals
-            .iter()
-            .map(|p| (inverse(p.0), -p.2))
-            .collect::<Vec<_>>(),
-    );
-    let band = |x: f64, hi: (f64, f64), lo: (f64, f64), bounds: (f64, f64)| {
+    Ok(dets)
+}
+
+/// One residual band: (measured - true) between `-(lower.0 + lower.1 x)`
+/// and `upper.0 + upper.1 x` (x the measured range, or its inverse), and
+/// within `constant`.
+#[derive(Clone, Copy)]
+struct Band {
+    upper: (f64, f64),
+    lower: (f64, f64),
+    constant: (f64, f64),
+}
+
+impl Band {
+    /// Fits the band on `(x, residual)` points leaving `skip_lo` points
+    /// below and `skip_hi` above (both 0: every point inside).
+    fn fit(points: &[(f64, f64)], skip_lo: usize, skip_hi: usize) -> Band {
+        let mut sorted: Vec<f64> = points.iter().map(|p| p.1).collect();
+        sorted.sort_unstable_by(f64::total_cmp);
+        let last = sorted.len() - 1;
+        let negated: Vec<(f64, f64)> = points.iter().map(|p| (p.0, -p.1)).collect();
+        Band {
+            upper: fit_upper_line(points, skip_hi),
+            lower: fit_upper_line(&negated, skip_lo),
+            constant: (sorted[skip_lo.min(last)], sorted[last - skip_hi.min(last)]),
+        }
+    }
+
+    /// The residual's interval at `x`.
+    fn at(&self, x: f64) -> (f64, f64) {
         (
-            bounds.0.max(-(lo.0 + lo.1 * x)),
-            bounds.1.min(hi.0 + hi.1 * x),
+            self.constant.0.max(-(self.lower.0 + self.lower.1 * x)),
+            self.constant.1.min(self.upper.0 + self.upper.1 * x),
         )
-    };
+    }
+}
+
+/// The range and bearing bands of the import (module doc), each holding
+/// the central (1 - share) of the residuals at valid steps.
+struct WoodsBands {
+    range: Band,
+    bearing: Band,
+}
+
+fn inverse(r: f64) -> f64 {
+    1.0 / r.max(bounds::MIN_RANGE_FOR_BEARING_MODEL)
+}
+
+fn woods_bands(dets: &[WoodsDetection], share: f64) -> WoodsBands {
+    let residuals: Vec<(f64, f64, f64)> = dets
+        .iter()
+        .filter_map(|d| d.residual.map(|(re, be)| (d.range, re, be)))
+        .collect();
+    let dropped = (share * residuals.len() as f64).floor() as usize;
+    let (lo, hi) = (dropped / 2, dropped - dropped / 2);
+    let ranges: Vec<(f64, f64)> = residuals.iter().map(|p| (p.0, p.1)).collect();
+    let bearings: Vec<(f64, f64)> = residuals.iter().map(|p| (inverse(p.0), p.2)).collect();
+    WoodsBands {
+        range: Band::fit(&ranges, lo, hi),
+        bearing: Band::fit(&bearings, lo, hi),
+    }
+}
+
+impl WoodsBands {
+    /// The (range, bearing) intervals of a detection, margins included.
+    fn intervals(&self, range: f64, bearing: f64) -> ([f64; 2], [f64; 2]) {
+        use bounds::*;
+        let (elo, ehi) = self.range.at(range);
+        let (blo, bhi) = self.bearing.at(inverse(range));
+        (
+            [
+                (range - ehi - RANGE_MARGIN).max(0.0),
+                range - elo + RANGE_MARGIN,
+            ],
+            [
+                bearing - bhi - BEARING_MARGIN,
+                bearing - blo + BEARING_MARGIN,
+            ],
+        )
+    }
+
+    /// Whether a detection's truth (its residuals) is outside its
+    /// intervals.
+    fn outside(&self, d: &WoodsDetection) -> bool {
+        let Some((re, be)) = d.residual else {
+            return false;
+        };
+        let (r, b) = self.intervals(d.range, d.bearing);
+        let truth = d.range - re;
+        let (elo, ehi) = (d.bearing - b[1], d.bearing - b[0]);
+        !(r[0] <= truth && truth <= r[1] && elo <= be && be <= ehi)
+    }
+}
+
+/// The Lost in the Woods data set in `dir` as a mission (tube labels kept
+/// as the operator's matching when `operator`), with the truth. With
+/// `outlier_share` P > 0 the range and bearing bands hold the central
+/// (1 - P) share of the residuals each, and `max_outliers` is the count of
+/// detections (at steps with a truth) left outside either.
+pub fn utias_woods(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, CliError> {
+    let files = woods_files(dir)?;
+    let log = woods_log(&files)?;
+    let completed = complete_truth(&log);
+    let motion = woods_motion(&log, &completed);
+    let (landmarks, separation) = woods_landmarks(&files)?;
+    let dets = woods_detections(&files, &log, &landmarks)?;
+    let bands = woods_bands(&dets, outlier_share);
     let detections: Vec<Value> = dets
         .iter()
-        .map(|&(step, id, range, bearing)| {
-            let (elo, ehi) = band(range, range_hi, range_lo, (rmin, rmax));
-            let (blo, bhi) = band(inverse(range), bearing_hi, bearing_lo, (bmin, bmax));
-            let lo = (range - ehi - RANGE_MARGIN).max(0.0);
-            let hi = range - elo + RANGE_MARGIN;
-            let mut d = json!({
-                "step": step,
-                "range": [lo, hi],
-                "bearing": [bearing - bhi - BEARING_MARGIN, bearing - blo + BEARING_MARGIN],
-                "scan": step,
-            });
+        .map(|d| {
+            let (range, bearing) = bands.intervals(d.range, d.bearing);
+            let mut v = json!({"step": d.step, "range": range, "bearing": bearing, "scan": d.step});
             if operator {
-                d["landmark"] = json!(id);
+                v["landmark"] = json!(d.id);
             }
-            d
+            v
         })
         .collect();
-    let matching: Vec<usize> = dets.iter().map(|d| d.1).collect();
-    let (p0, h0) = (cp[0], ch[0]);
+    let mut m = woods_document(operator, &log, &completed, &motion, detections);
+    woods_meta(&mut m["meta"], &dets, &bands, separation);
+    m["meta"]["truth_gaps"] = json!(completed.gaps);
+    m["landmark_count"] = json!(landmarks.len());
+    m["landmark_min_separation"] = json!(separation - bounds::SEPARATION_MARGIN);
+    m["truth"]["landmarks"] = json!(landmarks);
+    m["truth"]["matching"] = json!(dets.iter().map(|d| d.id).collect::<Vec<_>>());
+    if outlier_share > 0.0 {
+        let outside: Vec<usize> = (0..dets.len())
+            .filter(|&j| bands.outside(&dets[j]))
+            .collect();
+        m["max_outliers"] = json!(outside.len());
+        m["meta"]["outlier_share"] = json!({
+            "share": outlier_share,
+            "method": "each band (range, bearing) holds the central (1 - share) of the residuals at steps with a truth: floor(share k / 2) below and the rest of floor(share k) above left out of the lines and of the constant band; `outside` lists the detections (by index) whose truth is outside their range or bearing interval, margins included, and max_outliers is their count (detections at steps without a truth are taken inside, as with share 0)",
+            "outside": outside,
+        });
+    }
+    Ok(m)
+}
+
+/// The mission document around the detections (`meta` holds the motion
+/// bounds; the caller adds the detection bands, landmarks and matching).
+fn woods_document(
+    operator: bool,
+    log: &WoodsLog,
+    c: &Completed,
+    motion: &WoodsMotion,
+    detections: Vec<Value>,
+) -> Value {
+    use bounds::*;
+    let (p0, h0) = (c.position[0], c.heading[0]);
     let (e0, eh) = (INITIAL_POSITION_ERROR, INITIAL_HEADING_ERROR);
-    Ok(json!({
+    let (heading, motion_b) = (&motion.heading, &motion.motion);
+    json!({
         "format": "nvector-mission/1",
         "name": if operator { "utias-woods-operator" } else { "utias-woods" },
         "model": "odometry2d",
-        "dt": dt,
-        "steps": n,
+        "dt": log.dt,
+        "steps": log.n,
         "initial_position": [[p0[0] - e0, p0[0] + e0], [p0[1] - e0, p0[1] + e0]],
         "final_position": null,
         "initial_heading": [h0 - eh, h0 + eh],
         "inputs": {
-            "speed": {"value": v, "error": 0.0},
-            "turn_rate": {"value": om, "error": 0.0},
+            "speed": {"value": log.v, "error": 0.0},
+            "turn_rate": {"value": log.om, "error": 0.0},
         },
-        "heading_error": heading_error,
-        "motion_error": motion_error,
+        "heading_error": heading.0,
+        "motion_error": motion_b.0,
         "sensor_offset": [SENSOR_OFFSET, 0.0],
         "detections": detections,
-        "landmark_count": count,
-        "landmark_min_separation": separation - SEPARATION_MARGIN,
         "meta": {
             "source": "UTIAS Lost in the Woods (dataset2.mat of T. D. Barfoot's AER1513 course, utiasASRL/aer1513, Apache-2.0), as CSV in ../shared/data/utias-lost-in-the-woods",
             "method": "every bound from the data against the motion-capture truth (docs/utias-woods.md): per-step residuals of the truth, completed across its gaps by linear interpolation, against the odometry2d model; steps above a threshold flagged with their own residual x 1.5 + margin; ranges and bearings: measured - true over every detection at a valid step, bounded by the narrowest lines in r (ranges) and 1/r (bearings) holding every residual, within the constant band, plus a margin",
-            "heading_error": {"ordinary": heading_ordinary, "flag_above": HEADING_FLAG, "margin": HEADING_MARGIN, "flagged_steps": heading_flagged, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
-            "motion_error": {"ordinary": motion_ordinary, "flag_above": MOTION_FLAG, "margin": MOTION_MARGIN, "flagged_steps": motion_flagged, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
+            "heading_error": {"ordinary": heading.1, "flag_above": HEADING_FLAG, "margin": HEADING_MARGIN, "flagged_steps": heading.2, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
+            "motion_error": {"ordinary": motion_b.1, "flag_above": MOTION_FLAG, "margin": MOTION_MARGIN, "flagged_steps": motion_b.2, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
             "speed_error": 0.0,
             "turn_rate_error": 0.0,
-            "range_error_bounds": [rmin, rmax],
-            "range_error_model": {"residual": "measured - true range, between -(lower[0] + lower[1] r) and upper[0] + upper[1] r (r the measured range), and within range_error_bounds", "upper": [range_hi.0, range_hi.1], "lower": [range_lo.0, range_lo.1]},
-            "bearing_error_model": {"residual": "measured - true bearing (wrapped), between -(lower[0] + lower[1] / r) and upper[0] + upper[1] / r (r the measured range, at least 0.1 m), and within bearing_error_bounds", "upper": [bearing_hi.0, bearing_hi.1], "lower": [bearing_lo.0, bearing_lo.1]},
-            "range_margin": RANGE_MARGIN,
-            "bearing_error_bounds": [bmin, bmax],
-            "bearing_margin": BEARING_MARGIN,
-            "detections_checked": checked,
-            "true_min_separation": separation,
-            "separation_margin": SEPARATION_MARGIN,
-            "truth_gaps": gaps,
-            "invalid_truth_rows": valid.iter().filter(|&&ok| !ok).count(),
+            "invalid_truth_rows": log.valid.iter().filter(|&&ok| !ok).count(),
             "initial_position_error": e0,
             "initial_heading_error": eh,
             "headings": "the truth's theta unwrapped: a real heading, not taken modulo 2 pi",
         },
         "truth": {
-            "positions": position.iter().map(|p| p.map_or(Value::Null, |p| json!(p))).collect::<Vec<_>>(),
-            "headings": heading.iter().map(|h| h.map_or(Value::Null, |h| json!(h))).collect::<Vec<_>>(),
-            "landmarks": landmarks,
-            "matching": matching,
+            "positions": log.position.iter().map(|p| p.map_or(Value::Null, |p| json!(p))).collect::<Vec<_>>(),
+            "headings": log.heading.iter().map(|h| h.map_or(Value::Null, |h| json!(h))).collect::<Vec<_>>(),
         },
-    }))
+    })
 }
 
-/// Writes a mission to `out` (standard output when `None`).
-///
-/// The mission is not read back through core's `Mission` parser here (the
-/// odometry2d fields are parsed by another branch; the imported and
-/// simulated missions were checked to parse there): once merged, the
-/// caller validates it like every other import.
+/// The detection bands' figures in `meta`.
+fn woods_meta(meta: &mut Value, dets: &[WoodsDetection], bands: &WoodsBands, separation: f64) {
+    use bounds::*;
+    let span = |f: fn((f64, f64)) -> f64| {
+        dets.iter()
+            .filter_map(|d| d.residual.map(f))
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |a, e| {
+                [a[0].min(e), a[1].max(e)]
+            })
+    };
+    let (r, b) = (&bands.range, &bands.bearing);
+    let fields = json!({
+        "range_error_bounds": span(|x| x.0),
+        "range_error_model": {"residual": "measured - true range, between -(lower[0] + lower[1] r) and upper[0] + upper[1] r (r the measured range), and within range_error_bounds", "upper": [r.upper.0, r.upper.1], "lower": [r.lower.0, r.lower.1]},
+        "bearing_error_model": {"residual": "measured - true bearing (wrapped), between -(lower[0] + lower[1] / r) and upper[0] + upper[1] / r (r the measured range, at least 0.1 m), and within bearing_error_bounds", "upper": [b.upper.0, b.upper.1], "lower": [b.lower.0, b.lower.1]},
+        "range_margin": RANGE_MARGIN,
+        "bearing_error_bounds": span(|x| x.1),
+        "bearing_margin": BEARING_MARGIN,
+        "detections_checked": dets.iter().filter(|d| d.residual.is_some()).count(),
+        "true_min_separation": separation,
+        "separation_margin": SEPARATION_MARGIN,
+    });
+    if let (Some(meta), Value::Object(fields)) = (meta.as_object_mut(), fields) {
+        meta.extend(fields);
+    }
+}
+
+/// Writes a mission to `out` (standard output when `None`); the caller
+/// validated it through core's `Mission` parser.
 pub fn write(mission: &Value, out: Option<&Path>) -> Result<(), CliError> {
     let text = serde_json::to_string(mission)?;
     match out {

@@ -116,24 +116,23 @@ pub fn resolve_static_dir(given: Option<PathBuf>) -> Result<PathBuf, (PathBuf, V
     }
 }
 
-/// Runs the subcommand.
-pub fn run(a: Args) -> Result<(), CliError> {
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info".into()),
-        )
-        .with_writer(std::io::stderr)
-        .init();
-    let api_keys = match &a.api_key_file {
-        Some(p) => std::fs::read_to_string(p)
-            .map_err(|e| CliError(format!("reading {}: {e}", p.display())))?
-            .lines()
-            .map(str::trim)
-            .filter(|l| !l.is_empty() && !l.starts_with('#'))
-            .map(str::to_string)
-            .collect(),
-        None => Default::default(),
+/// The API keys of `--api-key-file` (one a line; blank lines and `#`
+/// comments skipped), none without it.
+fn api_keys(a: &Args) -> Result<Vec<String>, CliError> {
+    let Some(p) = &a.api_key_file else {
+        return Ok(Vec::new());
     };
+    Ok(std::fs::read_to_string(p)
+        .map_err(|e| CliError(format!("reading {}: {e}", p.display())))?
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .map(str::to_string)
+        .collect())
+}
+
+/// Refuses the job limits out of their ranges, naming the flag.
+fn check_limits(a: &Args) -> Result<(), CliError> {
     if a.job_time_limit.is_nan() || a.job_time_limit <= 0.0 {
         return Err(CliError("--job-time-limit must be > 0".into()));
     }
@@ -158,6 +157,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if !(1..=100).contains(&a.job_attempts) {
         return Err(CliError("--job-attempts must be between 1 and 100".into()));
     }
+    Ok(())
+}
+
+/// The worker pool: worker counts, the job memory limit (never above an
+/// address-space limit the service was started under: `ulimit -v`), the
+/// attempts and the short lane's cost.
+fn pool_config(a: &Args) -> Result<PoolConfig, CliError> {
     let workers = a
         .workers
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
@@ -176,21 +182,24 @@ pub fn run(a: Args) -> Result<(), CliError> {
             Some(bytes)
         }
     };
-    // A service started under an address-space limit (`ulimit -v`) passes
-    // it on to its workers: the job limit is never above it, and names it.
     let memory_limit = match (memory_limit, service::job_runner::inherited_memory_limit()) {
         (Some(l), Some(h)) => Some(l.min(h)),
         (None, h) => h,
         (l, None) => l,
     };
-    let pool = PoolConfig {
+    Ok(PoolConfig {
         workers,
         short_lane_workers: a.short_lane_workers,
         memory_limit,
         attempts: a.job_attempts,
         short_cost: a.short_job_cost,
-    };
-    let static_dir = match resolve_static_dir(a.static_dir) {
+    })
+}
+
+/// The page's directory, logged; when missing, a warning naming where it
+/// was looked for (the API and its reference are served all the same).
+fn page_dir(given: Option<PathBuf>) -> PathBuf {
+    match resolve_static_dir(given) {
         Ok(dir) => {
             tracing::info!(
                 "serving the page from {} (the API reference at /api/docs)",
@@ -208,15 +217,28 @@ pub fn run(a: Args) -> Result<(), CliError> {
             );
             dir
         }
-    };
+    }
+}
+
+/// Runs the subcommand.
+pub fn run(a: Args) -> Result<(), CliError> {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "info".into()),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let api_keys = api_keys(&a)?;
+    check_limits(&a)?;
+    let pool = pool_config(&a)?;
     let config = Config {
         max_body: a.max_body,
         max_steps: a.max_steps,
         max_detections: a.max_detections,
         max_queue: a.max_queue,
         job_time_limit_s: a.job_time_limit,
-        static_dir,
-        api_keys,
+        static_dir: page_dir(a.static_dir),
+        api_keys: api_keys.into_iter().collect(),
         cors_origins: a.cors_origins,
         job_lease: std::time::Duration::from_secs_f64(a.job_lease),
         contract_time_limit: std::time::Duration::from_secs_f64(a.contract_time_limit),
@@ -230,8 +252,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         pool.memory_limit
             .map_or_else(|| "none".to_string(), service::format_size)
     );
-    let store =
-        service::open_store(&a.database, workers + a.short_lane_workers + 4).map_err(CliError)?;
+    let store = service::open_store(&a.database, pool.workers + a.short_lane_workers + 4)
+        .map_err(CliError)?;
     let rt = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
