@@ -837,9 +837,9 @@ fn bad(path: &str, message: impl Into<String>) -> InputError {
 impl SimulateRequest {
     /// The validated options under `limits`; errors name the field.
     pub fn options(&self, limits: SimulateLimits) -> Result<SimulateOptions, InputError> {
-        let scenario = match self.scenario.as_ref().and_then(Value::as_str) {
-            Some(s) => Scenario::parse(s),
-            None => None,
+        let scenario = match &self.scenario {
+            None | Some(Value::Null) => Some(Scenario::Paper),
+            Some(v) => v.as_str().and_then(Scenario::parse),
         }
         .ok_or_else(|| bad("scenario", "scenario must be \"paper\" or \"auv\""))?;
         let seed = self.seed.map_or(Ok(1), |s| s.at_most(u64::MAX, "seed"))?;
@@ -1266,6 +1266,7 @@ mod request_tests {
     fn errors_name_the_field() {
         for (v, want) in [
             (json!({"scenario": "moon"}), "scenario: scenario must be"),
+            (json!({"layout": "spiral"}), "layout"),
             (
                 json!({"scenario": "paper", "landmarks": 65}),
                 "landmarks: 65 is above the limit 64",
