@@ -24,7 +24,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("test_rng", 0, "the tests' generator"),
     ("ibox", 1, "interval boxes"),
     ("json", 2, "JSON reading helpers of the formats"),
-    ("format", 2, "the JSON formats as serde types (paths in errors)"),
+    (
+        "format",
+        2,
+        "the JSON formats as serde types (paths in errors)",
+    ),
     // `figure` and `odometry` are on main (merged while this table was
     // written): their places from their imports there.
     ("figure", 2, "the description of a result's picture"),
@@ -49,7 +53,7 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("slam::mission", 5, "the typed, validated mission"),
     ("slam::model", 6, "the domains"),
     ("slam::simulate", 6, "mission writer (beside the pipeline)"),
-    ("odometry::simulate", 6, "the woods scenario writer"),
+    ("slam::woods", 6, "the woods scenario writer (odometry2d)"),
     ("slam::types", 7, "shared options, progress, solution"),
     (
         "slam::association",

@@ -44,10 +44,10 @@
 //!
 //! O(1): a fixed number of interval operations and at most 12 atan2 calls.
 
+use crate::contractors::bearing::contract_bearing;
+use crate::contractors::distance::contract_distance;
 use crate::interval::Interval;
 use crate::odometry::angle::{box_angle, contract_heading};
-use crate::slam::bearing::contract_bearing;
-use crate::slam::distance::contract_distance;
 
 /// One detection's measurement: range, optional bearing, sensor offset.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -11,8 +11,8 @@
 //! 6. [`result`]: `nvector-result/1` and the score;
 //! 7. [`solve`]: the entry points.
 //!
-//! [`simulate`] writes missions (it sits beside the pipeline, on
-//! `mission`). The basic contractors (distance, bearing, motion chain) are
+//! [`simulate`] and [`woods`] write missions (they sit beside the
+//! pipeline, on `mission`). The basic contractors (distance, bearing, motion chain) are
 //! in [`crate::contractors`], below this module and [`crate::shapes`]; they
 //! are re-exported here under their former paths.
 
@@ -29,5 +29,6 @@ pub mod rounds;
 pub mod simulate;
 pub mod solve;
 pub mod types;
+pub mod woods;
 
 pub use crate::contractors::{bearing, distance, motion_chain};

@@ -475,11 +475,12 @@ pub fn utias_woods(dir: &Path, operator: bool) -> Result<Value, CliError> {
 
 /// Writes a mission to `out` (standard output when `None`).
 ///
-/// The mission is not read back through core's `Mission` parser here (the
-/// odometry2d fields are parsed by another branch; the imported and
-/// simulated missions were checked to parse there): once merged, the
-/// caller validates it like every other import.
+/// The mission goes through core's common validation first
+/// (`Mission::from_value`), like every other import: an invalid one is an
+/// error naming the field, never a file written.
 pub fn write(mission: &Value, out: Option<&Path>) -> Result<(), CliError> {
+    nvector_core::slam::mission::Mission::from_value(mission)
+        .map_err(|e| CliError(format!("the imported mission is invalid: {e}")))?;
     let text = serde_json::to_string(mission)?;
     match out {
         Some(p) => std::fs::write(p, text + "\n")
