@@ -316,3 +316,71 @@ fn seen_from_position_keeps_the_true_range_and_bearing() {
         }
     }
 }
+
+/// Scans are evidence for the shapes (`best`): a scan with more detections
+/// than landmark_count is infeasible, and so is an operator matching that
+/// labels two detections of one scan as one landmark.
+#[test]
+fn scans_are_pairwise_distinct_landmarks() {
+    let v = simulate_woods(&WoodsOptions {
+        seed: 3,
+        steps: Some(200),
+        landmarks: Some(9),
+        operator: false,
+    });
+    // The largest scan.
+    let mut sizes = std::collections::BTreeMap::new();
+    for d in v["detections"].as_array().unwrap() {
+        *sizes.entry(d["scan"].as_u64().unwrap()).or_insert(0usize) += 1;
+    }
+    let (&scan, &most) = sizes.iter().max_by_key(|(_, &c)| c).unwrap();
+    assert!(most >= 2, "{most}");
+    let mut w = v.clone();
+    w["landmark_count"] = json!(most - 1);
+    w["truth"] = Value::Null;
+    // Infeasible (the scan rule or atmost_nvector, whichever first).
+    let r = run(&Mission::from_value(&w).unwrap(), "best");
+    assert_eq!(r["status"], "infeasible", "scan {scan}");
+    // Two detections of one scan labelled as one landmark.
+    let mut w = v.clone();
+    let two: Vec<usize> = v["detections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d["scan"] == json!(scan))
+        .map(|(j, _)| j)
+        .take(2)
+        .collect();
+    w["detections"][two[0]]["landmark"] = json!(0);
+    w["detections"][two[1]]["landmark"] = json!(0);
+    w["truth"] = Value::Null;
+    let r = run(&Mission::from_value(&w).unwrap(), "best");
+    assert_eq!(r["status"], "infeasible", "{}", r["reason"]);
+}
+
+/// Two detections of one scan with the same annulus: only the scan says
+/// they are distinct. Labelled as one landmark by the operator, the
+/// mission is infeasible under `best`; without the scan field it is
+/// consistent.
+#[test]
+fn a_scan_pair_labelled_as_one_landmark_is_infeasible() {
+    let mut v = json!({
+        "format": "nvector-mission/1",
+        "model": "unicycle2d",
+        "dt": 1.0,
+        "steps": 1,
+        "initial_position": [[0, 0], [0, 0]],
+        "inputs": {"speed": {"value": [0.0], "error": 0}, "heading": {"value": [0.0], "error": 0}},
+        "landmark_count": 2,
+        "detections": [
+            {"step": 0, "range": [1, 3], "landmark": 0, "scan": 5},
+            {"step": 0, "range": [1, 3], "landmark": 0, "scan": 5}
+        ]
+    });
+    let r = run(&Mission::from_value(&v).unwrap(), "best");
+    assert_eq!(r["status"], "infeasible", "{r}");
+    v["detections"][1]["scan"] = json!(6);
+    let r = run(&Mission::from_value(&v).unwrap(), "best");
+    assert_eq!(r["status"], "consistent", "{}", r["reason"]);
+}

@@ -61,6 +61,7 @@
 //! Soundness: every step is a sound contractor (see each file), so the true
 //! trajectory and landmarks stay inside.
 
+use super::association::separation::separation_unions;
 use super::association::{Chain, Domains, ShapesState};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
@@ -442,6 +443,32 @@ impl<'a> Propagation<'a> {
     /// p(steps[s]) must set `unswept[0][s]` and `unswept[1][s]` so the
     /// next passes sweep from it.
     fn associate(&mut self) -> Result<(), Halt> {
+        self.associate_groups()?;
+        self.separation_step()
+    }
+
+    /// The minimum separation (`landmark_min_separation`): groups whose
+    /// boxes fit in a set of diameter below it are one landmark
+    /// ([`separation_unions`]); the detections of a union count as moving,
+    /// so that the next round intersects their boxes. Not for `none` (the
+    /// basic model uses the operator's fields only).
+    fn separation_step(&mut self) -> Result<(), Halt> {
+        let s = self.mission.landmark_min_separation;
+        if self.options.association == Association::None || s <= 0.0 {
+            return Ok(());
+        }
+        let unions =
+            separation_unions(&self.model.det, &mut self.matching, s).map_err(Halt::Infeasible)?;
+        self.contractions += 1;
+        for (a, b) in unions {
+            self.moving[a] = true;
+            self.moving[b] = true;
+        }
+        Ok(())
+    }
+
+    /// The groups and atmost_nvector part of [`Propagation::associate`].
+    fn associate_groups(&mut self) -> Result<(), Halt> {
         let dim = self.model.dim;
         let groups = self.matching.groups();
         for g in &groups {
