@@ -54,11 +54,11 @@ fn check(m: &Mission, r: &Value, what: &str) {
 
 #[test]
 fn woods_seeds_keep_the_truth_for_every_contractor() {
-    for seed in 1..=4 {
+    for seed in 1..=3 {
         for operator in [false, true] {
             let v = simulate_woods(&WoodsOptions {
                 seed,
-                steps: Some(300),
+                steps: Some(200),
                 landmarks: Some(9),
                 operator,
             });
