@@ -53,7 +53,7 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("slam::mission", 5, "the typed, validated mission"),
     ("slam::model", 6, "the domains"),
     ("slam::simulate", 6, "mission writer (beside the pipeline)"),
-    ("odometry::simulate", 6, "the woods scenario writer"),
+    ("slam::woods", 6, "the woods scenario writer (odometry2d)"),
     ("slam::types", 7, "shared options, progress, solution"),
     (
         "slam::association",

@@ -9,7 +9,7 @@
 
 use nvector_core::odometry::chain::OdometryChain;
 use nvector_core::odometry::sensor::OffsetDetection;
-use nvector_core::odometry::simulate::{simulate_woods, WoodsOptions};
+use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
 use nvector_core::Interval;
 use serde_json::Value;
 use std::collections::{HashMap, HashSet};

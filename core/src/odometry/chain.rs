@@ -54,6 +54,11 @@ pub struct OdometryChain {
     error: Vec<Interval>,
 }
 
+/// p(k) of flat positions (2 intervals per state).
+fn flat(pos: &[Interval], k: usize) -> [Interval; 2] {
+    [pos[2 * k], pos[2 * k + 1]]
+}
+
 /// A symmetric bound `[-e, e]`; NaN, negative or infinite `e`: the whole
 /// line (sound: no bound).
 fn symmetric(e: f64) -> Interval {
@@ -131,6 +136,51 @@ impl OdometryChain {
         [s * heading.cos() + e, s * heading.sin() + e]
     }
 
+    /// State i+1 contracted from state i (forward; see the module doc).
+    fn forward_state(
+        &self,
+        i: usize,
+        (p, h): ([Interval; 2], Interval),
+        (p1, h1): ([Interval; 2], Interval),
+    ) -> Result<([Interval; 2], Interval), Emptied> {
+        let hn = h1.intersect(h + self.turn[i]);
+        let d = self.displacement(i, h);
+        let pn = [p1[0].intersect(p[0] + d[0]), p1[1].intersect(p[1] + d[1])];
+        if hn.is_empty() || pn[0].is_empty() || pn[1].is_empty() {
+            return Err(Emptied { step: i + 1 });
+        }
+        Ok((pn, hn))
+    }
+
+    /// State i contracted from state i+1 (backward, with the heading
+    /// contraction from the displacement; see the module doc).
+    fn backward_state(
+        &self,
+        i: usize,
+        (p, h): ([Interval; 2], Interval),
+        (p1, h1): ([Interval; 2], Interval),
+    ) -> Result<([Interval; 2], Interval), Emptied> {
+        let mut hn = h.intersect(h1 - self.turn[i]);
+        let d = self.displacement(i, hn);
+        let pn = [p[0].intersect(p1[0] - d[0]), p[1].intersect(p1[1] - d[1])];
+        if hn.is_empty() || pn[0].is_empty() || pn[1].is_empty() {
+            return Err(Emptied { step: i });
+        }
+        let s = self.step[i];
+        if s.lo() > 0.0 || s.hi() < 0.0 {
+            let e = self.error[i];
+            let qx = (p1[0] - pn[0] - e) / s;
+            let qy = (p1[1] - pn[1] - e) / s;
+            if !(qx.contains(0.0) && qy.contains(0.0)) {
+                hn = contract_heading(hn, qx, qy, Interval::ZERO);
+                if hn.is_empty() {
+                    return Err(Emptied { step: i });
+                }
+            }
+        }
+        Ok((pn, hn))
+    }
+
     /// One forward step i -> i+1 (see the module doc). `Err` when a domain
     /// of step i+1 became empty; `Ok(changed)`.
     pub fn forward_step(
@@ -139,15 +189,7 @@ impl OdometryChain {
         heading: &mut [Interval],
         i: usize,
     ) -> Result<bool, Emptied> {
-        let h = heading[i + 1].intersect(heading[i] + self.turn[i]);
-        let d = self.displacement(i, heading[i]);
-        let p = [
-            pos[i + 1][0].intersect(pos[i][0] + d[0]),
-            pos[i + 1][1].intersect(pos[i][1] + d[1]),
-        ];
-        if h.is_empty() || p[0].is_empty() || p[1].is_empty() {
-            return Err(Emptied { step: i + 1 });
-        }
+        let (p, h) = self.forward_state(i, (pos[i], heading[i]), (pos[i + 1], heading[i + 1]))?;
         let changed = h != heading[i + 1] || p != pos[i + 1];
         heading[i + 1] = h;
         pos[i + 1] = p;
@@ -163,31 +205,72 @@ impl OdometryChain {
         heading: &mut [Interval],
         i: usize,
     ) -> Result<bool, Emptied> {
-        let mut h = heading[i].intersect(heading[i + 1] - self.turn[i]);
-        let d = self.displacement(i, h);
-        let p = [
-            pos[i][0].intersect(pos[i + 1][0] - d[0]),
-            pos[i][1].intersect(pos[i + 1][1] - d[1]),
-        ];
-        if h.is_empty() || p[0].is_empty() || p[1].is_empty() {
-            return Err(Emptied { step: i });
-        }
-        let s = self.step[i];
-        if s.lo() > 0.0 || s.hi() < 0.0 {
-            let e = self.error[i];
-            let qx = (pos[i + 1][0] - p[0] - e) / s;
-            let qy = (pos[i + 1][1] - p[1] - e) / s;
-            if !(qx.contains(0.0) && qy.contains(0.0)) {
-                h = contract_heading(h, qx, qy, Interval::ZERO);
-                if h.is_empty() {
-                    return Err(Emptied { step: i });
-                }
-            }
-        }
+        let (p, h) = self.backward_state(i, (pos[i], heading[i]), (pos[i + 1], heading[i + 1]))?;
         let changed = h != heading[i] || p != pos[i];
         heading[i] = h;
         pos[i] = p;
         Ok(changed)
+    }
+
+    /// The propagator's stopping sweep on flat positions (`pos[2k..2k+2]`
+    /// is p(k), as in `slam::model::Model::pos`): forward over the steps
+    /// `from..to` (`to` at most N, states from+1..=to), stopping at the
+    /// first state that moves by at most `tol` (as
+    /// [`OdometryChain::sweep_forward`]). `Sweep::Done(steps visited)` or
+    /// `Sweep::Empty(state)`.
+    pub fn sweep_forward_flat(
+        &self,
+        pos: &mut [Interval],
+        heading: &mut [Interval],
+        from: usize,
+        to: usize,
+        tol: f64,
+    ) -> Sweep {
+        let to = to.min(self.steps());
+        for i in from..to {
+            let a = (flat(pos, i), heading[i]);
+            let old = (flat(pos, i + 1), heading[i + 1]);
+            match self.forward_state(i, a, old) {
+                Err(e) => return Sweep::Empty(e.step),
+                Ok((p, h)) => {
+                    let changed = p != old.0 || h != old.1;
+                    (pos[2 * i + 2], pos[2 * i + 3], heading[i + 1]) = (p[0], p[1], h);
+                    if !changed || Self::moved(old, &p, h) <= tol {
+                        return Sweep::Done(i + 1 - from);
+                    }
+                }
+            }
+        }
+        Sweep::Done(to.saturating_sub(from))
+    }
+
+    /// Backward on flat positions over the steps `from-1` down to `to`
+    /// (states from-1..=to), stopping like
+    /// [`OdometryChain::sweep_forward_flat`].
+    pub fn sweep_backward_flat(
+        &self,
+        pos: &mut [Interval],
+        heading: &mut [Interval],
+        from: usize,
+        to: usize,
+        tol: f64,
+    ) -> Sweep {
+        let from = from.min(self.steps());
+        for i in (to..from).rev() {
+            let old = (flat(pos, i), heading[i]);
+            let b = (flat(pos, i + 1), heading[i + 1]);
+            match self.backward_state(i, old, b) {
+                Err(e) => return Sweep::Empty(e.step),
+                Ok((p, h)) => {
+                    let changed = p != old.0 || h != old.1;
+                    (pos[2 * i], pos[2 * i + 1], heading[i]) = (p[0], p[1], h);
+                    if !changed || Self::moved(old, &p, h) <= tol {
+                        return Sweep::Done(from - i);
+                    }
+                }
+            }
+        }
+        Sweep::Done(from.saturating_sub(to))
     }
 
     /// Forward sweep over steps `from..N` (states from+1..=N).

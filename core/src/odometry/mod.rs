@@ -11,9 +11,11 @@
 //! - [`sector`]: the detection's landmark set with an uncertain heading (an
 //!   annulus sector whose direction is uncertain), its outer box, a sound
 //!   `meets(box)`, a sound disjointness test between two of them, and the
-//!   heading contraction from "the landmark is in box B";
-//! - [`simulate`]: the `woods` scenario (an odometry2d robot among
-//!   identical landmarks, with scans and a stated minimum separation).
+//!   heading contraction from "the landmark is in box B".
+//!
+//! The `woods` scenario (an odometry2d robot among identical landmarks,
+//! with scans and a stated minimum separation) is `crate::slam::woods`: it
+//! writes missions, beside the pipeline, and `slam` imports this module.
 //!
 //! Headings are real numbers, never wrapped into [-π, π]: every angle
 //! contraction here works with all the copies `α + 2πk` of an arc.
@@ -22,4 +24,3 @@ pub mod angle;
 pub mod chain;
 pub mod sector;
 pub mod sensor;
-pub mod simulate;

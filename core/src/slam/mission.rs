@@ -481,21 +481,62 @@ impl Mission {
     /// The first field this release's solver cannot use soundly, as an
     /// error naming it ("not yet supported"): the front ends that solve
     /// (`run`, jobs, the page, Python) refuse such a mission rather than
-    /// give a wrong answer. Parsing and validation accept them.
+    /// give a wrong answer. Parsing and validation accept them. Every
+    /// field of the format is supported now (odometry2d and
+    /// `sensor_offset` since issue 20); the check stays for the next one.
     pub fn unsupported(&self) -> Result<(), InputError> {
-        if self.model == Model::Odometry2d {
-            return Err(err(
-                "model",
-                "the odometry2d model is not yet supported by the solver",
-            ));
-        }
-        if self.sensor_offset.is_some_and(|o| o != [0.0, 0.0]) {
-            return Err(err(
-                "sensor_offset",
-                "sensor_offset is not yet supported by the solver",
-            ));
-        }
         Ok(())
+    }
+
+    /// The mission with every detection restated as seen from p itself
+    /// (`sensor_offset` folded in, then dropped): for the parts of the
+    /// solver that know no offset (the shapes reasoning, the robust
+    /// propagation).
+    ///
+    /// Math: with the sensor at `p + R(th)·o`, the landmark is
+    /// `d = p + R(th)·L`, `L = o + r·(cos b, sin b)`; so `|d - p| = |L|`
+    /// and the direction of `d - p` is `th + angle(L)`. For the boxes
+    /// `r`, `b`: range' = `sqrt(Lx² + Ly²)` over the box L (outward
+    /// rounded), bearing' = the direction arc of the box L
+    /// ([`crate::odometry::angle::box_angle`]; none when L may hold the
+    /// origin). Without a bearing: range' = `r + [-|o|, |o|]` (cut at 0),
+    /// no bearing.
+    ///
+    /// Soundness: the true (r, b) are in their intervals, so the true L is
+    /// in the box L, its norm in range' and its angle in bearing' + 2πZ,
+    /// which is how every bearing contractor reads a bearing. O(k).
+    pub fn seen_from_position(&self) -> Mission {
+        let mut m = self.clone();
+        let Some(o) = m.sensor_offset.take() else {
+            return m;
+        };
+        if o == [0.0, 0.0] {
+            return m;
+        }
+        let (ox, oy) = (Interval::point(o[0]), Interval::point(o[1]));
+        let norm = (ox.sqr() + oy.sqr()).sqrt();
+        let half_line = Interval::new(0.0, f64::INFINITY);
+        for d in &mut m.detections {
+            let r = d.range.intersect(half_line);
+            match d.bearing {
+                Some(b) if !r.is_empty() && !b.is_empty() => {
+                    let lx = ox + r * b.cos();
+                    let ly = oy + r * b.sin();
+                    d.range = (lx.sqr() + ly.sqr()).sqrt();
+                    d.bearing = crate::odometry::angle::box_angle(lx, ly);
+                }
+                _ => {
+                    let widened = r + Interval::new(-norm.hi(), norm.hi());
+                    d.range = if r.is_empty() {
+                        r
+                    } else {
+                        widened.intersect(half_line)
+                    };
+                    d.bearing = None;
+                }
+            }
+        }
+        m
     }
 
     /// Validates a parsed document into a mission: every check that
@@ -1225,8 +1266,8 @@ mod tests {
     }
 
     /// The fields of spec/formats.md for robots without a heading sensor
-    /// (issue 20): parsed into the mission, written back, and refused by
-    /// `unsupported` while the solver lacks them.
+    /// (issue 20): parsed into the mission, written back, and accepted by
+    /// `unsupported` (the solver handles them).
     #[test]
     fn odometry2d_offset_scan_separation_and_null_truth_parse() {
         let m = Mission::from_value(&odometry()).unwrap();
@@ -1250,11 +1291,7 @@ mod tests {
         assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
         assert_eq!(m.to_value()["truth"]["positions"][1], Value::Null);
         assert_eq!(Mission::from_json(&odometry().to_string()).unwrap(), m);
-        let e = m.unsupported().unwrap_err().to_string();
-        assert!(
-            e.starts_with("model: the odometry2d model is not yet supported"),
-            "{e}"
-        );
+        assert!(m.unsupported().is_ok(), "odometry2d is solved");
         // heading_error absent: 0; final_heading given.
         let mut v = odometry();
         v.as_object_mut().unwrap().remove("heading_error");
@@ -1268,11 +1305,7 @@ mod tests {
         v["sensor_offset"] = json!([0.2, -0.1]);
         let m = Mission::from_value(&v).unwrap();
         assert_eq!(m.sensor_offset, Some([0.2, -0.1]));
-        let e = m.unsupported().unwrap_err().to_string();
-        assert!(
-            e.starts_with("sensor_offset: sensor_offset is not yet supported"),
-            "{e}"
-        );
+        assert!(m.unsupported().is_ok(), "an offset is solved");
         v["sensor_offset"] = json!([0, 0]);
         assert!(Mission::from_value(&v).unwrap().unsupported().is_ok());
         // scan and landmark_min_separation only add evidence: accepted.

@@ -11,8 +11,8 @@
 //! 6. [`result`]: `nvector-result/1` and the score;
 //! 7. [`solve`]: the entry points.
 //!
-//! [`simulate`] writes missions (it sits beside the pipeline, on
-//! `mission`). The basic contractors (distance, bearing, motion chain) are
+//! [`simulate`] and [`woods`] write missions (they sit beside the
+//! pipeline, on `mission`). The basic contractors (distance, bearing, motion chain) are
 //! in [`crate::contractors`], below this module and [`crate::shapes`].
 
 pub mod association;
@@ -27,3 +27,4 @@ pub mod rounds;
 pub mod simulate;
 pub mod solve;
 pub mod types;
+pub mod woods;

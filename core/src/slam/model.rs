@@ -1,6 +1,8 @@
 //! The constraint model of a mission: flat position domains p(0..=N), the
 //! displacement boxes D(i) computed once from the inputs, and the detection
-//! variables d(j) (the landmark position seen by detection j).
+//! variables d(j) (the landmark position seen by detection j); for
+//! odometry2d also the headings th(0..=N) and the odometry chain that ties
+//! them to the positions ([`crate::odometry::chain`]).
 
 use super::mission::{Mission, Model as MotionModel};
 use crate::contractors::motion_chain::{
@@ -8,6 +10,8 @@ use crate::contractors::motion_chain::{
 };
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use crate::odometry::chain::OdometryChain;
+use crate::odometry::sensor::OffsetDetection;
 
 /// Domains and precomputed data of one mission. Memory O(N + k).
 #[derive(Debug, Clone)]
@@ -16,15 +20,27 @@ pub struct Model {
     pub dim: usize,
     /// N.
     pub steps: usize,
-    /// Displacements, N·dim, step-major.
+    /// Displacements, N·dim, step-major. odometry2d: a bound of the step's
+    /// displacement for the current headings ([`Model::refresh_displacements`];
+    /// the chain itself is [`Model::odometry`]), read only by the shapes
+    /// reasoning and the robust propagation.
     pub disp: Vec<Interval>,
     /// Position domains, (N+1)·dim, step-major.
     pub pos: Vec<Interval>,
     /// Detection variables (landmark positions), one box per detection.
     pub det: Vec<IntervalBox>,
     /// Heading (unicycle2d) or yaw (auv3d) at each detection's step, for the
-    /// bearing constraint.
+    /// bearing constraint; odometry2d: th(step) as of the last
+    /// [`Model::refresh_headings_at`].
     pub heading_at: Vec<Interval>,
+    /// odometry2d: th(0..=N), real numbers (never wrapped); empty for the
+    /// other models.
+    pub heading: Vec<Interval>,
+    /// odometry2d: the motion chain over (p, th).
+    pub odometry: Option<OdometryChain>,
+    /// The sensor's place in the body frame (`sensor_offset`, [0, 0] when
+    /// absent).
+    pub sensor_offset: [f64; 2],
     /// At most this many detections may be false (the mission's
     /// `max_outliers`): a group's landmark box is then the q-relaxed
     /// intersection of its members' boxes.
@@ -64,9 +80,9 @@ impl Model {
                     disp.extend_from_slice(&d);
                 }
             }
-            // Not yet solved (`Mission::unsupported` refuses it before a
-            // solve): with the heading unknown, each displacement is
-            // bounded by |speed| dt on each axis, which is sound.
+            // The chain is `odometry`; until the headings are known each
+            // displacement is bounded by |speed| dt on each axis (sound),
+            // then by `refresh_displacements`.
             MotionModel::Odometry2d => {
                 for i in 0..n {
                     let d = unicycle_displacement(
@@ -86,6 +102,23 @@ impl Model {
                 pos[n * dim + a] = pos[n * dim + a].intersect(f[a]);
             }
         }
+        let (heading, odometry) = if m.model == MotionModel::Odometry2d {
+            let mut h = vec![Interval::ENTIRE; n + 1];
+            h[0] = m.initial_heading.unwrap_or(Interval::ENTIRE);
+            if let Some(f) = m.final_heading {
+                h[n] = h[n].intersect(f);
+            }
+            let chain = OdometryChain::new(
+                m.dt,
+                &m.inputs[0],
+                &m.inputs[1],
+                &m.heading_error,
+                &m.motion_error,
+            );
+            (h, Some(chain))
+        } else {
+            (Vec::new(), None)
+        };
         let heading_channel = match m.model {
             MotionModel::Unicycle2d => Some(1),
             MotionModel::Auv3d => Some(2),
@@ -115,9 +148,79 @@ impl Model {
             pos,
             det,
             heading_at,
+            heading,
+            odometry,
+            sensor_offset: m.sensor_offset.unwrap_or([0.0, 0.0]),
             max_outliers: m.max_outliers,
             landmark_regions: Vec::new(),
         }
+    }
+
+    /// Whether a detection is measured from p itself with a known heading
+    /// (the plain distance and bearing contractors) rather than from an
+    /// offset sensor or under a heading that is a variable
+    /// ([`OffsetDetection`]).
+    pub fn plain_detections(&self) -> bool {
+        self.odometry.is_none() && self.sensor_offset == [0.0, 0.0]
+    }
+
+    /// odometry2d: `heading_at[j] = th(step of j)`. O(k).
+    pub fn refresh_headings_at(&mut self, m: &Mission) {
+        if self.heading.is_empty() {
+            return;
+        }
+        for (h, d) in self.heading_at.iter_mut().zip(&m.detections) {
+            *h = self.heading[d.step.min(self.steps)];
+        }
+    }
+
+    /// odometry2d: `D(i) = dt·v(i)·(cos th(i), sin th(i)) + E(i)` for the
+    /// current th(i) (sound: the true heading is in th(i)). O(N).
+    pub fn refresh_displacements(&mut self) {
+        let Some(chain) = &self.odometry else { return };
+        for i in 0..self.steps {
+            let d = chain.displacement(i, self.heading[i]);
+            self.disp[2 * i] = d[0];
+            self.disp[2 * i + 1] = d[1];
+        }
+    }
+
+    /// The width of the widest heading (0 for the models without a
+    /// heading state).
+    pub fn max_heading_width(&self) -> f64 {
+        self.heading
+            .iter()
+            .map(|h| if h.is_empty() { 0.0 } else { h.width() })
+            .fold(0.0, f64::max)
+    }
+
+    /// Contracts detection `j` of `m` with p(step) and d(j) through
+    /// [`OffsetDetection`] (odometry2d: the heading th(step) too;
+    /// unicycle2d: a copy of the input heading, whose contraction is
+    /// dropped). `false` when a domain became empty.
+    pub fn contract_offset_detection(&mut self, m: &Mission, j: usize) -> bool {
+        let det = &m.detections[j];
+        let t = det.step.min(self.steps);
+        let od = OffsetDetection::new(det.range, det.bearing, self.sensor_offset);
+        let mut p = [self.pos[2 * t], self.pos[2 * t + 1]];
+        let mut d = [self.det[j][0], self.det[j][1]];
+        let mut h = if self.heading.is_empty() {
+            self.heading_at[j]
+        } else {
+            self.heading[t]
+        };
+        let ok = od.contract(&mut p, &mut h, &mut d);
+        if !ok {
+            return false;
+        }
+        (self.pos[2 * t], self.pos[2 * t + 1]) = (p[0], p[1]);
+        self.det[j][0] = d[0];
+        self.det[j][1] = d[1];
+        if !self.heading.is_empty() {
+            self.heading[t] = h;
+            self.heading_at[j] = h;
+        }
+        true
     }
 
     /// The box of p(i).
@@ -174,6 +277,20 @@ impl Model {
         let chain_empty = |s: usize| {
             format!("motion chain: the position of step {s} is empty (the inputs cannot join the initial and final positions)")
         };
+        if let Some(chain) = &self.odometry {
+            let (pos, heading) = (&mut self.pos, &mut self.heading);
+            if let Sweep::Empty(s) = chain.sweep_forward_flat(pos, heading, 0, n, 0.0) {
+                return Err(chain_empty(s));
+            }
+            // Always back too: a final heading (or position) bounds the
+            // end, and the backward step contracts the headings from the
+            // displacements.
+            if let Sweep::Empty(s) = chain.sweep_backward_flat(pos, heading, n, 0, 0.0) {
+                return Err(chain_empty(s));
+            }
+            self.refresh_displacements();
+            return Ok(());
+        }
         if let Sweep::Empty(s) = sweep_forward(&mut self.pos, &self.disp, dim, 0, 0.0) {
             return Err(chain_empty(s));
         }

@@ -59,6 +59,16 @@ pub fn score(mission: &Mission, s: &Solution) -> Option<(bool, usize, f64)> {
         .iter()
         .enumerate()
         .all(|(i, p)| !known(i) || m.position(i).contains(p));
+    // odometry2d: the true headings as real numbers (never modulo 2π),
+    // nulls not scored.
+    if let Some(headings) = &truth.headings {
+        if !m.heading.is_empty() {
+            inside &= headings
+                .iter()
+                .zip(&m.heading)
+                .all(|(t, h)| t.is_none_or(|t| h.contains(t)));
+        }
+    }
     for (j, b) in m.det.iter().enumerate() {
         if let Some(l) = truth.matching[j] {
             inside &= b.contains(&truth.landmarks[l]);
@@ -171,6 +181,18 @@ impl Serialize for BoxView<'_> {
     }
 }
 
+/// An interval: `[lo, hi]`, or `"empty"`.
+struct IntervalView(Interval);
+
+impl Serialize for IntervalView {
+    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        if self.0.is_empty() {
+            return ser.serialize_str("empty");
+        }
+        [Bound(self.0.lo()), Bound(self.0.hi())].serialize(ser)
+    }
+}
+
 /// A diameter: a number, or `"inf"` when unbounded.
 struct Diameter(f64);
 
@@ -218,6 +240,7 @@ impl ResultView<'_> {
             elapsed_ms: self.elapsed_ms,
             matched_detections: matched,
             max_detection_diameter: Diameter(max_det),
+            max_heading_width: (!m.heading.is_empty()).then(|| Diameter(m.max_heading_width())),
             max_trajectory_diameter: Diameter(max_d),
             mean_trajectory_diameter: Diameter(mean_d),
             rounds: s.rounds,
@@ -232,6 +255,9 @@ impl Serialize for ResultView<'_> {
         let mut o = ser.serialize_map(None)?;
         o.serialize_entry("detections", &Seq(m.det.iter().map(|b| BoxView(b.axes()))))?;
         o.serialize_entry("format", "nvector-result/1")?;
+        if !m.heading.is_empty() {
+            o.serialize_entry("headings", &Seq(m.heading.iter().map(|&h| IntervalView(h))))?;
+        }
         let landmarks = s.landmarks();
         if !m.landmark_regions.is_empty() {
             let pavings = self.landmark_pavings(&landmarks);
@@ -299,6 +325,9 @@ struct Metrics {
     elapsed_ms: f64,
     matched_detections: usize,
     max_detection_diameter: Diameter,
+    /// odometry2d only: the widest heading interval.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_heading_width: Option<Diameter>,
     max_trajectory_diameter: Diameter,
     mean_trajectory_diameter: Diameter,
     rounds: u32,

@@ -61,6 +61,7 @@
 //! Soundness: every step is a sound contractor (see each file), so the true
 //! trajectory and landmarks stay inside.
 
+use super::association::separation::separation_unions;
 use super::association::{Chain, Domains, ShapesState};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
@@ -70,6 +71,7 @@ use crate::contractors::distance::contract_distance;
 use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
 use crate::interval::Interval;
 use crate::nvector::{atmost_nvector, Contractor, Status};
+use crate::odometry::chain::OdometryChain;
 use crate::union_find::Uf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -122,6 +124,10 @@ struct Propagation<'a> {
     work: WorkEstimate,
     /// Detection shapes (modes `shapes` and `best`).
     shapes: Option<ShapesState>,
+    /// With a sensor offset: the mission with each detection restated from
+    /// p ([`Mission::seen_from_position`]), which the shapes reasoning reads
+    /// (it knows no offset).
+    shapes_mission: Option<Mission>,
 }
 
 impl<'a> Propagation<'a> {
@@ -179,6 +185,10 @@ impl<'a> Propagation<'a> {
                 Association::NVector(Contractor::Best | Contractor::Shapes)
             )
             .then(|| ShapesState::new(k)),
+            shapes_mission: mission
+                .sensor_offset
+                .is_some_and(|o| o != [0.0, 0.0])
+                .then(|| mission.seen_from_position()),
         }
     }
 
@@ -275,6 +285,14 @@ impl<'a> Propagation<'a> {
         origin: usize,
     ) -> Result<bool, Halt> {
         let dim = self.model.dim;
+        if let Some(chain) = &self.model.odometry {
+            let (pos, heading) = (&mut self.model.pos, &mut self.model.heading);
+            let outcome = match dir {
+                Direction::Forward => chain.sweep_forward_flat(pos, heading, from, to, self.tol),
+                Direction::Backward => chain.sweep_backward_flat(pos, heading, from, to, self.tol),
+            };
+            return self.swept(outcome, from, to, 0, origin);
+        }
         let (pos, disp) = (&mut self.model.pos, &self.model.disp);
         let (outcome, offset) = match dir {
             Direction::Forward => (
@@ -298,6 +316,19 @@ impl<'a> Propagation<'a> {
                 to,
             ),
         };
+        self.swept(outcome, from, to, offset, origin)
+    }
+
+    /// The outcome of a sweep from `from` to `to` (`offset`: the first
+    /// state of the slice swept) as [`Propagation::sweep`] returns it.
+    fn swept(
+        &mut self,
+        outcome: Sweep,
+        from: usize,
+        to: usize,
+        offset: usize,
+        origin: usize,
+    ) -> Result<bool, Halt> {
         match outcome {
             Sweep::Done(visited) => {
                 self.contractions += visited as u64;
@@ -320,6 +351,9 @@ impl<'a> Propagation<'a> {
         let t = self.steps[s];
         let dim = self.model.dim;
         let mut moved_position = false;
+        if !self.model.plain_detections() {
+            return self.contract_offset_detections(s);
+        }
         for x in self.starts[s]..self.starts[s + 1] {
             let j = self.order[x];
             let det = &self.mission.detections[j];
@@ -358,6 +392,44 @@ impl<'a> Propagation<'a> {
         Ok(moved_position)
     }
 
+    /// [`Propagation::contract_detections`] for a sensor offset or an
+    /// odometry2d heading ([`Model::contract_offset_detection`]): p(step),
+    /// th(step) and d(j). Returns whether p(step) or th(step) moved by more
+    /// than the tolerance (both are swept along the chain).
+    fn contract_offset_detections(&mut self, s: usize) -> Result<bool, Halt> {
+        let t = self.steps[s];
+        let mut moved_position = false;
+        for x in self.starts[s]..self.starts[s + 1] {
+            let j = self.order[x];
+            let m = &mut self.model;
+            let before = (m.pos[2 * t], m.pos[2 * t + 1], m.heading.get(t).copied());
+            let d_before = [m.det[j][0], m.det[j][1]];
+            let ok = m.contract_offset_detection(self.mission, j);
+            self.contractions += 1;
+            if !ok || m.det[j].is_empty() {
+                m.det[j].set_empty();
+                return Err(Halt::Infeasible(format!(
+                    "detection {j} (step {t}): range {} cannot reach any landmark position",
+                    self.mission.detections[j].range
+                )));
+            }
+            let mut p_moved =
+                shrinkage(before.0, m.pos[2 * t]).max(shrinkage(before.1, m.pos[2 * t + 1]));
+            if let Some(h) = before.2 {
+                p_moved = p_moved.max(shrinkage(h, m.heading[t]));
+            }
+            let d_moved =
+                shrinkage(d_before[0], m.det[j][0]).max(shrinkage(d_before[1], m.det[j][1]));
+            if p_moved > self.tol {
+                moved_position = true;
+            }
+            if p_moved > self.tol || d_moved > self.tol {
+                self.moving[j] = true;
+            }
+        }
+        Ok(moved_position)
+    }
+
     /// The association step of a round: ties the detection variables
     /// together. Proved groups (the operator's, then those atmost_nvector
     /// proved) share one variable: their boxes are intersected. Then
@@ -371,6 +443,32 @@ impl<'a> Propagation<'a> {
     /// p(steps[s]) must set `unswept[0][s]` and `unswept[1][s]` so the
     /// next passes sweep from it.
     fn associate(&mut self) -> Result<(), Halt> {
+        self.associate_groups()?;
+        self.separation_step()
+    }
+
+    /// The minimum separation (`landmark_min_separation`): groups whose
+    /// boxes fit in a set of diameter below it are one landmark
+    /// ([`separation_unions`]); the detections of a union count as moving,
+    /// so that the next round intersects their boxes. Not for `none` (the
+    /// basic model uses the operator's fields only).
+    fn separation_step(&mut self) -> Result<(), Halt> {
+        let s = self.mission.landmark_min_separation;
+        if self.options.association == Association::None || s <= 0.0 {
+            return Ok(());
+        }
+        let unions =
+            separation_unions(&self.model.det, &mut self.matching, s).map_err(Halt::Infeasible)?;
+        self.contractions += 1;
+        for (a, b) in unions {
+            self.moving[a] = true;
+            self.moving[b] = true;
+        }
+        Ok(())
+    }
+
+    /// The groups and atmost_nvector part of [`Propagation::associate`].
+    fn associate_groups(&mut self) -> Result<(), Halt> {
         let dim = self.model.dim;
         let groups = self.matching.groups();
         for g in &groups {
@@ -441,12 +539,18 @@ impl<'a> Propagation<'a> {
             return Ok(());
         };
         let groups = self.matching.groups();
+        // odometry2d: the shapes read th(step) and D(i) of the current
+        // headings.
+        self.model.refresh_headings_at(self.mission);
+        self.model.refresh_displacements();
         let Model {
             dim,
             pos,
             det,
             disp,
             heading_at,
+            heading,
+            odometry,
             ..
         } = &mut self.model;
         let mut chain = ShapesChain {
@@ -456,6 +560,7 @@ impl<'a> Propagation<'a> {
             steps: &self.steps,
             unswept: &mut self.unswept,
             swept: 0,
+            odometry: odometry.as_ref().map(|c| (c, heading)),
         };
         let domains = Domains {
             dim: *dim,
@@ -466,7 +571,7 @@ impl<'a> Propagation<'a> {
         };
         let q = self.mission.max_outliers;
         let out = state.contract(
-            self.mission,
+            self.shapes_mission.as_ref().unwrap_or(self.mission),
             domains,
             &groups,
             Some(n),
@@ -583,6 +688,8 @@ struct ShapesChain<'a> {
     steps: &'a [usize],
     unswept: &'a mut [Vec<bool>; 2],
     swept: u64,
+    /// odometry2d: the chain and th(0..=N), swept with the positions.
+    odometry: Option<(&'a OdometryChain, &'a mut Vec<Interval>)>,
 }
 
 impl Chain for ShapesChain<'_> {
@@ -593,8 +700,14 @@ impl Chain for ShapesChain<'_> {
         to: usize,
     ) -> Result<bool, String> {
         let dim = self.dim;
-        let end = &mut pos[..(to + 1) * dim];
-        match sweep_forward(end, &self.disp[..to * dim], dim, from, self.tol) {
+        let outcome = match &mut self.odometry {
+            Some((chain, heading)) => chain.sweep_forward_flat(pos, heading, from, to, self.tol),
+            None => {
+                let end = &mut pos[..(to + 1) * dim];
+                sweep_forward(end, &self.disp[..to * dim], dim, from, self.tol)
+            }
+        };
+        match outcome {
             Sweep::Done(visited) => {
                 self.swept += visited as u64;
                 Ok(visited == to - from)

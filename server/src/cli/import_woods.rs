@@ -685,9 +685,12 @@ fn woods_meta(meta: &mut Value, dets: &[WoodsDetection], bands: &WoodsBands, sep
     }
 }
 
-/// Writes a mission to `out` (standard output when `None`); the caller
-/// validated it through core's `Mission` parser.
+/// Writes a mission to `out` (standard output when `None`), after core's
+/// common validation (`Mission::from_value`), like every other import: an
+/// invalid one is an error naming the field, never a file written.
 pub fn write(mission: &Value, out: Option<&Path>) -> Result<(), CliError> {
+    nvector_core::slam::mission::Mission::from_value(mission)
+        .map_err(|e| CliError(format!("the imported mission is invalid: {e}")))?;
     let text = serde_json::to_string(mission)?;
     match out {
         Some(p) => std::fs::write(p, text + "\n")

@@ -2,10 +2,10 @@
 
 use crate::CliError;
 use nvector_core::format::leaf::{Finite, Integer};
-use nvector_core::odometry::simulate::WoodsOptions;
 use nvector_core::slam::mission::MAX_STEPS;
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, MAX_LANDMARKS};
 use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
+use nvector_core::slam::woods::WoodsOptions;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -91,7 +91,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
                     .into(),
             ));
         }
-        let mission = nvector_core::odometry::simulate::simulate_woods(&WoodsOptions {
+        let mission = nvector_core::slam::woods::simulate_woods(&WoodsOptions {
             seed: a.seed,
             steps: a.steps,
             landmarks: a.landmarks,

@@ -83,6 +83,7 @@ mod pairs;
 mod regions;
 mod registration;
 mod round;
+pub mod separation;
 mod state;
 mod witness_step;
 

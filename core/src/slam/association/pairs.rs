@@ -7,8 +7,14 @@
 //! neighbours of every n-1 pairwise-distinct groups and proves
 //! infeasibility from n+1 of them.
 //!
+//! The mission's scans add pairs too ([`scan_pairs`], once): detections
+//! of one scan see pairwise distinct landmarks (formats.md, `scan`).
+//!
 //! Soundness: each pair rests on disjoint sound enclosures (see those
-//! modules). Complexity: O(k · `max_ahead`) shape tests once, then per pass
+//! modules), or on the scan's statement; a scan pair holds only when every
+//! detection is real, and the shapes round runs only with `max_outliers`
+//! = 0 (a false detection sees no landmark, so it is distinct from
+//! nothing; with q > 0 the pairs would not hold and are never added). Complexity: O(k · `max_ahead`) shape tests once, then per pass
 //! the frames' pieces and the clique rule within `clique_budget`.
 
 use super::round::sightings;
@@ -42,6 +48,7 @@ impl ShapesState {
                 self.options.max_ahead,
                 &mut pairs,
             );
+            scan_pairs(round.mission, n, &mut pairs)?;
             round.out.contractions += pairs.len() as u64;
             self.distinct.add(pairs);
         }
@@ -83,4 +90,44 @@ impl ShapesState {
         round.out.unions.extend(u);
         Ok(merged)
     }
+}
+
+/// Scans larger than this add no pairs (their pairs grow as the square of
+/// the scan's size; dropping evidence is sound).
+const MAX_SCAN_FOR_PAIRS: usize = 64;
+
+/// The distinct pairs of the mission's scans: every two detections of one
+/// scan. Err: a scan holds more detections than there are landmarks (n),
+/// which no matching can satisfy. O(k log k + the pairs), the pairs at
+/// most k·`MAX_SCAN_FOR_PAIRS`/2.
+pub(super) fn scan_pairs(
+    mission: &crate::slam::mission::Mission,
+    n: usize,
+    out: &mut Vec<(u32, u32)>,
+) -> Result<(), String> {
+    let mut by_scan: Vec<(u64, u32)> = mission
+        .detections
+        .iter()
+        .enumerate()
+        .filter_map(|(j, d)| d.scan.map(|s| (s, j as u32)))
+        .collect();
+    by_scan.sort_unstable();
+    for run in by_scan.chunk_by(|a, b| a.0 == b.0) {
+        if run.len() > n {
+            return Err(format!(
+                "scan {} holds {} detections of pairwise distinct landmarks, more than landmark_count {n}",
+                run[0].0,
+                run.len()
+            ));
+        }
+        if run.len() > MAX_SCAN_FOR_PAIRS {
+            continue;
+        }
+        for (x, a) in run.iter().enumerate() {
+            for b in &run[x + 1..] {
+                out.push((a.1, b.1));
+            }
+        }
+    }
+    Ok(())
 }
