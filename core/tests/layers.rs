@@ -24,7 +24,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("test_rng", 0, "the tests' generator"),
     ("ibox", 1, "interval boxes"),
     ("json", 2, "JSON reading helpers of the formats"),
-    ("format", 2, "the JSON formats as serde types (paths in errors)"),
+    (
+        "format",
+        2,
+        "the JSON formats as serde types (paths in errors)",
+    ),
     // `figure` and `odometry` are on main (merged while this table was
     // written): their places from their imports there.
     ("figure", 2, "the description of a result's picture"),
@@ -47,16 +51,24 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ),
     ("outline", 5, "outlines of shapes and regions for drawing"),
     ("slam::mission", 5, "the typed, validated mission"),
+    ("tdoa::problem", 5, "the typed, validated TDOA problem"),
+    ("tdoa::arrival", 5, "the arrival constraint (TDOA)"),
+    ("tdoa::cuts", 5, "altitude and region cuts (TDOA)"),
     ("slam::model", 6, "the domains"),
     ("slam::simulate", 6, "mission writer (beside the pipeline)"),
     ("odometry::simulate", 6, "the woods scenario writer"),
+    ("tdoa::pulse", 6, "the per-pulse fixpoint and paving"),
     ("slam::types", 7, "shared options, progress, solution"),
+    ("tdoa::readings", 7, "max_outliers over arrivals"),
+    ("tdoa::simulate", 7, "the radar scenario writer"),
     (
         "slam::association",
         8,
         "the shapes part of the association step",
     ),
+    ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),
     ("slam::rounds", 9, "the physics-guided rounds"),
+    ("tdoa::result", 9, "the TDOA result format and score"),
     ("slam::kept", 10, "what the robust propagation keeps"),
     ("slam::outliers", 11, "the robust propagation"),
     ("slam::fixpoint", 12, "which propagation runs"),
@@ -73,6 +85,7 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "former paths of the entry points (re-exports)",
     ),
     ("slam", 17, "the facade of slam (re-exports)"),
+    ("tdoa", 17, "the facade of tdoa (re-exports)"),
     ("", 18, "the crate root (re-exports)"),
 ];
 
