@@ -150,8 +150,11 @@ proptest! {
     #![proptest_config(common::config(3000))]
 
     #[test]
-    fn arrival_keeps_the_planted_solution(s in planted()) {
-        let mut v = PulseVars { x: [Interval::ENTIRE; 3], tau: Interval::ENTIRE };
+    fn arrival_keeps_the_planted_solution(s in planted(), h in prop_oneof![Just(0.0), Just(1e-6), Just(1.0), Just(f64::INFINITY)]) {
+        // x starts in a box of half-width h * scale around the truth (a
+        // point, tight, wide, unbounded).
+        let x0 = s.x.map(|c| around(c, h * s.scale, if h.is_infinite() { 3 } else { 0 }));
+        let mut v = PulseVars { x: x0, tau: Interval::ENTIRE };
         for (i, (r, b)) in s.rx.iter().enumerate() {
             let rb = [Interval::point(r[0]), Interval::point(r[1]), Interval::point(r[2])];
             let a = ArrivalData {

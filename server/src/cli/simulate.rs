@@ -1,11 +1,11 @@
 //! `nvector simulate`: a simulated mission with truth.
 
 use crate::CliError;
-use nvector_core::odometry::simulate::WoodsOptions;
 use nvector_core::format::leaf::{Finite, Integer};
-use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
+use nvector_core::odometry::simulate::WoodsOptions;
 use nvector_core::slam::mission::MAX_STEPS;
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, MAX_LANDMARKS};
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -76,10 +76,14 @@ pub fn run(a: Args) -> Result<(), CliError> {
         // Woods: its own generator and options (core/src/odometry), with
         // the checks main had for it.
         if a.steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
-            return Err(CliError(format!("--steps must be between 1 and {MAX_STEPS}")));
+            return Err(CliError(format!(
+                "--steps must be between 1 and {MAX_STEPS}"
+            )));
         }
         if a.landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
-            return Err(CliError(format!("--landmarks must be at most {MAX_LANDMARKS}")));
+            return Err(CliError(format!(
+                "--landmarks must be at most {MAX_LANDMARKS}"
+            )));
         }
         if a.layout != Layout::Line || a.range_only || a.false_detections > 0 {
             return Err(CliError(
