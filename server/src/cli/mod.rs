@@ -10,4 +10,5 @@ pub mod plot;
 pub mod run;
 pub mod serve;
 pub mod simulate;
+pub mod tdoa;
 pub mod worker;
