@@ -65,6 +65,12 @@ pub struct Args {
     /// Output mission file (default: standard output).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Import LocaRDS multilateration messages (an nvector-tdoa/1 problem; docs/tdoa.md).
+    #[arg(long, value_name = "DIR")]
+    locards_mlat: Option<PathBuf>,
+    /// With --locards-mlat: the set (1-4).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
+    set: u32,
 }
 
 /// A parsed CSV: header and numeric rows, with file/line/column in errors.
@@ -309,6 +315,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         return Err(CliError(format!(
             "--false-detections must be at most {most}"
         )));
+    }
+    if let Some(dir) = &a.locards_mlat {
+        let p = crate::cli::import_locards::locards(dir, a.set)?;
+        return crate::cli::import_woods::write(&p, a.out.as_deref());
     }
     if let Some(dir) = &a.utias_woods {
         let mut m = crate::cli::import_woods::utias_woods(dir, a.operator)?;

@@ -5,6 +5,7 @@ pub mod bench_service;
 pub mod bench_slam;
 pub mod contract;
 pub mod import;
+pub mod import_locards;
 pub mod import_woods;
 pub mod plot;
 pub mod run;
