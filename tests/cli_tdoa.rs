@@ -7,7 +7,8 @@
 //! every message some emission time fits every arrival (the intersection
 //! over the arrivals of `time - bias - |truth - receiver| / c` is not
 //! empty, with the distance's range over the receiver box and c over its
-//! interval), and the truth is in the emitter region.
+//! interval), the truth's distance from the Earth's centre is in the
+//! altitude cut's range, and the truth is in the emitter region.
 
 use nvector_tests::nvector;
 use serde_json::Value;
@@ -139,6 +140,15 @@ fn check_set(dir: &Path, set: u32, problem: &Value) -> usize {
                 "set {set} message {k}: outside the region"
             );
         }
+        // The altitude cut: the truth's distance from the Earth's centre.
+        let cut = &problem["pulses"][k]["distance_from"];
+        let cb: Vec<(f64, f64)> = (0..3).map(|i| pair(&cut["point"][i])).collect();
+        let (r_lo, r_hi) = pair(&cut["range"]);
+        let (d_lo, d_hi) = dist_range(truth, &cb);
+        assert!(
+            d_lo <= r_hi && r_lo <= d_hi,
+            "set {set} message {k}: altitude cut misses the truth"
+        );
         let ms: Vec<Vec<f64>> = serde_json::from_str(quoted.trim_end_matches('"')).unwrap();
         let pulse = &problem["pulses"][k]["arrivals"];
         assert_eq!(pulse.as_array().unwrap().len(), ms.len());

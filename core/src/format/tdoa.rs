@@ -59,6 +59,19 @@ pub struct PulseDoc {
     pub altitude: Option<IntervalIn>,
     pub region: Option<BoxIn>,
     pub emitter: Option<Integer>,
+    pub distance_from: Option<DistanceFromDoc>,
+}
+
+/// A distance cut: the emitter is at a distance in `range` from a point
+/// in the box `point` (an altitude on a curved Earth: the Earth's centre).
+#[derive(Debug, Default, Deserialize)]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+#[allow(missing_docs)]
+pub struct DistanceFromDoc {
+    #[serde(default, deserialize_with = "present")]
+    pub point: Option<BoxIn>,
+    #[serde(default, deserialize_with = "present")]
+    pub range: Option<IntervalIn>,
 }
 
 /// One arrival.
@@ -89,4 +102,5 @@ object_only!(TdoaDoc);
 object_only!(ReceiverDoc);
 object_only!(PulseDoc);
 object_only!(ArrivalDoc);
+object_only!(DistanceFromDoc);
 object_only!(TdoaTruthDoc);

@@ -2,23 +2,28 @@
 //!
 //! # Constraint
 //!
-//! `x_3 in altitude` (a barometric report, a known ground height) and
+//! `x_3 in altitude` (a barometric report, a known ground height),
 //! `x in region` (the pulse's own region and the problem's
-//! `emitter_region`).
+//! `emitter_region`) and `|x - p| in range` for a point p in a box
+//! (`distance_from`: an altitude on a curved Earth, p its centre).
 //!
 //! # Math
 //!
-//! Intersections of the position's axes with the given intervals.
+//! Intersections of the position's axes with the given intervals; the
+//! distance cut is [`crate::contractors::distance::contract_distance`]
+//! (HC4Revise) on copies of p and the range.
 //!
 //! # Soundness
 //!
 //! An intersection removes only points outside the stated sets, which no
-//! solution has; no arithmetic, hence no rounding.
+//! solution has (no arithmetic, no rounding); the distance contractor is
+//! outward rounded (its own proof).
 //!
 //! # Complexity
 //!
 //! O(1).
 
+use crate::contractors::distance::contract_distance;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 
@@ -38,6 +43,14 @@ pub fn cut(
         }
     }
     x.iter().all(|a| !a.is_empty())
+}
+
+/// `|x - p| in range` for p in `point` (copies of p and the range are
+/// contracted and dropped). Returns `false` when it cannot hold.
+pub fn cut_distance(x: &mut [Interval; 3], point: &IntervalBox, range: Interval) -> bool {
+    let mut p = [point.axes()[0], point.axes()[1], point.axes()[2]];
+    let mut r = range;
+    contract_distance(x, &mut p, &mut r)
 }
 
 #[cfg(test)]

@@ -44,6 +44,8 @@ pub struct Pulse {
     pub region: Option<IntervalBox>,
     /// The operator's emitter id.
     pub emitter: Option<usize>,
+    /// A distance cut: (point box, distance interval).
+    pub distance_from: Option<(IntervalBox, Interval)>,
 }
 
 /// The truth of a simulated or surveyed problem.
@@ -217,7 +219,17 @@ fn pulses(
                 ))
             }
         };
+        let distance_from = match p.distance_from {
+            None => None,
+            Some(d) => {
+                let at = format!("{path}.distance_from");
+                let point = d.point.ok_or_else(|| missing(&format!("{at}.point")))?;
+                let range = d.range.ok_or_else(|| missing(&format!("{at}.range")))?.0;
+                Some((box3(&point, &format!("{at}.point"))?, range))
+            }
+        };
         out.push(Pulse {
+            distance_from,
             arrivals,
             altitude: p.altitude.map(|a| a.0),
             region: p

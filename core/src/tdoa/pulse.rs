@@ -29,7 +29,7 @@
 //! O(budget) extra memory.
 
 use super::arrival::{contract_arrival, ArrivalData, PulseVars};
-use super::cuts::cut;
+use super::cuts::{cut, cut_distance};
 use super::problem::{Pulse, TdoaProblem};
 use crate::interval::Interval;
 
@@ -81,6 +81,11 @@ impl PulseCtx<'_> {
             let before = *v;
             if !cut(&mut v.x, self.pulse.altitude, &regions) {
                 return false;
+            }
+            if let Some((p, r)) = &self.pulse.distance_from {
+                if !cut_distance(&mut v.x, p, *r) {
+                    return false;
+                }
             }
             for &a in self.kept {
                 if !contract_arrival(v, &self.data(a)) {

@@ -43,6 +43,7 @@ struct Message {
     lat: f64,
     lon: f64,
     geo_alt: f64,
+    baro_alt: f64,
     arrivals: Vec<(u64, i64)>,
 }
 
@@ -84,6 +85,12 @@ impl Frame {
             origin: ecef(lat, lon, h),
             rot,
         }
+    }
+
+    /// ENU coordinates of the Earth's centre.
+    pub fn centre(&self) -> [f64; 3] {
+        let v = self.rot * -self.origin;
+        [v.x, v.y, v.z]
     }
 
     /// ENU coordinates of a geodetic point.
@@ -169,6 +176,7 @@ fn read_set(dir: &Path, set: u32) -> Result<Vec<Message>, CliError> {
             lat: field(&c, 3, &file, line)?,
             lon: field(&c, 4, &file, line)?,
             geo_alt: field(&c, 6, &file, line)?,
+            baro_alt: field(&c, 5, &file, line)?,
             arrivals,
         });
     }
@@ -247,7 +255,59 @@ pub fn locards(dir: &Path, set: u32) -> Result<Value, CliError> {
     sorted.sort_by(f64::total_cmp);
     let worst = sorted.last().copied().unwrap_or(0.0);
     let w = MARGIN * worst + SLACK_S + ROUNDING_S;
-    Ok(problem(set, &messages, &rx, &index, &truths, w, &sorted, o))
+    // Barometric against geometric altitude: the same rule, 1.1 x the
+    // largest difference + 10 m; latitudes: the message's sensors' +- 4 degrees
+    // of each message (aircraft are within 355 km of a receiver, 3.2
+    // degrees).
+    let alt = MARGIN
+        * messages
+            .iter()
+            .map(|m| (m.baro_alt - m.geo_alt).abs())
+            .fold(0.0, f64::max)
+        + 10.0;
+    let mut lats = Vec::with_capacity(messages.len());
+    for m in &messages {
+        let mut l = [90.0f64, 0.0f64];
+        for a in &m.arrivals {
+            let g = geo(a.0)?;
+            l = [l[0].min(g[0] - 4.0), l[1].max(g[0] + 4.0)];
+        }
+        if !(l[0] >= 0.0 && l[1] <= 90.0) {
+            return Err(CliError(format!("set_{set}.csv: message {}: the altitude cut assumes latitudes 4 to 86 degrees north", m.id)));
+        }
+        lats.push(l);
+    }
+    let cuts = altitude_cuts(&messages, &frame, &lats, alt);
+    let mut p = problem(set, &messages, &rx, &index, &truths, w, &sorted, o);
+    for (pulse, c) in p["pulses"].as_array_mut().into_iter().flatten().zip(cuts) {
+        pulse["distance_from"] = c;
+    }
+    p["meta"]["altitude_bound_m"] = alt.into();
+    p["meta"]["altitude_rule"] = "baroAltitude +- (1.1 x the largest |baro - geo| + 10 m), as a distance from the Earth's centre over the message's sensors' latitudes +- 4 degrees".into();
+    Ok(p)
+}
+
+/// Distance from the Earth's centre of a point at geodetic latitude
+/// `lat` (degrees) and height `h`.
+fn geocentric(lat: f64, h: f64) -> f64 {
+    let v = ecef(lat, 0.0, h);
+    v.norm()
+}
+
+/// The altitude cut of each message: its barometric altitude +- `m`, as a
+/// distance from the Earth's centre over the latitudes `lats` (the radius
+/// decreases with |latitude| in [0, 90]), widened by 1 m for rounding.
+fn altitude_cuts(messages: &[Message], frame: &Frame, lats: &[[f64; 2]], m: f64) -> Vec<Value> {
+    let c = frame.centre();
+    messages
+        .iter()
+        .zip(lats)
+        .map(|(msg, lats)| {
+            let lo = geocentric(lats[1], msg.baro_alt - m) - 1.0;
+            let hi = geocentric(lats[0], msg.baro_alt + m) + 1.0;
+            json!({"point": c.map(|x| [x - ROUNDING_M, x + ROUNDING_M]), "range": [lo, hi]})
+        })
+        .collect()
 }
 
 #[allow(clippy::too_many_arguments)]
