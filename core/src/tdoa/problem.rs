@@ -116,7 +116,7 @@ impl TdoaProblem {
             .propagation_speed
             .ok_or_else(|| missing("propagation_speed"))?
             .0;
-        if !(speed.lo() > 0.0) {
+        if speed.lo().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Err(InputError::new(
                 "propagation_speed",
                 "the propagation speed must be positive (lower bound > 0)",

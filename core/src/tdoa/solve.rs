@@ -106,9 +106,9 @@ impl Run<'_> {
                 "at least {spent} arrivals must be false, max_outliers = {q}"
             ));
         }
-        for j in 0..k {
-            let hi = q - (spent - least[j]);
-            self.vars[j] = hull(self.p, j, self.vars[j], least[j], hi, self.o.budget)
+        for (j, &d) in least.iter().enumerate() {
+            let hi = q - (spent - d);
+            self.vars[j] = hull(self.p, j, self.vars[j], d, hi, self.o.budget)
                 .ok_or_else(|| format!("pulses[{j}]: its arrivals cannot hold together"))?;
         }
         Ok(())
@@ -198,7 +198,9 @@ pub fn solve_tdoa(p: &TdoaProblem, o: &TdoaOptions) -> TdoaSolution {
             break;
         }
         let after = total_width(&run.vars);
-        if !(before - after > super::pulse::SHRINK * before) {
+        // NaN (unbounded widths) ends the rounds too.
+        let shrank = before - after > super::pulse::SHRINK * before;
+        if !shrank {
             break;
         }
     }
