@@ -339,3 +339,40 @@ fn errors_name_the_path() {
     .unwrap_err();
     assert_eq!(e.path, "pulses[0].emitter");
 }
+
+/// An operator id near the emitter limit takes no memory of its size, and
+/// operator groups are kept.
+#[test]
+fn a_huge_emitter_id_is_a_small_problem() {
+    let mut doc: Value = serde_json::to_value(
+        simulate_radar(&RadarOptions {
+            seed: 5,
+            emitters: 2,
+            pulses: 6,
+            ..RadarOptions::default()
+        })
+        .unwrap(),
+    )
+    .unwrap();
+    doc["emitter_count"] = json!(1u64 << 20);
+    let m = doc["truth"]["matching"].clone();
+    let j = (1..6)
+        .find(|&j| m[j] == m[0])
+        .expect("two pulses of one emitter among 6");
+    doc["pulses"][0]["emitter"] = json!((1u64 << 20) - 1);
+    doc["pulses"][j]["emitter"] = json!((1u64 << 20) - 1);
+    let p = TdoaProblem::from_value(&doc).unwrap();
+    let s = solve_tdoa(
+        &p,
+        &TdoaOptions {
+            mode: None,
+            budget: 16,
+            max_rounds: 2,
+        },
+    );
+    assert!(s.infeasible.is_none(), "{:?}", s.infeasible);
+    assert_eq!(s.groups, vec![vec![0, j]]);
+    doc["emitter_count"] = json!((1u64 << 20) + 1);
+    let e = TdoaProblem::from_value(&doc).unwrap_err();
+    assert_eq!(e.path, "emitter_count");
+}

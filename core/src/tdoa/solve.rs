@@ -173,13 +173,14 @@ pub fn solve_tdoa(p: &TdoaProblem, o: &TdoaOptions) -> TdoaSolution {
         vars: vec![start; k],
         uf: Uf::new(k),
     };
-    let mut first = vec![usize::MAX; p.emitter_count.unwrap_or(k).max(1)];
+    // The first pulse of each operator id (a map: ids go up to
+    // emitter_count, which the input's size does not bound).
+    let mut first = std::collections::BTreeMap::new();
     for (j, pulse) in p.pulses.iter().enumerate() {
         if let Some(e) = pulse.emitter {
-            if first[e] == usize::MAX {
-                first[e] = j;
-            } else {
-                run.uf.union(first[e], j);
+            let f = *first.entry(e).or_insert(j);
+            if f != j {
+                run.uf.union(f, j);
             }
         }
     }
