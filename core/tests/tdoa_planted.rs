@@ -220,7 +220,16 @@ fn several(seed: u64, n: usize, k: usize, bad: usize) -> TdoaProblem {
     for _ in 0..bad {
         let j = g.below(k);
         let a = g.below(5);
-        let t = j as f64 * 1e-3 + g.range(0.0, 2e-4);
+        // Half far (a random time), half near: the true time shifted by
+        // 0.2 to 2 us, often still consistent with the other arrivals (the
+        // pulse's box moves away from the truth unless that arrival is
+        // dropped in some reading).
+        let t = if g.chance(0.5) {
+            j as f64 * 1e-3 + g.range(0.0, 2e-4)
+        } else {
+            let old = &pulses[j]["arrivals"][a]["time"];
+            (old[0].as_f64().unwrap() + old[1].as_f64().unwrap()) / 2.0 + g.range(2e-7, 2e-6)
+        };
         pulses[j]["arrivals"][a]["time"] = json!([t - 3e-8, t + 3e-8]);
     }
     TdoaProblem::from_value(&json!({
