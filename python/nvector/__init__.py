@@ -45,6 +45,7 @@ __all__ = [
     "contract",
     "simulate",
     "run",
+    "tdoa",
     "load",
     "dumps",
     "boxes",
@@ -252,6 +253,36 @@ def run(
     finally:
         if bar is not None:
             bar.close()
+
+
+def tdoa(
+    problem: dict[str, Any] | PathLike,
+    contractor: str | None = None,
+    budget: int = 96,
+    max_rounds: int = 8,
+) -> dict[str, Any]:
+    """TDOA passive location (docs/tdoa.md): the guaranteed boxes of an
+    ``nvector-tdoa/1`` problem (a dict or the path of a file), as
+    ``nvector tdoa`` computes them (``nvector-tdoa-result/1``).
+
+    ``contractor``: ``"none"`` (the operator's ``emitter`` ids only) or an
+    atmost_nvector contractor (default ``"best"``); ``budget`` and
+    ``max_rounds`` are the CLI's ``--budget`` and ``--max-rounds``.
+    Raises :class:`InputError` naming the JSON path of a bad value.
+    """
+    file = None
+    source: Any = problem
+    if isinstance(problem, (str, os.PathLike)):
+        file = os.fspath(problem)
+        with open(file, encoding="utf-8") as f:
+            source = f.read()
+    try:
+        result: dict[str, Any] = _nvector.tdoa(source, contractor, budget, max_rounds)
+        return result
+    except InputError as e:
+        if file is None:
+            raise
+        raise InputError(e.path, e.message, file=file) from None
 
 
 def boxes(result_boxes: Sequence[Any]) -> np.ndarray:

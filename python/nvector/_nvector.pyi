@@ -30,6 +30,14 @@ def run(
 ) -> dict[str, Any]:
     """One SLAM job: mission JSON text or objects -> nvector-result/1."""
 
+def tdoa(
+    problem: str | dict[str, Any],
+    contractor: str | None,
+    budget: int,
+    max_rounds: int,
+) -> dict[str, Any]:
+    """One TDOA problem: nvector-tdoa/1 text or objects -> nvector-tdoa-result/1."""
+
 def dumps(obj: Any) -> str:
     """Python objects as compact JSON text, as the nvector binary writes it."""
 

@@ -380,6 +380,57 @@ fn run<'py>(
     to_py(py, &result)
 }
 
+/// One TDOA problem (`nvector-tdoa/1`, JSON text or objects) solved as
+/// `nvector tdoa` does: `nvector-tdoa-result/1`. `contractor`: `none`
+/// (the operator's matching only) or an atmost_nvector mode (default best).
+#[pyfunction]
+#[pyo3(signature = (problem, contractor, budget, max_rounds))]
+fn tdoa<'py>(
+    py: Python<'py>,
+    problem: &Bound<'py, PyAny>,
+    contractor: Option<&str>,
+    budget: usize,
+    max_rounds: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    use nvector_core::tdoa::{problem::TdoaProblem, solve_tdoa, tdoa_result_json, TdoaOptions};
+    let parsed = if let Ok(text) = problem.cast::<PyString>() {
+        let text = text.to_str()?.to_owned();
+        py.detach(|| TdoaProblem::from_json_str(&text))
+    } else {
+        let value = to_value(problem, "", 0).map_err(|e| input_error(py, &e))?;
+        py.detach(|| TdoaProblem::from_value(&value))
+    };
+    let problem = parsed.map_err(|e| input_error(py, &e))?;
+    let mode = match contractor {
+        None => Some(nvector_core::nvector::Contractor::Best),
+        Some("none") => None,
+        Some(name) => Some(nvector_core::nvector::Contractor::parse(name).ok_or_else(|| {
+            input_error(
+                py,
+                &InputError::new(
+                    "contractor",
+                    format!("unknown contractor '{name}' (expected none, nvalue, projection, independent, exact, shapes or best)"),
+                ),
+            )
+        })?),
+    };
+    if budget > 100_000 {
+        return Err(input_error(
+            py,
+            &InputError::new("budget", "at most 100000"),
+        ));
+    }
+    let options = TdoaOptions {
+        mode,
+        budget,
+        max_rounds: max_rounds.clamp(1, 1000),
+    };
+    let start = Instant::now();
+    let solution = py.detach(|| solve_tdoa(&problem, &options));
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    to_py(py, &tdoa_result_json(&problem, &options, &solution, ms))
+}
+
 /// Python objects as compact JSON text, the way the `nvector` binary writes
 /// JSON (serde_json: shortest round-trip floats); `float('inf')` as `"inf"`.
 #[pyfunction]
@@ -415,6 +466,7 @@ fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(contract, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(tdoa, m)?)?;
     m.add_function(wrap_pyfunction!(dumps, m)?)?;
     m.add_function(wrap_pyfunction!(figure, m)?)?;
     m.add("MAX_STEPS", MAX_STEPS)?;

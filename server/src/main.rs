@@ -33,6 +33,8 @@ enum Command {
     },
     /// A simulated mission with truth.
     Simulate(cli::simulate::Args),
+    /// TDOA passive location: one nvector-tdoa/1 problem, locally.
+    Tdoa(cli::tdoa::Args),
     /// A mission from sensor logs (CSV).
     Import(cli::import::Args),
     /// A figure like the paper's Figure 9.
@@ -87,6 +89,7 @@ fn main() -> ExitCode {
             node_budget,
         } => cli::contract::run(contractor, node_budget),
         Command::Simulate(a) => cli::simulate::run(a),
+        Command::Tdoa(a) => cli::tdoa::run(a),
         Command::Import(a) => cli::import::run(a),
         Command::Plot(a) => cli::plot::run(a),
         Command::Worker(a) => cli::worker::run(a),

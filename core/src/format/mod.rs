@@ -39,6 +39,7 @@ macro_rules! object_only {
 pub mod contract;
 pub mod leaf;
 pub mod mission;
+pub mod tdoa;
 
 use crate::error::InputError;
 use serde::de::{DeserializeOwned, IgnoredAny};

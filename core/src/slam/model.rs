@@ -58,94 +58,13 @@ impl Model {
     pub fn new(m: &Mission) -> Model {
         let dim = m.model.dim();
         let n = m.steps;
-        let mut disp = Vec::with_capacity(n * dim);
-        match m.model {
-            MotionModel::Unicycle2d => {
-                for i in 0..n {
-                    let d = unicycle_displacement(
-                        m.dt,
-                        m.inputs[0][i],
-                        m.inputs[1][i],
-                        m.motion_error[i],
-                    );
-                    disp.extend_from_slice(&d);
-                }
-            }
-            MotionModel::Auv3d => {
-                let c = &m.inputs;
-                #[allow(clippy::needless_range_loop)] // six parallel channels
-                for i in 0..n {
-                    let v = [c[3][i], c[4][i], c[5][i]];
-                    let d = auv_displacement(m.dt, c[0][i], c[1][i], c[2][i], v, m.motion_error[i]);
-                    disp.extend_from_slice(&d);
-                }
-            }
-            // The chain is `odometry`; until the headings are known each
-            // displacement is bounded by |speed| dt on each axis (sound),
-            // then by `refresh_displacements`.
-            MotionModel::Odometry2d => {
-                for i in 0..n {
-                    let d = unicycle_displacement(
-                        m.dt,
-                        m.inputs[0][i],
-                        Interval::ENTIRE,
-                        m.motion_error[i],
-                    );
-                    disp.extend_from_slice(&d);
-                }
-            }
-        }
-        let mut pos = vec![Interval::ENTIRE; (n + 1) * dim];
-        pos[..dim].copy_from_slice(m.initial_position.axes());
-        if let Some(f) = &m.final_position {
-            for a in 0..dim {
-                pos[n * dim + a] = pos[n * dim + a].intersect(f[a]);
-            }
-        }
-        let (heading, odometry) = if m.model == MotionModel::Odometry2d {
-            let mut h = vec![Interval::ENTIRE; n + 1];
-            h[0] = m.initial_heading.unwrap_or(Interval::ENTIRE);
-            if let Some(f) = m.final_heading {
-                h[n] = h[n].intersect(f);
-            }
-            let chain = OdometryChain::new(
-                m.dt,
-                &m.inputs[0],
-                &m.inputs[1],
-                &m.heading_error,
-                &m.motion_error,
-            );
-            (h, Some(chain))
-        } else {
-            (Vec::new(), None)
-        };
-        let heading_channel = match m.model {
-            MotionModel::Unicycle2d => Some(1),
-            MotionModel::Auv3d => Some(2),
-            MotionModel::Odometry2d => None,
-        };
-        let mut det = Vec::with_capacity(m.detections.len());
-        let mut heading_at = Vec::with_capacity(m.detections.len());
-        for d in &m.detections {
-            let mut b = IntervalBox::entire(dim);
-            if let Some(r) = &m.landmark_region {
-                b.intersect_with(r);
-            }
-            if let Some(r) = &d.region {
-                b.intersect_with(r);
-            }
-            if let Some(z) = d.depth {
-                b[2] = b[2].intersect(z);
-            }
-            det.push(b);
-            heading_at
-                .push(heading_channel.map_or(Interval::ENTIRE, |c| m.inputs[c][d.step.min(n - 1)]));
-        }
+        let (heading, odometry) = initial_headings(m);
+        let (det, heading_at) = detection_boxes(m);
         Model {
             dim,
             steps: n,
-            disp,
-            pos,
+            disp: displacements(m),
+            pos: initial_positions(m),
             det,
             heading_at,
             heading,
@@ -324,6 +243,105 @@ pub fn operator_groups(mission: &Mission) -> Vec<Vec<usize>> {
         }
     }
     groups
+}
+
+/// The displacement boxes D(i), `dim` intervals per step. For odometry2d
+/// the chain is `odometry`; until the headings are known each displacement
+/// is bounded by |speed| dt on each axis (sound), then by
+/// `refresh_displacements`.
+fn displacements(m: &Mission) -> Vec<Interval> {
+    let n = m.steps;
+    let mut disp = Vec::with_capacity(n * m.model.dim());
+    match m.model {
+        MotionModel::Unicycle2d | MotionModel::Odometry2d => {
+            let odometry = m.model == MotionModel::Odometry2d;
+            for i in 0..n {
+                let heading = if odometry {
+                    Interval::ENTIRE
+                } else {
+                    m.inputs[1][i]
+                };
+                let d = unicycle_displacement(m.dt, m.inputs[0][i], heading, m.motion_error[i]);
+                disp.extend_from_slice(&d);
+            }
+        }
+        MotionModel::Auv3d => {
+            let c = &m.inputs;
+            #[allow(clippy::needless_range_loop)] // six parallel channels
+            for i in 0..n {
+                let v = [c[3][i], c[4][i], c[5][i]];
+                let d = auv_displacement(m.dt, c[0][i], c[1][i], c[2][i], v, m.motion_error[i]);
+                disp.extend_from_slice(&d);
+            }
+        }
+    }
+    disp
+}
+
+/// p(0) = the initial box, p(N) = the final box when known, every other
+/// position unbounded.
+fn initial_positions(m: &Mission) -> Vec<Interval> {
+    let (dim, n) = (m.model.dim(), m.steps);
+    let mut pos = vec![Interval::ENTIRE; (n + 1) * dim];
+    pos[..dim].copy_from_slice(m.initial_position.axes());
+    if let Some(f) = &m.final_position {
+        for a in 0..dim {
+            pos[n * dim + a] = pos[n * dim + a].intersect(f[a]);
+        }
+    }
+    pos
+}
+
+/// odometry2d: the headings (initial and final known, the rest unbounded)
+/// and the chain; other models: none.
+fn initial_headings(m: &Mission) -> (Vec<Interval>, Option<OdometryChain>) {
+    if m.model != MotionModel::Odometry2d {
+        return (Vec::new(), None);
+    }
+    let n = m.steps;
+    let mut h = vec![Interval::ENTIRE; n + 1];
+    h[0] = m.initial_heading.unwrap_or(Interval::ENTIRE);
+    if let Some(f) = m.final_heading {
+        h[n] = h[n].intersect(f);
+    }
+    let chain = OdometryChain::new(
+        m.dt,
+        &m.inputs[0],
+        &m.inputs[1],
+        &m.heading_error,
+        &m.motion_error,
+    );
+    (h, Some(chain))
+}
+
+/// Each detection's box (its region, depth and the mission's landmark
+/// region) and the heading input at its step (unbounded for odometry2d,
+/// whose headings are variables).
+fn detection_boxes(m: &Mission) -> (Vec<IntervalBox>, Vec<Interval>) {
+    let (dim, n) = (m.model.dim(), m.steps);
+    let heading_channel = match m.model {
+        MotionModel::Unicycle2d => Some(1),
+        MotionModel::Auv3d => Some(2),
+        MotionModel::Odometry2d => None,
+    };
+    let mut det = Vec::with_capacity(m.detections.len());
+    let mut heading_at = Vec::with_capacity(m.detections.len());
+    for d in &m.detections {
+        let mut b = IntervalBox::entire(dim);
+        if let Some(r) = &m.landmark_region {
+            b.intersect_with(r);
+        }
+        if let Some(r) = &d.region {
+            b.intersect_with(r);
+        }
+        if let Some(z) = d.depth {
+            b[2] = b[2].intersect(z);
+        }
+        det.push(b);
+        heading_at
+            .push(heading_channel.map_or(Interval::ENTIRE, |c| m.inputs[c][d.step.min(n - 1)]));
+    }
+    (det, heading_at)
 }
 
 #[cfg(test)]

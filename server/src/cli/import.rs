@@ -71,6 +71,12 @@ pub struct Args {
     /// Output mission file (default: standard output).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Import LocaRDS multilateration messages (an nvector-tdoa/1 problem; docs/tdoa.md).
+    #[arg(long, value_name = "DIR")]
+    locards_mlat: Option<PathBuf>,
+    /// With --locards-mlat: the set (1-4).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
+    set: u32,
 }
 
 /// A parsed CSV: header and numeric rows, with file/line/column in errors.
@@ -346,6 +352,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
         return Err(CliError(format!(
             "--false-detections must be at most {most}"
         )));
+    }
+    if let Some(dir) = &a.locards_mlat {
+        let p = crate::cli::import_locards::locards(dir, a.set)?;
+        nvector_core::tdoa::problem::TdoaProblem::from_value(&p)
+            .map_err(|e| CliError(format!("the imported TDOA problem is invalid: {e}")))?;
+        return crate::cli::import_woods::write_json(&p, a.out.as_deref());
     }
     if !(0.0..0.5).contains(&a.outlier_share) {
         return Err(CliError(format!(

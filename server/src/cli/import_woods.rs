@@ -691,7 +691,13 @@ fn woods_meta(meta: &mut Value, dets: &[WoodsDetection], bands: &WoodsBands, sep
 pub fn write(mission: &Value, out: Option<&Path>) -> Result<(), CliError> {
     nvector_core::slam::mission::Mission::from_value(mission)
         .map_err(|e| CliError(format!("the imported mission is invalid: {e}")))?;
-    let text = serde_json::to_string(mission)?;
+    write_json(mission, out)
+}
+
+/// Writes a document the caller validated to `out` (standard output when
+/// `None`).
+pub fn write_json(doc: &Value, out: Option<&Path>) -> Result<(), CliError> {
+    let text = serde_json::to_string(doc)?;
     match out {
         Some(p) => std::fs::write(p, text + "\n")
             .map_err(|e| CliError(format!("writing {}: {e}", p.display())))?,

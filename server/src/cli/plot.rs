@@ -53,7 +53,7 @@ const LIMIT: f64 = 1e300;
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 
-fn font_ready() -> Result<(), CliError> {
+pub(crate) fn font_ready() -> Result<(), CliError> {
     static READY: OnceLock<bool> = OnceLock::new();
     let ok = *READY.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()

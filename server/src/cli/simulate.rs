@@ -47,6 +47,21 @@ pub struct Args {
     /// Output file (default: standard output).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// radar: emitters (default 4).
+    #[arg(long)]
+    emitters: Option<usize>,
+    /// radar: receivers (default 5).
+    #[arg(long)]
+    receivers: Option<usize>,
+    /// radar: pulses (default 200).
+    #[arg(long)]
+    pulses: Option<usize>,
+    /// radar: share of arrivals missing (default 0.1).
+    #[arg(long)]
+    missing: Option<f64>,
+    /// radar: false arrivals added, and "max_outliers" set to their count.
+    #[arg(long, default_value_t = 0)]
+    false_arrivals: usize,
 }
 
 /// A scenario of core's `slam::simulate`, or `woods`
@@ -55,14 +70,16 @@ pub struct Args {
 enum Which {
     Slam(Scenario),
     Woods,
+    Radar,
 }
 
 fn parse_scenario(s: &str) -> Result<Which, String> {
     match s {
         "woods" => Ok(Which::Woods),
+        "radar" => Ok(Which::Radar),
         _ => Scenario::parse(s)
             .map(Which::Slam)
-            .ok_or_else(|| format!("unknown scenario '{s}' (expected paper, auv or woods)")),
+            .ok_or_else(|| format!("unknown scenario '{s}' (expected paper, auv, woods or radar)")),
     }
 }
 
@@ -72,6 +89,19 @@ fn parse_layout(s: &str) -> Result<Layout, String> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
+    if a.scenario == Which::Radar {
+        let d = nvector_core::tdoa::simulate::RadarOptions::default();
+        let o = nvector_core::tdoa::simulate::RadarOptions {
+            seed: a.seed,
+            emitters: a.emitters.unwrap_or(d.emitters),
+            receivers: a.receivers.unwrap_or(d.receivers),
+            pulses: a.pulses.unwrap_or(d.pulses),
+            missing: a.missing.unwrap_or(d.missing),
+            false_arrivals: a.false_arrivals,
+            operator: a.operator,
+        };
+        return write_mission(&crate::cli::tdoa::simulate(&o)?, a.out);
+    }
     let Which::Slam(scenario) = a.scenario else {
         // Woods: its own generator and options (core/src/odometry), with
         // the checks main had for it.

@@ -1,0 +1,106 @@
+//! `nvector-tdoa/1` as JSON (spec/formats.md, "TDOA passive location"):
+//! what each field looks like. As for missions every field is optional
+//! here so that the validation (`tdoa::problem::TdoaProblem::from_doc`)
+//! names a missing one by its path; unknown fields are refused, naming the
+//! field, except inside `meta`.
+
+use super::leaf::{BoxIn, Finite, Integer, IntervalIn, List};
+use super::present;
+use serde::Deserialize;
+use serde_json::Value;
+
+/// A TDOA problem document.
+#[derive(Debug, Default, Deserialize)]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+pub struct TdoaDoc {
+    /// `"nvector-tdoa/1"` (any JSON, checked by the validation).
+    #[serde(default, deserialize_with = "present")]
+    pub format: Option<Value>,
+    /// Name (default `"tdoa"`).
+    pub name: Option<String>,
+    /// Interval of the propagation speed c (m/s).
+    #[serde(default, deserialize_with = "present")]
+    pub propagation_speed: Option<IntervalIn>,
+    /// The receivers.
+    #[serde(default, deserialize_with = "present")]
+    pub receivers: Option<List<ReceiverDoc>>,
+    /// The pulses.
+    #[serde(default, deserialize_with = "present")]
+    pub pulses: Option<List<PulseDoc>>,
+    /// n (atmost_nvector over the pulses' positions).
+    pub emitter_count: Option<Integer>,
+    /// Box of every emitter.
+    pub emitter_region: Option<BoxIn>,
+    /// q, counted in arrivals.
+    pub max_outliers: Option<Integer>,
+    /// Free-form metadata (an object, checked by the validation).
+    pub meta: Option<Value>,
+    /// Ground truth.
+    pub truth: Option<TdoaTruthDoc>,
+}
+
+/// One receiver.
+#[derive(Debug, Default, Deserialize)]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+#[allow(missing_docs)]
+pub struct ReceiverDoc {
+    #[serde(default, deserialize_with = "present")]
+    pub position: Option<BoxIn>,
+    pub clock_bias: Option<IntervalIn>,
+}
+
+/// One pulse.
+#[derive(Debug, Default, Deserialize)]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+#[allow(missing_docs)]
+pub struct PulseDoc {
+    #[serde(default, deserialize_with = "present")]
+    pub arrivals: Option<List<ArrivalDoc>>,
+    pub altitude: Option<IntervalIn>,
+    pub region: Option<BoxIn>,
+    pub emitter: Option<Integer>,
+    pub distance_from: Option<DistanceFromDoc>,
+}
+
+/// A distance cut: the emitter is at a distance in `range` from a point
+/// in the box `point` (an altitude on a curved Earth: the Earth's centre).
+#[derive(Debug, Default, Deserialize)]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+#[allow(missing_docs)]
+pub struct DistanceFromDoc {
+    #[serde(default, deserialize_with = "present")]
+    pub point: Option<BoxIn>,
+    #[serde(default, deserialize_with = "present")]
+    pub range: Option<IntervalIn>,
+}
+
+/// One arrival.
+#[derive(Debug, Default, Deserialize)]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+#[allow(missing_docs)]
+pub struct ArrivalDoc {
+    #[serde(default, deserialize_with = "present")]
+    pub receiver: Option<Integer>,
+    #[serde(default, deserialize_with = "present")]
+    pub time: Option<IntervalIn>,
+}
+
+/// The `truth` object.
+#[derive(Debug, Default, Deserialize)]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+#[allow(missing_docs)]
+pub struct TdoaTruthDoc {
+    /// One point per pulse (`null` where unknown).
+    pub positions: Option<List<Option<List<Finite>>>>,
+    /// One point per emitter.
+    pub emitters: Option<List<List<Finite>>>,
+    /// One emitter id per pulse (`null`: unknown).
+    pub matching: Option<List<Option<Integer>>>,
+}
+
+object_only!(TdoaDoc);
+object_only!(ReceiverDoc);
+object_only!(PulseDoc);
+object_only!(ArrivalDoc);
+object_only!(DistanceFromDoc);
+object_only!(TdoaTruthDoc);
