@@ -203,6 +203,12 @@ pub(super) async fn post_simulate(
         max_steps: state.config.max_steps as u64,
         max_false_detections: state.config.max_detections as u64,
     };
+    // The API names its scenario (its document marks `scenario` required);
+    // the CLI and the page default to the paper's.
+    if request.scenario.is_none() {
+        let e = nvector_core::InputError::new("scenario", "missing field `scenario`");
+        return Err(AppError::bad("invalid_request", e));
+    }
     let o = request
         .options(limits)
         .map_err(|e| AppError::bad("invalid_request", e))?;
