@@ -5,27 +5,8 @@
 //! one solid block, and the SVG holds the title in metres, the axis labels
 //! and the legend.
 
+use nvector_tests::{run, succeeded, temp_file};
 use std::path::{Path, PathBuf};
-use std::process::Output;
-
-fn nvector(args: &[&str]) -> Output {
-    nvector_tests::nvector()
-        .args(args)
-        .output()
-        .expect("run nvector")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nvector-figures-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn ok(out: &Output) -> String {
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(out.status.success(), "{err}");
-    err
-}
 
 fn cmu_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
@@ -113,17 +94,17 @@ fn is_truth(c: [u8; 3]) -> bool {
 
 #[test]
 fn plaza_ids_hidden_shows_the_truth_path_with_axes_and_legend() {
-    let m = tmp("plaza.json");
-    ok(&nvector(&[
+    let m = temp_file("plaza.json");
+    succeeded(&run(&[
         "import",
         "--cmu-plaza",
         cmu_dir().to_str().unwrap(),
         "--out",
         m.to_str().unwrap(),
     ]));
-    let r = tmp("plaza-result.json");
-    let svg = tmp("plaza.svg");
-    ok(&nvector(&[
+    let r = temp_file("plaza-result.json");
+    let svg = temp_file("plaza.svg");
+    succeeded(&run(&[
         "run",
         m.to_str().unwrap(),
         "--contractor",
@@ -133,8 +114,8 @@ fn plaza_ids_hidden_shows_the_truth_path_with_axes_and_legend() {
         "--plot",
         svg.to_str().unwrap(),
     ]));
-    let png = tmp("plaza.png");
-    let err = ok(&nvector(&[
+    let png = temp_file("plaza.png");
+    let err = succeeded(&run(&[
         "plot",
         r.to_str().unwrap(),
         "--mission",
@@ -260,17 +241,18 @@ fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
         "format": "nvector-result/1", "trajectory": [], "detections": [],
         "landmarks": [], "matching": []
     });
+    let mut huge_svg = None;
     for (name, r, m) in [
         ("huge", &result, &mission),
         ("empty", &empty, &serde_json::json!({})),
     ] {
-        let rp = tmp(&format!("{name}-r.json"));
-        let mp = tmp(&format!("{name}-m.json"));
+        let rp = temp_file(&format!("{name}-r.json"));
+        let mp = temp_file(&format!("{name}-m.json"));
         std::fs::write(&rp, r.to_string()).unwrap();
         std::fs::write(&mp, m.to_string()).unwrap();
         for ext in ["svg", "png"] {
-            let out = tmp(&format!("{name}.{ext}"));
-            ok(&nvector(&[
+            let out = temp_file(&format!("{name}.{ext}"));
+            succeeded(&run(&[
                 "plot",
                 rp.to_str().unwrap(),
                 "--mission",
@@ -279,9 +261,12 @@ fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
                 out.to_str().unwrap(),
             ]));
             assert!(std::fs::metadata(&out).unwrap().len() > 1000);
+            if (name, ext) == ("huge", "svg") {
+                huge_svg = Some(out);
+            }
         }
     }
-    let svg = svg_words(&std::fs::read_to_string(tmp("huge.svg")).unwrap());
+    let svg = svg_words(&std::fs::read_to_string(huge_svg.unwrap()).unwrap());
     assert!(svg.contains("max trajectory diameter unbounded"), "{svg}");
     assert!(
         svg.contains("trajectory: 2 position boxes (2 more unbounded or empty, not drawn)"),

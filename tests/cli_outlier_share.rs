@@ -10,22 +10,9 @@
 //! bearing from the laser point to the true tube, at rows with a valid
 //! truth).
 
+use nvector_tests::{run, temp_file};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Output;
-
-fn nvector(args: &[&str]) -> Output {
-    nvector_tests::nvector()
-        .args(args)
-        .output()
-        .expect("run nvector")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nvector-share-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn cmu_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
@@ -73,8 +60,8 @@ fn true_distances() -> Vec<f64> {
 }
 
 fn import(share: &str) -> Value {
-    let out_path = tmp(&format!("cmu-{share}.json"));
-    let out = nvector(&[
+    let out_path = temp_file(&format!("cmu-{share}.json"));
+    let out = run(&[
         "import",
         "--cmu-plaza",
         cmu_dir().to_str().unwrap(),
@@ -185,8 +172,8 @@ fn utias_woods_outlier_share_names_exactly_the_detections_left_outside() {
     let tubes = csv(&dir.join("landmarks.csv"));
     let (t0, n) = (odo[0][0], odo.len() - 1);
     let dt = (odo[n][0] - t0) / n as f64;
-    let out_path = tmp("woods-0.02.json");
-    let out = nvector(&[
+    let out_path = temp_file("woods-0.02.json");
+    let out = run(&[
         "import",
         "--utias-woods",
         dir.to_str().unwrap(),
@@ -247,7 +234,7 @@ fn utias_woods_outlier_share_names_exactly_the_detections_left_outside() {
 fn outlier_share_is_refused_out_of_range_and_without_a_real_log() {
     let dir = cmu_dir();
     for bad in ["0.5", "-0.1", "NaN"] {
-        let out = nvector(&[
+        let out = run(&[
             "import",
             "--cmu-plaza",
             dir.to_str().unwrap(),
@@ -258,7 +245,7 @@ fn outlier_share_is_refused_out_of_range_and_without_a_real_log() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains("--outlier-share"), "{bad}: {err}");
     }
-    let out = nvector(&["import", "--outlier-share", "0.01", "--model", "unicycle2d"]);
+    let out = run(&["import", "--outlier-share", "0.01", "--model", "unicycle2d"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--outlier-share needs"));
 }

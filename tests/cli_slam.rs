@@ -3,31 +3,13 @@
 
 use nvector_core::contractors::motion_chain::unicycle_displacement;
 use nvector_core::slam::mission::Mission;
-use serde_json::Value;
+use nvector_tests::{read_json, run, temp_file};
 use std::path::{Path, PathBuf};
-use std::process::Output;
-
-fn nvector(args: &[&str]) -> Output {
-    nvector_tests::nvector()
-        .args(args)
-        .output()
-        .expect("run nvector")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nvector-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn read(p: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-}
 
 #[test]
 fn simulate_run_plot() {
-    let m = tmp("paper.json");
-    let out = nvector(&[
+    let m = temp_file("paper.json");
+    let out = run(&[
         "simulate",
         "--scenario",
         "paper",
@@ -43,9 +25,9 @@ fn simulate_run_plot() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let r = tmp("result.json");
-    let svg = tmp("fig.svg");
-    let out = nvector(&[
+    let r = temp_file("result.json");
+    let svg = temp_file("fig.svg");
+    let out = run(&[
         "run",
         m.to_str().unwrap(),
         "--contractor",
@@ -60,7 +42,7 @@ fn simulate_run_plot() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let result = read(&r);
+    let result = read_json(&r);
     assert_eq!(result["format"], "nvector-result/1");
     assert_eq!(result["trajectory"].as_array().unwrap().len(), 3001);
     assert_eq!(result["score"]["truth_inside"], true);
@@ -76,8 +58,8 @@ fn simulate_run_plot() {
     assert!(text.contains(&format!("{groups} proved groups of at most 4")));
     assert!(text.contains("max trajectory diameter "));
     assert!(text.contains(" m, mean "));
-    let png = tmp("fig.png");
-    let out = nvector(&[
+    let png = temp_file("fig.png");
+    let out = run(&[
         "plot",
         r.to_str().unwrap(),
         "--mission",
@@ -96,31 +78,31 @@ fn simulate_run_plot() {
 
 #[test]
 fn run_reports_bad_missions_with_their_path() {
-    let m = tmp("bad.json");
+    let m = temp_file("bad.json");
     std::fs::write(&m, r#"{"format": "nvector-mission/1", "model": "unicycle2d", "dt": 0.1, "steps": 1, "initial_position": [[0, 0], [0, 0]], "inputs": {"speed": {"value": [1], "error": 0}, "heading": {"value": [0], "error": 0}}, "detections": [{"step": 0, "range": [3, 2]}]}"#).unwrap();
-    let out = nvector(&["run", m.to_str().unwrap()]);
+    let out = run(&["run", m.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("detections[0].range: lower bound 3 is above upper bound 2"),
         "{err}"
     );
-    let out = nvector(&["run", m.to_str().unwrap(), "--contractor", "fast"]);
+    let out = run(&["run", m.to_str().unwrap(), "--contractor", "fast"]);
     assert_eq!(out.status.code(), Some(2));
 }
 
 #[test]
 fn import_csv_pair() {
     // Three steps of 1 m/s east at dt = 0.5, a detection at t = 1.0 (step 2).
-    let log = tmp("log.csv");
+    let log = temp_file("log.csv");
     std::fs::write(
         &log,
         "t,speed,heading\n0.0,1.0,0.0\n0.5,1.0,0.0\n1.0,1.0,0.0\n",
     )
     .unwrap();
-    let det = tmp("det.csv");
+    let det = temp_file("det.csv");
     std::fs::write(&det, "t,range_lo,range_hi,landmark\n1.0,4.0,4.5,0\n").unwrap();
-    let out_path = tmp("imported.json");
+    let out_path = temp_file("imported.json");
     let import = [
         "import",
         "--model",
@@ -134,26 +116,24 @@ fn import_csv_pair() {
         "--error",
         "heading=0.01",
     ];
-    let out = nvector(
-        &[
-            &import[..],
-            &["--landmark-count", "1", "--out", out_path.to_str().unwrap()],
-        ]
-        .concat(),
-    );
+    let out = run(&[
+        &import[..],
+        &["--landmark-count", "1", "--out", out_path.to_str().unwrap()],
+    ]
+    .concat());
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let m = Mission::from_value(&read(&out_path)).unwrap();
+    let m = Mission::from_value(&read_json(&out_path)).unwrap();
     assert_eq!((m.steps, m.dt, m.detections.len()), (3, 0.5, 1));
     assert_eq!(m.detections[0].step, 2);
     assert_eq!(m.detections[0].landmark, Some(0));
     assert!(m.inputs[0][0].contains(0.9) && m.inputs[0][0].contains(1.1));
     // A bad cell is reported with its file, line and column.
     std::fs::write(&log, "t,speed,heading\n0.0,1.0,0.0\n0.5,fast,0.0\n").unwrap();
-    let out = nvector(&import);
+    let out = run(&import);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -174,8 +154,8 @@ fn cmu_dir() -> PathBuf {
 
 #[test]
 fn cmu_plaza_ground_truth_satisfies_the_mission() {
-    let out_path = tmp("cmu.json");
-    let out = nvector(&[
+    let out_path = temp_file("cmu.json");
+    let out = run(&[
         "import",
         "--cmu-plaza",
         cmu_dir().to_str().unwrap(),
@@ -187,7 +167,7 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let m = Mission::from_value(&read(&out_path)).unwrap();
+    let m = Mission::from_value(&read_json(&out_path)).unwrap();
     let t = m.truth.as_ref().unwrap();
     assert_eq!(
         (m.steps, m.detections.len(), m.landmark_count),
@@ -209,7 +189,7 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
     // bound: the data's README finds delta_distance equal to the true step
     // length to 1e-4 m, so that bound is a small fraction of the moving
     // steps' one (and the loop above checked it holds the truth).
-    let meta = &read(&out_path)["meta"];
+    let meta = &read_json(&out_path)["meta"];
     let (still, moving) = (
         meta["stationary_motion_error"].as_f64().unwrap(),
         meta["ordinary_motion_error"].as_f64().unwrap(),
@@ -242,7 +222,7 @@ fn cmu_plaza_runs_end_to_end() {
     let dir = cmu_dir();
     let mut max_diameter = Vec::new();
     for (operator, contractor) in [(false, "best"), (true, "none"), (true, "best")] {
-        let m = tmp(&format!("cmu-{operator}.json"));
+        let m = temp_file(&format!("cmu-{operator}.json"));
         let mut args = vec![
             "import",
             "--cmu-plaza",
@@ -253,9 +233,9 @@ fn cmu_plaza_runs_end_to_end() {
         if operator {
             args.push("--operator");
         }
-        assert!(nvector(&args).status.success());
-        let r = tmp(&format!("cmu-{operator}-result.json"));
-        let out = nvector(&[
+        assert!(run(&args).status.success());
+        let r = temp_file(&format!("cmu-{operator}-result.json"));
+        let out = run(&[
             "run",
             m.to_str().unwrap(),
             "--contractor",
@@ -268,7 +248,7 @@ fn cmu_plaza_runs_end_to_end() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        let result = read(&r);
+        let result = read_json(&r);
         assert_eq!(result["status"], "consistent");
         assert_eq!(result["score"]["truth_inside"], true, "operator {operator}");
         assert_eq!(result["score"]["matching_errors"], 0);
@@ -301,7 +281,7 @@ fn cmu_plaza_with_planted_false_ranges_keeps_the_truth() {
     // wrongly, with the beacon ids hidden and given.
     let dir = cmu_dir();
     for operator in [false, true] {
-        let m = tmp(&format!("cmu-false-{operator}.json"));
+        let m = temp_file(&format!("cmu-false-{operator}.json"));
         let mut args = vec![
             "import",
             "--cmu-plaza",
@@ -316,13 +296,13 @@ fn cmu_plaza_with_planted_false_ranges_keeps_the_truth() {
         if operator {
             args.push("--operator");
         }
-        let out = nvector(&args);
+        let out = run(&args);
         assert!(
             out.status.success(),
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        let mission = read(&m);
+        let mission = read_json(&m);
         assert_eq!(mission["max_outliers"], 71);
         let nulls = mission["truth"]["matching"]
             .as_array()
@@ -332,20 +312,20 @@ fn cmu_plaza_with_planted_false_ranges_keeps_the_truth() {
             .count();
         assert_eq!(nulls, 71);
         assert_eq!(mission["detections"].as_array().unwrap().len(), 3529 + 71);
-        let r = tmp(&format!("cmu-false-{operator}-result.json"));
-        let out = nvector(&["run", m.to_str().unwrap(), "--out", r.to_str().unwrap()]);
+        let r = temp_file(&format!("cmu-false-{operator}-result.json"));
+        let out = run(&["run", m.to_str().unwrap(), "--out", r.to_str().unwrap()]);
         assert!(
             out.status.success(),
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        let result = read(&r);
+        let result = read_json(&r);
         assert_eq!(result["status"], "consistent", "{}", result["reason"]);
         assert_eq!(result["score"]["truth_inside"], true, "operator {operator}");
         assert_eq!(result["score"]["matching_errors"], 0, "operator {operator}");
     }
     // Planting needs a real log.
-    let out = nvector(&["import", "--false-detections", "3", "--model", "unicycle2d"]);
+    let out = run(&["import", "--false-detections", "3", "--model", "unicycle2d"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--cmu-plaza"));
 }

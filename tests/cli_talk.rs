@@ -3,36 +3,13 @@
 //! negative numbers at the start of a value list, and `plot`'s warning on
 //! a result that is not of the mission.
 
+use nvector_tests::{read_json, run, succeeded, temp_file};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Output;
-
-fn nvector(args: &[&str]) -> Output {
-    nvector_tests::nvector()
-        .args(args)
-        .output()
-        .expect("run nvector")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nvector-talk-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn read(p: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-}
-
-fn ok(out: &Output) -> String {
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(out.status.success(), "{err}");
-    err
-}
 
 fn simulate(name: &str, steps: &str, seed: &str) -> PathBuf {
-    let m = tmp(name);
-    ok(&nvector(&[
+    let m = temp_file(name);
+    succeeded(&run(&[
         "simulate",
         "--scenario",
         "paper",
@@ -49,14 +26,14 @@ fn simulate(name: &str, steps: &str, seed: &str) -> PathBuf {
 #[test]
 fn run_ends_with_a_summary_line() {
     let m = simulate("sum.json", "400", "2");
-    let r = tmp("sum-result.json");
-    let err = ok(&nvector(&[
+    let r = temp_file("sum-result.json");
+    let err = succeeded(&run(&[
         "run",
         m.to_str().unwrap(),
         "--out",
         r.to_str().unwrap(),
     ]));
-    let result = read(&r);
+    let result = read_json(&r);
     let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(lines.len(), 1, "one line on stderr: {err}");
     let line = lines[0];
@@ -96,7 +73,7 @@ fn run_ends_with_a_summary_line() {
 
 #[test]
 fn bench_refuses_an_unknown_only_and_names_the_measures() {
-    let out = nvector(&["bench", "--quick", "--only", "nonexistent"]);
+    let out = run(&["bench", "--quick", "--only", "nonexistent"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty());
     let err = String::from_utf8_lossy(&out.stderr);
@@ -112,8 +89,8 @@ fn bench_refuses_an_unknown_only_and_names_the_measures() {
 
 #[test]
 fn bench_marks_each_line_against_its_goal() {
-    let out = nvector(&["bench", "--quick", "--only", "nvalue_1e6"]);
-    let err = ok(&out);
+    let out = run(&["bench", "--quick", "--only", "nvalue_1e6"]);
+    let err = succeeded(&out);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let lines: Vec<Value> = stdout
         .lines()
@@ -135,16 +112,16 @@ fn bench_marks_each_line_against_its_goal() {
 
 #[test]
 fn import_takes_a_list_starting_with_a_negative_number() {
-    let log = tmp("neg-log.csv");
+    let log = temp_file("neg-log.csv");
     std::fs::write(
         &log,
         "t,speed,heading\n0.0,1.0,0.0\n0.5,1.0,0.0\n1.0,1.0,0.0\n",
     )
     .unwrap();
-    let det = tmp("neg-det.csv");
+    let det = temp_file("neg-det.csv");
     std::fs::write(&det, "t,range_lo,range_hi,landmark\n1.0,4.0,4.5,0\n").unwrap();
-    let out_path = tmp("neg.json");
-    ok(&nvector(&[
+    let out_path = temp_file("neg.json");
+    succeeded(&run(&[
         "import",
         "--model",
         "unicycle2d",
@@ -161,13 +138,13 @@ fn import_takes_a_list_starting_with_a_negative_number() {
         "--out",
         out_path.to_str().unwrap(),
     ]));
-    let m = read(&out_path);
+    let m = read_json(&out_path);
     assert_eq!(
         m["initial_position"],
         serde_json::json!([[-0.1, 0.2], [-0.3, 0.4]])
     );
     // A bad list is still refused with its name.
-    let out = nvector(&[
+    let out = run(&[
         "import",
         "--model",
         "unicycle2d",
@@ -190,16 +167,16 @@ fn import_takes_a_list_starting_with_a_negative_number() {
 fn plot_warns_when_the_result_is_not_of_the_mission() {
     let a = simulate("plot-a.json", "200", "4");
     let b = simulate("plot-b.json", "300", "5");
-    let r = tmp("plot-a-result.json");
-    ok(&nvector(&[
+    let r = temp_file("plot-a-result.json");
+    succeeded(&run(&[
         "run",
         a.to_str().unwrap(),
         "--out",
         r.to_str().unwrap(),
     ]));
-    let fig = tmp("plot.svg");
+    let fig = temp_file("plot.svg");
     let plot = |mission: &Path| {
-        nvector(&[
+        run(&[
             "plot",
             r.to_str().unwrap(),
             "--mission",
@@ -208,9 +185,9 @@ fn plot_warns_when_the_result_is_not_of_the_mission() {
             fig.to_str().unwrap(),
         ])
     };
-    let err = ok(&plot(&a));
+    let err = succeeded(&plot(&a));
     assert!(!err.contains("warning"), "{err}");
-    let err = ok(&plot(&b));
+    let err = succeeded(&plot(&b));
     assert!(err.contains("warning"), "{err}");
     assert!(err.contains("does not look computed from"), "{err}");
     assert!(

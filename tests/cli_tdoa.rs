@@ -11,15 +11,10 @@
 //! altitude cut's range, and the truth is in the emitter region.
 
 use nvector_tests::nvector;
+use nvector_tests::{read_json, temp_file};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nvector-tdoa-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn locards_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/locards-mlat");
@@ -37,10 +32,6 @@ fn run(args: &[&str]) -> (i32, String) {
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
-}
-
-fn read(p: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
 
 fn num(v: &Value) -> f64 {
@@ -187,7 +178,7 @@ fn locards_truth_satisfies_every_constraint() {
     let dir = locards_dir();
     let mut total = 0;
     for set in 1..=4u32 {
-        let out = tmp(&format!("locards-{set}.json"));
+        let out = temp_file(&format!("locards-{set}.json"));
         let (code, err) = run(&[
             "import",
             "--locards-mlat",
@@ -198,14 +189,14 @@ fn locards_truth_satisfies_every_constraint() {
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{err}");
-        total += check_set(&dir, set, &read(&out));
+        total += check_set(&dir, set, &read_json(&out));
     }
     assert_eq!(total, 1147, "every message of sets 1-4");
 }
 
 fn radar(extra: &[&str], name: &str) -> Value {
-    let m = tmp(&format!("{name}.json"));
-    let r = tmp(&format!("{name}-result.json"));
+    let m = temp_file(&format!("{name}.json"));
+    let r = temp_file(&format!("{name}-result.json"));
     let mut args = vec![
         "simulate",
         "--scenario",
@@ -227,7 +218,7 @@ fn radar(extra: &[&str], name: &str) -> Value {
         "48",
     ]);
     assert_eq!(code, 0, "{err}");
-    read(&r)
+    read_json(&r)
 }
 
 #[test]
@@ -254,7 +245,7 @@ fn radar_truth_inside_and_no_matching_error() {
 
 #[test]
 fn bad_problem_names_the_path_and_exits_1() {
-    let m = tmp("bad.json");
+    let m = temp_file("bad.json");
     std::fs::write(&m, r#"{"format": "nvector-tdoa/1", "propagation_speed": [1, 2], "receivers": [], "pulses": [{"arrivals": [{"receiver": 0, "time": [0, 1]}]}]}"#).unwrap();
     let (code, err) = run(&["tdoa", m.to_str().unwrap()]);
     assert_eq!(code, 1);

@@ -7,6 +7,7 @@
 //! pose, every range and bearing from the offset laser, the minimum
 //! separation of the tubes, and distinct tubes within a scan.
 
+use nvector_tests::temp_file;
 use serde_json::Value;
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
@@ -23,12 +24,6 @@ fn woods_dir() -> PathBuf {
     dir
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nvector-woods-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
 /// Rows of numbers of a CSV with a header.
 fn csv(name: &str) -> Vec<Vec<f64>> {
     let text = std::fs::read_to_string(woods_dir().join(name)).unwrap();
@@ -40,7 +35,11 @@ fn csv(name: &str) -> Vec<Vec<f64>> {
 }
 
 fn import(operator: bool) -> Value {
-    let out = tmp(&format!("woods-{operator}.json"));
+    let out = temp_file(if operator {
+        "woods-operator-ids.json"
+    } else {
+        "woods-hidden-ids.json"
+    });
     let dir = woods_dir();
     let mut args = vec![
         "import",
@@ -327,7 +326,7 @@ fn woods_truth_satisfies_the_mission_with_operator_ids() {
 
 #[test]
 fn woods_import_names_a_missing_file() {
-    let dir = tmp("empty-woods");
+    let dir = temp_file("empty-woods");
     std::fs::create_dir_all(&dir).unwrap();
     let o = nvector_tests::nvector()
         .args(["import", "--utias-woods", dir.to_str().unwrap()])
@@ -341,7 +340,7 @@ fn woods_import_names_a_missing_file() {
 #[test]
 fn simulate_woods_through_the_cli() {
     let run = |operator: bool, name: &str| {
-        let out = tmp(name);
+        let out = temp_file(name);
         let mut args = vec![
             "simulate",
             "--scenario",
@@ -394,7 +393,7 @@ fn simulate_woods_through_the_cli() {
 
 #[test]
 fn woods_import_plants_false_ranges() {
-    let out = tmp("woods-false.json");
+    let out = temp_file("woods-false-detections.json");
     let dir = woods_dir();
     let o = nvector_tests::nvector()
         .args([

@@ -119,6 +119,31 @@ macro_rules! on_both_storages {
     };
 }
 
+/// A fresh path named `name` in a new temporary directory: two calls never
+/// share a file, so tests running in parallel cannot overwrite each
+/// other's outputs.
+pub fn temp_file(name: &str) -> PathBuf {
+    temp_dir("file").join(name)
+}
+
+/// Runs the `nvector` binary with `args` to completion.
+pub fn run(args: &[&str]) -> std::process::Output {
+    nvector().args(args).output().expect("run nvector")
+}
+
+/// Asserts that a run succeeded and returns its standard error.
+pub fn succeeded(out: &std::process::Output) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(out.status.success(), "{err}");
+    err
+}
+
+/// The JSON document in the file at `p`.
+pub fn read_json(p: &Path) -> Value {
+    let text = std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
 /// A new temporary directory.
 pub fn temp_dir(what: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
