@@ -309,6 +309,37 @@ fn the_page_in_headless_chromium() {
         .collect();
     assert!(icons[0].starts_with("200 image/"), "{icons:?}");
     assert!(icons[1].starts_with("200 image/svg+xml"), "{icons:?}");
+    // The API reference renders: Redoc, served by the service itself, draws
+    // the OpenAPI document's title and its operations. Its policy lets the
+    // browser fetch nothing from another origin (Redoc's bundle asks a CDN
+    // for its maker's logo: refused, and Redoc drops the image).
+    d.goto(&format!("{base}/api/docs"));
+    let title = d.wait(
+        "const h = document.querySelector('h1'); return h && h.textContent.includes('nvector') && h.textContent",
+        Duration::from_secs(30),
+    );
+    assert!(title.as_str().unwrap().starts_with("nvector"), "{title}");
+    let api = d.js_async(
+        "const done = arguments[arguments.length - 1]; \
+         const text = document.body.innerText; \
+         const foreign = [...document.querySelectorAll('img, script, link')].map((e) => e.src || e.href || '').filter((u) => u && !u.startsWith(location.origin)); \
+         fetch(location.href).then((r) => done([text.includes('/api/v1/jobs'), text.includes('nvector-mission/1'), foreign, r.headers.get('content-security-policy')]), (e) => done(String(e)));",
+    );
+    assert_eq!(api[0], true, "the jobs endpoint is drawn: {api}");
+    assert_eq!(api[1], true, "the mission schema is drawn: {api}");
+    assert_eq!(
+        api[2],
+        json!([]),
+        "nothing from another origin in the page: {api}"
+    );
+    assert!(
+        api[3]
+            .as_str()
+            .unwrap_or("")
+            .starts_with("default-src 'self';"),
+        "the page's policy keeps it to its origin: {api}"
+    );
+    d.screenshot("api-docs");
     // Redraw time with 200 boxes (measured in the page): the median of 7
     // batch means of 20 contractions.
     let ms = d.js(

@@ -1,4 +1,4 @@
-//! The REST API of spec/api.md over a real socket, against the real binary
+//! The REST API of docs/api.md over a real socket, against the real binary
 //! on a real SQLite file and on a real PostgreSQL server (the same
 //! scenarios on both).
 

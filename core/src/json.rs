@@ -1,5 +1,5 @@
 //! Reading and writing the numbers, intervals and boxes of the JSON formats
-//! (spec/formats.md), with the JSON path of every bad value in errors.
+//! (docs/formats.md), with the JSON path of every bad value in errors.
 
 use crate::error::InputError;
 use crate::ibox::IntervalBox;

@@ -75,7 +75,7 @@ proptest! {
     }
 }
 
-/// `shapes` in a plain contraction request is `best` (spec/formats.md).
+/// `shapes` in a plain contraction request is `best` (docs/formats.md).
 #[test]
 fn shapes_is_best_on_plain_boxes() {
     use nvector_core::nvector::atmost_nvector;

@@ -4,7 +4,7 @@ JSON Schema cannot say every rule of the spec's formats: an interval's
 bounds in order, one dimension for every box, per-step arrays of `steps`
 entries, and so on. The OpenAPI document lists those rules in the
 descriptions of the schemas they constrain; this module implements them a
-second time, in Python, from spec/formats.md (not from the Rust code), and
+second time, in Python, from docs/formats.md (not from the Rust code), and
 the check `rules_oracle` holds the service to them for every request the
 fuzzer generates as schema-valid on POST /api/v1/missions and
 POST /api/v1/contract:
@@ -108,7 +108,7 @@ def channel(v, path, steps):
 
 def mission_rules(m):
     """Raises Broken when a schema-valid mission breaks a rule of
-    spec/formats.md that the schema cannot state."""
+    docs/formats.md that the schema cannot state."""
     model = m["model"]
     dim = DIMENSIONS[model]
     steps = m["steps"]

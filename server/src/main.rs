@@ -1,4 +1,4 @@
-//! The `nvector` command-line tool and HTTP service (spec/formats.md,
+//! The `nvector` command-line tool and HTTP service (docs/formats.md,
 //! "Command-line contract"). Exit status: 0 success, 1 bad input, 2 usage.
 
 mod cli;

@@ -1,5 +1,5 @@
 //! Browser facade over nvector-core: one handle type whose methods take and
-//! return the JSON formats of spec/formats.md as strings. Core errors become
+//! return the JSON formats of docs/formats.md as strings. Core errors become
 //! JavaScript errors naming the JSON path; a panic is reported on the
 //! console.
 

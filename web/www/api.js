@@ -1,4 +1,4 @@
-// REST helpers for /api/v1 (spec/api.md). Each returns parsed JSON or
+// REST helpers for /api/v1 (docs/api.md). Each returns parsed JSON or
 // throws an Error whose message is the service's error message and path.
 
 /** @param {Response} r */

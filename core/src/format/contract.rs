@@ -1,4 +1,4 @@
-//! `nvector-contract/1` as JSON (spec/formats.md, "nvector contraction
+//! `nvector-contract/1` as JSON (docs/formats.md, "nvector contraction
 //! request / response"): the request's fields. Validated into
 //! `nvector::contract::ContractRequest` (which checks the format tag, n,
 //! the boxes' common dimension and the contractor's name).

@@ -1,4 +1,4 @@
-//! The leaf values of the formats (spec/formats.md, "Numbers, intervals,
+//! The leaf values of the formats (docs/formats.md, "Numbers, intervals,
 //! boxes"): finite numbers, non-negative integers, bounds, intervals,
 //! boxes, per-step numbers and arrays of points, each read straight from
 //! the JSON (the large arrays of a 10^6-step mission never become JSON

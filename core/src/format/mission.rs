@@ -1,4 +1,4 @@
-//! `nvector-mission/1` as JSON (spec/formats.md, "Mission"): what each field
+//! `nvector-mission/1` as JSON (docs/formats.md, "Mission"): what each field
 //! looks like. Every field is optional here so that the validation
 //! (`slam::mission::Mission::from_doc`) can name a missing one by its path;
 //! `null` is absence for an optional field and refused for a required one

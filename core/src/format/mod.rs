@@ -1,4 +1,4 @@
-//! The JSON formats of spec/formats.md, defined once as serde types (this
+//! The JSON formats of docs/formats.md, defined once as serde types (this
 //! module, below every other one of core: it imports only the numbers,
 //! intervals and the error type), and the one way to read them: with the
 //! JSON path of the bad value in every error ([`from_str`],

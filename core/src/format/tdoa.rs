@@ -1,4 +1,4 @@
-//! `nvector-tdoa/1` as JSON (spec/formats.md, "TDOA passive location"):
+//! `nvector-tdoa/1` as JSON (docs/formats.md, "TDOA passive location"):
 //! what each field looks like. As for missions every field is optional
 //! here so that the validation (`tdoa::problem::TdoaProblem::from_doc`)
 //! names a missing one by its path; unknown fields are refused, naming the

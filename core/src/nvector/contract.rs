@@ -1,5 +1,5 @@
 //! The `nvector-contract/1` request and `nvector-contract-result/1`
-//! response of spec/formats.md, shared by `nvector contract`,
+//! response of docs/formats.md, shared by `nvector contract`,
 //! `POST /api/v1/contract` and the browser.
 
 pub use super::error::ContractError;

@@ -742,7 +742,7 @@ mod tests {
 
     #[test]
     fn spec_example() {
-        // The contract example of spec/formats.md.
+        // The contract example of docs/formats.md.
         for mode in [
             Contractor::Nvalue,
             Contractor::Projection,

@@ -53,7 +53,7 @@
 //! # Soundness
 //!
 //! Each step above is a consequence of the semantics of `max_outliers`
-//! (spec/formats.md) and of enclosures computed soundly; the comparisons
+//! (docs/formats.md) and of enclosures computed soundly; the comparisons
 //! are exact (no rounding: the bounds are compared, not computed).
 //!
 //! # Complexity

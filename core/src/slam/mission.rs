@@ -1,4 +1,4 @@
-//! `nvector-mission/1`: parsing and validation (spec/formats.md,
+//! `nvector-mission/1`: parsing and validation (docs/formats.md,
 //! "Mission"). Every invalid input gets an [`InputError`] naming the JSON
 //! path of the bad value.
 
@@ -25,7 +25,7 @@ pub enum Model {
     /// 3-D AUV: inputs roll, pitch, yaw, vx, vy, vz (body frame).
     Auv3d,
     /// Planar robot whose heading is integrated from its odometry: inputs
-    /// speed, turn_rate; the heading is a state (spec/formats.md).
+    /// speed, turn_rate; the heading is a state (docs/formats.md).
     Odometry2d,
 }
 
@@ -1265,7 +1265,7 @@ mod tests {
         })
     }
 
-    /// The fields of spec/formats.md for robots without a heading sensor
+    /// The fields of docs/formats.md for robots without a heading sensor
     /// (issue 20): parsed into the mission, written back, and accepted by
     /// `unsupported` (the solver handles them).
     #[test]

@@ -1,5 +1,5 @@
 //! `nvector-result/1`: the boxes, matching, metrics and score of a solved
-//! mission (spec/formats.md, "Result").
+//! mission (docs/formats.md, "Result").
 
 use super::mission::Mission;
 use super::outliers::relaxed_intersection;

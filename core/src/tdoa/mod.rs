@@ -1,4 +1,4 @@
-//! TDOA passive location (spec/formats.md, "TDOA passive location"; the
+//! TDOA passive location (docs/formats.md, "TDOA passive location"; the
 //! paper's second application): receivers at uncertain places time-stamp
 //! pulses from emitters at unknown places; atmost_nvector over the pulses'
 //! positions deinterleaves them (docs/tdoa.md).

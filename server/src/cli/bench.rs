@@ -1,5 +1,5 @@
 //! `nvector bench`: the performance table of BENCHMARKS.md, one JSON line
-//! per measure (spec/formats.md, "Benchmark lines"). Each measure is the
+//! per measure (docs/formats.md, "Benchmark lines"). Each measure is the
 //! median of repeated runs; a baseline, when given, is timed in alternation
 //! with the measure in the same run, and the ratio is the median of the
 //! per-pair ratios, so that it depends neither on the machine nor on its

@@ -1,5 +1,5 @@
 //! `nvector contract`: one atmost_nvector contraction, request JSON on
-//! stdin, response JSON on stdout (spec/formats.md).
+//! stdin, response JSON on stdout (docs/formats.md).
 
 use crate::CliError;
 use nvector_core::nvector::contract::contract_json_with;

@@ -1,6 +1,6 @@
 //! `nvector import`: a mission from sensor logs.
 //!
-//! Generic CSV (spec/formats.md): a log with a header row and one row per
+//! Generic CSV (docs/formats.md): a log with a header row and one row per
 //! step (`t` and the model's channels), detections in a second CSV
 //! (`t,range_lo,range_hi[,landmark]`), error bounds on the command line;
 //! times are matched to steps by `round((t - t0) / dt)`.

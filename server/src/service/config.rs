@@ -1,5 +1,5 @@
 //! Configuration of the service: the flags of `nvector serve` and their
-//! defaults (spec/api.md, "Limits"), and the sizes they are written in.
+//! defaults (docs/api.md, "Limits"), and the sizes they are written in.
 
 use std::collections::HashSet;
 

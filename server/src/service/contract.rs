@@ -19,7 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-/// One atmost_nvector contraction (spec/formats.md), synchronous.
+/// One atmost_nvector contraction (docs/formats.md), synchronous.
 #[utoipa::path(
     post,
     path = "/contract",

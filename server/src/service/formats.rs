@@ -1,4 +1,4 @@
-//! The JSON formats of spec/formats.md as Rust types, for the OpenAPI
+//! The JSON formats of docs/formats.md as Rust types, for the OpenAPI
 //! document (`openapi.rs`): the mission, the contraction request and
 //! response, the SLAM result and the error body, field by field with their
 //! types, bounds, required-ness and `additionalProperties: false` where the
@@ -262,7 +262,7 @@ leaf!(
         ))
 );
 
-/// The error body of every 4xx and 5xx answer (spec/api.md).
+/// The error body of every 4xx and 5xx answer (docs/api.md).
 #[derive(serde::Serialize, ToSchema)]
 #[schema(example = json!({"error": {"code": "invalid_mission", "message": "lower bound 5 is above upper bound 4", "path": "detections[3].range"}}))]
 pub struct ErrorBody {

@@ -274,7 +274,7 @@ impl From<&JobRow> for Job {
             created_ms: j.created,
             started_ms: j.started,
             finished_ms: j.finished,
-            // spec/api.md: the error says why in a word a client can test,
+            // docs/api.md: the error says why in a word a client can test,
             // then the message (`error_code` holds the word alone).
             error: j.error.as_ref().map(|e| match &j.error_code {
                 Some(c) if !e.starts_with(c.as_str()) => format!("{c}: {e}"),

@@ -192,7 +192,7 @@ pub(super) async fn store_mission(
     operation_id = "createMission",
     tag = "missions",
     request_body(
-        description = "The mission (spec/formats.md), as JSON or as the `file` field of a form",
+        description = "The mission (docs/formats.md), as JSON or as the `file` field of a form",
         content(
             (formats::Mission = "application/json"),
             (MissionUpload = "multipart/form-data")

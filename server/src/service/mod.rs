@@ -1,4 +1,4 @@
-//! The HTTP service of spec/api.md: missions, jobs, contraction and
+//! The HTTP service of docs/api.md: missions, jobs, contraction and
 //! simulation over REST, progress as Server-Sent Events, the page served at
 //! `/`. `app(state)` builds the router; `serve(config)` runs it.
 //!

@@ -25,7 +25,7 @@ use utoipa::OpenApi;
     info(
         title = "nvector",
         description = "Guaranteed interval SLAM with the nvector global constraint \
-            (spec/api.md; bodies in the formats of spec/formats.md). Errors are \
+            (docs/api.md; bodies in the formats of docs/formats.md). Errors are \
             `{\"error\": {\"code\", \"message\", \"path\"}}`, 4xx for the caller's faults. \
             An optional field may be absent or null; null means absent. Rules that JSON \
             Schema cannot state (bounds in order, one dimension, per-step arrays of \
