@@ -30,7 +30,9 @@ use serde_json::json;
 
 mod common;
 use common::planted::bearing_enclosure;
+use common::world::{random_world, Planted, World};
 use common::Rng;
+use nvector_core::slam::simulate::Layout;
 
 /// An interval holding the exact float `x` (a true position, landmark or
 /// heading), `below` and `above` it: no margin, the truth is at a bound
@@ -51,65 +53,14 @@ fn points(x: &[f64]) -> Vec<Interval> {
     x.iter().map(|&c| Interval::point(c)).collect()
 }
 
-/// A planted instance: the domains, the mission (detections) and the truth.
-struct Planted {
-    dim: usize,
-    mission: Mission,
-    pos: Vec<Interval>,
-    disp: Vec<Interval>,
-    det: Vec<IntervalBox>,
-    heading_at: Vec<Interval>,
-    truth_pos: Vec<Vec<f64>>,
-    landmarks: Vec<Vec<f64>>,
-    matching: Vec<usize>,
-}
-
-#[derive(Debug, Clone, Copy)]
-enum Layout {
-    Line,
-    Ring,
-    Random,
-}
-
 fn planted(seed: u64, dim: usize, layout: Layout, bearings: bool) -> Planted {
     let mut rng = Rng::new(seed);
-    let n = 1 + rng.below(5);
-    let spread = rng.range(5.0, 40.0);
-    let landmarks: Vec<Vec<f64>> = (0..n)
-        .map(|i| {
-            let mut l = match layout {
-                Layout::Line => vec![
-                    spread * (i as f64 - n as f64 / 2.0) / n as f64 * 2.0,
-                    if i % 2 == 0 { 5.0 } else { -5.0 } + rng.range(-1.0, 1.0),
-                ],
-                Layout::Ring => {
-                    let a = i as f64 / n as f64 * std::f64::consts::TAU + rng.range(-0.3, 0.3);
-                    vec![spread * libm::cos(a), spread * libm::sin(a)]
-                }
-                Layout::Random => vec![rng.range(-spread, spread), rng.range(-spread, spread)],
-            };
-            if dim == 3 {
-                l.push(rng.range(-20.0, -5.0));
-            }
-            l
-        })
-        .collect();
-    // A random walk: steps up to 2 m, the heading turning slowly.
-    let steps = 20 + rng.below(150);
-    let mut truth_pos = vec![vec![0.0; dim]];
-    let mut headings = Vec::with_capacity(steps);
-    let mut h = rng.range(-3.0, 3.0);
-    for _ in 0..steps {
-        h += rng.range(-0.4, 0.4);
-        let v = rng.range(0.0, 2.0);
-        let last = truth_pos.last().expect("one").clone();
-        let mut p = vec![last[0] + v * libm::cos(h), last[1] + v * libm::sin(h)];
-        if dim == 3 {
-            p.push(last[2] + rng.range(-0.2, 0.2));
-        }
-        truth_pos.push(p);
-        headings.push(h);
-    }
+    let World {
+        landmarks,
+        truth_pos,
+        headings,
+    } = random_world(&mut rng, dim, layout, 150);
+    let (n, steps) = (landmarks.len(), headings.len());
     let odo = rng.range(0.0, 0.3);
     let mut disp = Vec::with_capacity(steps * dim);
     for i in 0..steps {

@@ -45,6 +45,7 @@ use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;
 
 mod common;
+use common::world::{random_world, Planted, World};
 use common::Rng;
 
 /// The base seed: fixed, so that a run is reproducible and a bug is caught
@@ -705,60 +706,13 @@ fn registration_keeps_the_truth_with_wild_boxes() {
 
 // ----- the shapes engine (shapes/round.rs, relative.rs, frames.rs) ---------
 
-/// A planted instance of the shapes round: a random walk among n
-/// landmarks with some displacement boxes unbounded, half-unbounded or
-/// overflowing, detection ranges enclosing the true distance (the
-/// project's interval distance of the true points, widened or not), some
-/// of them unbounded, bearings when asked.
-struct Planted {
-    dim: usize,
-    mission: Mission,
-    pos: Vec<Interval>,
-    disp: Vec<Interval>,
-    det: Vec<IntervalBox>,
-    heading_at: Vec<Interval>,
-    truth_pos: Vec<Vec<f64>>,
-    landmarks: Vec<Vec<f64>>,
-    matching: Vec<usize>,
-}
-
 fn planted(rng: &mut Rng, dim: usize, layout: Layout, bearings: bool) -> Planted {
-    let n = 1 + rng.below(5);
-    let spread = rng.range(5.0, 40.0);
-    let landmarks: Vec<Vec<f64>> = (0..n)
-        .map(|i| {
-            let mut l = match layout {
-                Layout::Line => vec![
-                    spread * (i as f64 - n as f64 / 2.0) / n as f64 * 2.0,
-                    if i % 2 == 0 { 5.0 } else { -5.0 } + rng.range(-1.0, 1.0),
-                ],
-                Layout::Ring => {
-                    let a = i as f64 / n as f64 * std::f64::consts::TAU + rng.range(-0.3, 0.3);
-                    vec![spread * libm::cos(a), spread * libm::sin(a)]
-                }
-                Layout::Random => vec![rng.range(-spread, spread), rng.range(-spread, spread)],
-            };
-            if dim == 3 {
-                l.push(rng.range(-20.0, -5.0));
-            }
-            l
-        })
-        .collect();
-    let steps = 20 + rng.below(120);
-    let mut truth_pos = vec![vec![0.0; dim]];
-    let mut headings = Vec::with_capacity(steps);
-    let mut h = rng.range(-3.0, 3.0);
-    for _ in 0..steps {
-        h += rng.range(-0.4, 0.4);
-        let v = rng.range(0.0, 2.0);
-        let last = truth_pos.last().expect("one").clone();
-        let mut p = vec![last[0] + v * libm::cos(h), last[1] + v * libm::sin(h)];
-        if dim == 3 {
-            p.push(last[2] + rng.range(-0.2, 0.2));
-        }
-        truth_pos.push(p);
-        headings.push(h);
-    }
+    let World {
+        landmarks,
+        truth_pos,
+        headings,
+    } = random_world(rng, dim, layout, 120);
+    let (n, steps) = (landmarks.len(), headings.len());
     // Displacement boxes: the exact difference enclosed, widened by the
     // odometry error; a few unbounded or overflowing ones.
     let odo = rng.range(0.0, 0.3);

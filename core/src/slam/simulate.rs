@@ -157,6 +157,17 @@ impl Rng {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 
+    /// A generator whose state is `state` itself (no seed mixing): the
+    /// benchmark instances of `nvector bench` are drawn from it.
+    pub fn from_state(state: u64) -> Rng {
+        Rng(state)
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
     /// Uniform in [-a, a).
     pub fn sym(&mut self, a: f64) -> f64 {
         a * (2.0 * self.unit() - 1.0)

@@ -7,6 +7,7 @@
 #![allow(dead_code)]
 
 pub mod planted;
+pub mod world;
 
 use num_rational::BigRational;
 use nvector_core::Interval;

@@ -8,39 +8,10 @@
 use crate::CliError;
 use nvector_core::nvector::nvalue::{atmost_nvalue, NValueScratch};
 use nvector_core::nvector::{atmost_nvector, Contractor};
+use nvector_core::slam::simulate::Rng;
 use nvector_core::{Interval, IntervalBox};
 use serde_json::{json, Value};
 use std::time::Instant;
-
-/// A small deterministic generator (splitmix64) so that instances are the
-/// same on every run.
-pub struct Rng(u64);
-
-impl Rng {
-    /// A generator from a seed.
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed)
-    }
-
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
 
 /// Median wall time in milliseconds of `runs` calls of `f`, each after a
 /// fresh `setup` (not timed; nor is dropping what `f` returns).
@@ -288,7 +259,7 @@ fn nvalue_1e6(b: &mut Bench, runs: usize) {
     };
     let k = if b.quick { 100_000 } else { 1_000_000 };
     // Each measure draws from its own stream: `--only` sees the same data.
-    let mut rng = Rng::new(2009);
+    let mut rng = Rng::from_state(2009);
     let data = sort_data(&mut rng, k);
     let domains = clustered_intervals(&mut rng, k, 1000);
     let mut scratch = NValueScratch::default();
@@ -309,7 +280,7 @@ fn nvector_projection_1e5_3d(b: &mut Bench, runs: usize) {
     };
     let k = if b.quick { 10_000 } else { 100_000 };
     // Each measure draws from its own stream: `--only` sees the same data.
-    let mut rng = Rng::new(2009);
+    let mut rng = Rng::from_state(2009);
     let data = sort_data(&mut rng, k);
     let boxes = clustered_boxes(&mut rng, k, 100, 3, 4.0);
     let (base, ms, ratio) = paired_ms(
@@ -329,7 +300,7 @@ fn nvector_independent_1e4_2d(b: &mut Bench, runs: usize) {
     };
     let k = if b.quick { 1_000 } else { 10_000 };
     // Each measure draws from its own stream: `--only` sees the same data.
-    let mut rng = Rng::new(2009);
+    let mut rng = Rng::from_state(2009);
     let boxes = clustered_boxes(&mut rng, k, 50, 2, 4.0);
     let ms = median_ms(
         runs,
@@ -349,7 +320,7 @@ fn exact_max_k_1s(b: &mut Bench) {
     let limit_ms = if b.quick { 100.0 } else { 1000.0 };
     let mut best = 0usize;
     let mut best_ms = 0.0;
-    let mut rng = Rng::new(2009);
+    let mut rng = Rng::from_state(2009);
     for k in (4..=40).step_by(4) {
         let boxes = clustered_boxes(&mut rng, k, 4, 2, 6.0);
         let ms = median_ms(
