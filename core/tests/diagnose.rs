@@ -79,16 +79,7 @@ fn a_range_off_its_bounds_is_named() {
 
 #[test]
 fn two_wrong_labels_give_a_minimal_set() {
-    let mut o = SimulateOptions::new(Scenario::Paper, 13);
-    o.steps = Some(4000);
-    o.operator = true;
-    let mut v = simulate(&o);
-    let truth: Vec<u64> = v["truth"]["matching"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_u64().unwrap())
-        .collect();
+    let (mut v, truth) = common::operator_paper(13, 4000);
     let k = truth.len();
     for j in [k / 3, 2 * k / 3] {
         let wrong = (truth[j] + 1) % 4;

@@ -23,6 +23,8 @@ use proptest::test_runner::RngSeed;
 use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;
 
+mod common;
+
 fn cases() -> u32 {
     std::env::var("NVECTOR_PROPTEST_CASES")
         .ok()
@@ -558,16 +560,7 @@ fn issue_19_a_wrong_label_with_q_1_is_not_matched() {
 /// are not.
 #[test]
 fn a_label_pair_with_disjoint_boxes_uses_up_q() {
-    let mut o = SimulateOptions::new(Scenario::Paper, 3);
-    o.steps = Some(3000);
-    o.operator = true;
-    let mut v = simulate(&o);
-    let truth: Vec<u64> = v["truth"]["matching"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_u64().unwrap())
-        .collect();
+    let (mut v, truth) = common::operator_paper(3, 3000);
     // Landmark 0 keeps one label (a); a detection of landmark 1 (b) is
     // labelled 0.
     let a = truth.iter().position(|&l| l == 0).unwrap();

@@ -90,16 +90,7 @@ fn same_input_same_bits() {
 #[test]
 fn wrong_operator_matching_is_infeasible() {
     // Tie two detections of different landmarks (far apart) to one landmark.
-    let mut o = SimulateOptions::new(Scenario::Paper, 13);
-    o.steps = Some(4000);
-    o.operator = true;
-    let mut v = simulate(&o);
-    let truth: Vec<u64> = v["truth"]["matching"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_u64().unwrap())
-        .collect();
+    let (mut v, truth) = common::operator_paper(13, 4000);
     let j = truth
         .iter()
         .position(|&l| l != truth[0])

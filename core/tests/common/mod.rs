@@ -185,3 +185,20 @@ pub fn taylor(x: &BigRational, cosine: bool) -> (BigRational, BigRational) {
         term = next;
     }
 }
+
+/// The paper scenario (seed, steps) with the operator's labels, as JSON,
+/// and its true matching (the landmark of each detection).
+pub fn operator_paper(seed: u64, steps: usize) -> (serde_json::Value, Vec<u64>) {
+    use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
+    let mut o = SimulateOptions::new(Scenario::Paper, seed);
+    o.steps = Some(steps);
+    o.operator = true;
+    let v = simulate(&o);
+    let truth = v["truth"]["matching"]
+        .as_array()
+        .expect("the simulation's truth has a matching")
+        .iter()
+        .map(|x| x.as_u64().expect("a landmark index"))
+        .collect();
+    (v, truth)
+}
