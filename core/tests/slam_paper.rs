@@ -2,28 +2,13 @@
 //! association mode; the truth stays inside every box and no two
 //! detections of different landmarks are grouped.
 
-use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
-use nvector_core::slam::solve::solve;
-use nvector_core::slam::types::{Association, SolveOptions};
-use std::sync::atomic::AtomicBool;
+use nvector_core::slam::types::Association;
 
-fn run(mission: &Mission, association: Association) -> serde_json::Value {
-    let options = SolveOptions {
-        association,
-        ..SolveOptions::default()
-    };
-    solve(mission, &options, &mut |_| {}, &AtomicBool::new(false))
-}
+mod common;
 
-const MODES: [Association; 5] = [
-    Association::None,
-    Association::NVector(Contractor::Nvalue),
-    Association::NVector(Contractor::Projection),
-    Association::NVector(Contractor::Independent),
-    Association::NVector(Contractor::Best),
-];
+use common::{solve_json, ASSOCIATIONS};
 
 #[test]
 fn paper_scenario_truth_inside_and_no_matching_error() {
@@ -31,8 +16,8 @@ fn paper_scenario_truth_inside_and_no_matching_error() {
         let mut o = SimulateOptions::new(Scenario::Paper, seed);
         o.steps = None;
         let mission = Mission::from_value(&simulate(&o)).expect("simulated missions are valid");
-        for assoc in MODES {
-            let r = run(&mission, assoc);
+        for assoc in ASSOCIATIONS {
+            let r = solve_json(&mission, assoc);
             assert_eq!(
                 r["status"], "consistent",
                 "seed {seed} {assoc:?}: {}",
@@ -59,7 +44,7 @@ fn operator_matching_run() {
     o.steps = Some(3000);
     o.operator = true;
     let mission = Mission::from_value(&simulate(&o)).unwrap();
-    let r = run(&mission, Association::None);
+    let r = solve_json(&mission, Association::None);
     assert_eq!(r["score"]["truth_inside"], true);
     assert_eq!(r["score"]["matching_errors"], 0);
     // With the operator's matching, exactly the detections of landmarks

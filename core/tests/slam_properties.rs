@@ -6,27 +6,10 @@
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
-use nvector_core::slam::solve::solve;
-use nvector_core::slam::types::{Association, SolveOptions};
+use nvector_core::slam::types::Association;
 use proptest::prelude::*;
-use serde_json::Value;
-use std::sync::atomic::AtomicBool;
 
-fn run(mission: &Mission, association: Association) -> Value {
-    let options = SolveOptions {
-        association,
-        ..SolveOptions::default()
-    };
-    solve(mission, &options, &mut |_| {}, &AtomicBool::new(false))
-}
-
-const MODES: [Association; 5] = [
-    Association::None,
-    Association::NVector(Contractor::Nvalue),
-    Association::NVector(Contractor::Projection),
-    Association::NVector(Contractor::Independent),
-    Association::NVector(Contractor::Best),
-];
+use common::{solve_json, ASSOCIATIONS};
 
 mod common;
 
@@ -41,8 +24,8 @@ proptest! {
         o.noise = noise;
         o.operator = operator;
         let mission = Mission::from_value(&simulate(&o)).expect("valid");
-        for assoc in MODES {
-            let r = run(&mission, assoc);
+        for assoc in ASSOCIATIONS {
+            let r = solve_json(&mission, assoc);
             prop_assert_eq!(&r["status"], "consistent", "seed {} {:?}: {}", seed, assoc, r["reason"]);
             prop_assert_eq!(&r["score"]["truth_inside"], true, "seed {} {:?}", seed, assoc);
             prop_assert_eq!(&r["score"]["matching_errors"], 0, "seed {} {:?}", seed, assoc);
@@ -57,11 +40,11 @@ fn the_truth_is_never_read() {
     let with = simulate(&o);
     let mut without = with.clone();
     without.as_object_mut().unwrap().remove("truth");
-    let a = run(
+    let a = solve_json(
         &Mission::from_value(&with).unwrap(),
         Association::NVector(Contractor::Best),
     );
-    let b = run(
+    let b = solve_json(
         &Mission::from_value(&without).unwrap(),
         Association::NVector(Contractor::Best),
     );
@@ -82,8 +65,8 @@ fn same_input_same_bits() {
     let mut o = SimulateOptions::new(Scenario::Paper, 12);
     o.steps = Some(3000);
     let m = Mission::from_value(&simulate(&o)).unwrap();
-    let a = run(&m, Association::NVector(Contractor::Independent)).to_string();
-    let b = run(&m, Association::NVector(Contractor::Independent)).to_string();
+    let a = solve_json(&m, Association::NVector(Contractor::Independent)).to_string();
+    let b = solve_json(&m, Association::NVector(Contractor::Independent)).to_string();
     assert_eq!(a, b);
 }
 
@@ -96,7 +79,7 @@ fn wrong_operator_matching_is_infeasible() {
         .position(|&l| l != truth[0])
         .expect("two landmarks detected");
     v["detections"][j]["landmark"] = v["detections"][0]["landmark"].clone();
-    let r = run(&Mission::from_value(&v).unwrap(), Association::None);
+    let r = solve_json(&Mission::from_value(&v).unwrap(), Association::None);
     assert_eq!(r["status"], "infeasible");
     let reason = r["reason"].as_str().unwrap();
     assert!(
@@ -114,7 +97,7 @@ fn auv_survey_keeps_the_truth() {
     let m = Mission::from_value(&simulate(&o)).unwrap();
     assert!(!m.detections.is_empty());
     for assoc in [Association::None, Association::NVector(Contractor::Best)] {
-        let r = run(&m, assoc);
+        let r = solve_json(&m, assoc);
         assert_eq!(r["status"], "consistent", "{assoc:?}: {}", r["reason"]);
         assert_eq!(r["score"]["truth_inside"], true, "{assoc:?}");
         assert_eq!(r["score"]["matching_errors"], 0, "{assoc:?}");

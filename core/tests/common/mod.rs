@@ -202,3 +202,35 @@ pub fn operator_paper(seed: u64, steps: usize) -> (serde_json::Value, Vec<u64>) 
         .collect();
     (v, truth)
 }
+
+/// The basic propagation and the four nvector contractors of the paper's
+/// comparison.
+pub const ASSOCIATIONS: [nvector_core::slam::types::Association; 5] = {
+    use nvector_core::nvector::Contractor;
+    use nvector_core::slam::types::Association;
+    [
+        Association::None,
+        Association::NVector(Contractor::Nvalue),
+        Association::NVector(Contractor::Projection),
+        Association::NVector(Contractor::Independent),
+        Association::NVector(Contractor::Best),
+    ]
+};
+
+/// The result document of solving `mission` with `association` and the
+/// default options.
+pub fn solve_json(
+    mission: &nvector_core::slam::mission::Mission,
+    association: nvector_core::slam::types::Association,
+) -> serde_json::Value {
+    let options = nvector_core::slam::types::SolveOptions {
+        association,
+        ..Default::default()
+    };
+    nvector_core::slam::solve::solve(
+        mission,
+        &options,
+        &mut |_| {},
+        &std::sync::atomic::AtomicBool::new(false),
+    )
+}
