@@ -17,9 +17,9 @@
 //!    step (at most [`MAX_HEADING_MARKS`], the last kept) as a wedge from
 //!    the centre of that step's position box, its radius
 //!    [`HEADING_RADIUS`] of the view's longer side, its arc spanning the
-//!    interval; a heading 2π wide or more (or unbounded) is a disc. The
-//!    legend reads "heading (interval) ...". Other models have no
-//!    `headings` and no such layer;
+//!    interval; a heading 2π wide or more (or unbounded) is a circle, in
+//!    a layer of its own, outlined only. The legend reads "heading
+//!    (interval) ...". Other models have no `headings` and no such layer;
 //! 2. the detection boxes, outlined in grey, only when there are at most
 //!    [`MAX_DETECTION_BOXES`] (past that they are not drawn, and the
 //!    legend says so);
@@ -332,19 +332,18 @@ fn ordinal(n: usize) -> String {
 
 /// Layer 1b (odometry2d): the heading wedges of every k-th step that has a
 /// bounded position box and a heading, at most [`MAX_HEADING_MARKS`] (the
-/// last kept); with the steps drawn, for the true-heading ticks. `None`
-/// when there is none, or the view is too wide for a finite radius.
-fn heading_layer(d: &Drawable, view: [f64; 4]) -> Option<(Layer, Vec<usize>)> {
+/// last kept), and the circles of those 2π wide or more (a layer of their
+/// own, outlined only: stacked discs would hide everything under them);
+/// with the steps drawn, for the true-heading ticks. Empty when there is
+/// none, or the view is too wide for a finite radius.
+fn heading_layers(d: &Drawable, view: [f64; 4]) -> (Vec<Layer>, Vec<usize>) {
     let r = HEADING_RADIUS * (view[1] - view[0]).max(view[3] - view[2]);
-    if !(r.is_finite() && r > 0.0) {
-        return None;
-    }
     let candidates: Vec<usize> = (0..d.steps.len())
         .filter(|&i| matches!(d.steps[i], (Some(_), Some(_))))
         .collect();
     let m = candidates.len();
-    if m == 0 {
-        return None;
+    if m == 0 || !(r.is_finite() && r > 0.0) {
+        return (Vec::new(), Vec::new());
     }
     let stride = m.div_ceil(MAX_HEADING_MARKS).max(1);
     let mut drawn: Vec<usize> = candidates.iter().step_by(stride).copied().collect();
@@ -352,45 +351,60 @@ fn heading_layer(d: &Drawable, view: [f64; 4]) -> Option<(Layer, Vec<usize>)> {
         drawn.push(candidates[m - 1]);
     }
     let turn = 2.0 * core::f64::consts::PI;
-    let mut discs = false;
-    let polygons = drawn
-        .iter()
-        .filter_map(|&i| {
-            let (b, h) = (d.steps[i].0?, d.steps[i].1?);
-            discs |= !(h[1] - h[0] < turn);
+    let (mut wedges, mut discs) = (Vec::new(), Vec::new());
+    for &i in &drawn {
+        if let (Some(b), Some(h)) = d.steps[i] {
             let c = [b[0] / 2.0 + b[1] / 2.0, b[2] / 2.0 + b[3] / 2.0];
-            Some(wedge(c, r, h))
-        })
-        .collect();
-    let mut label = if stride == 1 {
-        format!("heading (interval) at each of the {m} steps")
-    } else {
-        format!(
-            "heading (interval) at every {} of {m} steps",
-            ordinal(stride)
-        )
-    };
-    if discs {
-        label.push_str("; a disc: 2\u{3c0} wide or more");
+            if h[1] - h[0] < turn {
+                wedges.push(wedge(c, r, h));
+            } else {
+                discs.push(wedge(c, r, h));
+            }
+        }
     }
-    let layer = Layer {
-        name: "headings",
+    let at = if stride == 1 {
+        format!("at each of the {m} steps")
+    } else {
+        format!("at every {} of {m} steps", ordinal(stride))
+    };
+    let layer = |name, label, fill_alpha, line_width, polygons| Layer {
+        name,
         label,
         kind: Kind::Polygons,
         colour: HEADINGS,
-        fill_alpha: 0.3,
-        line_width: 1.0,
+        fill_alpha,
+        line_width,
         rects: Vec::new(),
         points: Vec::new(),
         polygons,
     };
-    Some((layer, drawn))
+    let mut layers = Vec::new();
+    if !wedges.is_empty() {
+        layers.push(layer(
+            "headings",
+            format!("heading (interval) {at}"),
+            0.2,
+            1.0,
+            wedges,
+        ));
+    }
+    if !discs.is_empty() {
+        let n = discs.len();
+        layers.push(layer(
+            "headings_unknown",
+            format!("heading (interval) 2\u{3c0} wide or more: a circle ({n} of the steps drawn)"),
+            0.0,
+            0.6,
+            discs,
+        ));
+    }
+    (layers, drawn)
 }
 
 /// The true-heading ticks: from the true position along the true heading,
-/// 1.4 wedge radii long, at the steps that have a wedge and a known truth.
+/// one wedge radius long, at the steps that have a wedge and a known truth.
 fn truth_heading_layer(d: &Drawable, view: [f64; 4], drawn: &[usize]) -> Option<Layer> {
-    let r = 1.4 * HEADING_RADIUS * (view[1] - view[0]).max(view[3] - view[2]);
+    let r = HEADING_RADIUS * (view[1] - view[0]).max(view[3] - view[2]);
     let polygons: Vec<Vec<[f64; 2]>> = drawn
         .iter()
         .filter_map(|&i| match d.truth_poses.get(i) {
@@ -406,7 +420,7 @@ fn truth_heading_layer(d: &Drawable, view: [f64; 4], drawn: &[usize]) -> Option<
         kind: Kind::Polygons,
         colour: TRUTH,
         fill_alpha: 0.0,
-        line_width: 1.5,
+        line_width: 1.0,
         rects: Vec::new(),
         points: Vec::new(),
         polygons,
@@ -589,10 +603,7 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
     let view = d.view();
     let mut layers = Vec::new();
     layers.extend(trajectory_layer(&d, view));
-    let (headings, drawn) = match heading_layer(&d, view) {
-        Some((layer, drawn)) => (Some(layer), drawn),
-        None => (None, Vec::new()),
-    };
+    let (headings, drawn) = heading_layers(&d, view);
     layers.extend(headings);
     // 2. Detections.
     if !d.detections.is_empty() && d.shows_detections() {
@@ -837,20 +848,28 @@ mod tests {
         let names: Vec<&str> = f.layers.iter().map(|l| l.name).collect();
         assert_eq!(
             names,
-            ["trajectory", "headings", "truth_path", "truth_headings"]
+            [
+                "trajectory",
+                "headings",
+                "headings_unknown",
+                "truth_path",
+                "truth_headings"
+            ]
         );
-        let h = &f.layers[1];
+        let (h, u) = (&f.layers[1], &f.layers[2]);
         assert_eq!(h.kind, Kind::Polygons);
+        assert_eq!(h.label, "heading (interval) at every 9th of 401 steps");
         assert_eq!(
-            h.label,
-            "heading (interval) at every 9th of 401 steps; a disc: 2\u{3c0} wide or more"
+            u.label,
+            "heading (interval) 2\u{3c0} wide or more: a circle (12 of the steps drawn)"
         );
-        assert!(h.polygons.len() <= MAX_HEADING_MARKS + 1);
+        assert_eq!((u.fill_alpha, h.fill_alpha > 0.0), (0.0, true));
+        assert!(h.polygons.len() + u.polygons.len() <= MAX_HEADING_MARKS + 1);
         let r = HEADING_RADIUS * (f.view[1] - f.view[0]).max(f.view[3] - f.view[2]);
         let steps: Vec<usize> = (0..=400).step_by(9).chain([400]).collect();
-        assert_eq!(h.polygons.len(), steps.len());
+        assert_eq!(h.polygons.len() + u.polygons.len(), steps.len());
         let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs());
-        for (poly, &i) in h.polygons.iter().zip(&steps) {
+        for (poly, &i) in h.polygons.iter().chain(&u.polygons).zip(&steps) {
             let c = [i as f64, 0.0];
             let (lo, hi) = if i > 300 {
                 (0.1 * i as f64 - 4.0, 0.1 * i as f64 + 4.0)
@@ -898,12 +917,12 @@ mod tests {
         }
         // The true-heading ticks: at the drawn steps with a known truth
         // (not step 0), along the true heading.
-        let t = &f.layers[3];
+        let t = &f.layers[4];
         assert_eq!(t.label, "true heading");
         assert_eq!(t.polygons.len(), steps.len() - 1);
         let p = &t.polygons[0];
         assert_eq!(p[0], [9.0, 0.0]);
-        assert!(near(p[1][0], 9.0 + 1.4 * r * libm::cos(0.9)));
+        assert!(near(p[1][0], 9.0 + r * libm::cos(0.9)));
     }
 
     #[test]
@@ -924,12 +943,18 @@ mod tests {
         });
         let f = describe(&result, None);
         let h = f.layers.iter().find(|l| l.name == "headings").unwrap();
-        assert_eq!(h.polygons.len(), 3);
-        assert_eq!(h.polygons[0].len(), ARC_POINTS);
-        assert_eq!(h.polygons[1].len(), ARC_POINTS);
+        let u = f
+            .layers
+            .iter()
+            .find(|l| l.name == "headings_unknown")
+            .unwrap();
+        assert_eq!((h.polygons.len(), u.polygons.len()), (1, 2));
+        assert_eq!(u.polygons[0].len(), ARC_POINTS);
+        assert_eq!(u.polygons[1].len(), ARC_POINTS);
         assert!(h
             .polygons
             .iter()
+            .chain(&u.polygons)
             .flatten()
             .all(|p| p[0].is_finite() && p[1].is_finite()));
         // A view too wide for a finite radius: no wedges, no panic.
