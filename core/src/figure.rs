@@ -12,14 +12,14 @@
 //!    fill. Thousands of overlapping boxes would otherwise pile up into one
 //!    opaque block that hides the truth. The envelope covers every box
 //!    (a box marks every cell it touches), so it never shows less than the
-//!    boxes do;
-//! 1b. odometry2d results (`headings`): the heading interval of every k-th
-//!    step (at most [`MAX_HEADING_MARKS`], the last kept) as a wedge from
-//!    the centre of that step's position box, its radius
-//!    [`HEADING_RADIUS`] of the view's longer side, its arc spanning the
-//!    interval; a heading 2π wide or more (or unbounded) is a circle, in
-//!    a layer of its own, outlined only. The legend reads "heading
-//!    (interval) ...". Other models have no `headings` and no such layer;
+//!    boxes do; then, for odometry2d results (`headings`), the heading
+//!    interval of every k-th step (at most [`MAX_HEADING_MARKS`], the last
+//!    kept) as a wedge from the centre of that step's position box, its
+//!    radius [`HEADING_RADIUS`] of the view's longer side, its arc
+//!    spanning the interval; a heading 2π wide or more (or unbounded) is a
+//!    circle, in a layer of its own, outlined only. The legend reads
+//!    "heading (interval) ...". Other models have no `headings` and no
+//!    such layer;
 //! 2. the detection boxes, outlined in grey, only when there are at most
 //!    [`MAX_DETECTION_BOXES`] (past that they are not drawn, and the
 //!    legend says so);
@@ -174,6 +174,9 @@ pub fn metres(x: Option<f64>) -> String {
     }
 }
 
+/// A step's position box and heading interval, when drawable.
+type StepMark = (Option<[f64; 4]>, Option<[f64; 2]>);
+
 /// What a figure draws, read from a result and its mission: the
 /// drawable rectangles `[x_lo, x_hi, y_lo, y_hi]` and points `[x, y]`.
 struct Drawable {
@@ -188,7 +191,7 @@ struct Drawable {
     truth_landmarks: Vec<[f64; 2]>,
     /// odometry2d: per step, the position box and the heading interval
     /// (`None`: not drawable); empty for the other models.
-    steps: Vec<(Option<[f64; 4]>, Option<[f64; 2]>)>,
+    steps: Vec<StepMark>,
     /// Per step, the true position and heading (`None`: unknown).
     truth_poses: Vec<(Option<[f64; 2]>, Option<f64>)>,
 }
@@ -305,8 +308,8 @@ fn wedge(c: [f64; 2], r: f64, h: [f64; 2]) -> Vec<[f64; 2]> {
     let turn = 2.0 * core::f64::consts::PI;
     let width = h[1] - h[0];
     let at = |a: f64| [c[0] + r * libm::cos(a), c[1] + r * libm::sin(a)];
-    // `!(width < turn)` also catches a NaN width (both bounds infinite).
-    if !(width < turn) {
+    // A NaN width (both bounds infinite) is a disc too.
+    if width >= turn || width.is_nan() {
         return (0..ARC_POINTS)
             .map(|k| at(k as f64 * turn / ARC_POINTS as f64))
             .collect();
