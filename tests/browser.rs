@@ -402,6 +402,7 @@ fn the_page_in_headless_chromium() {
         .contains("proved groups of at most 4 landmarks"));
 
     range_only_preset(&d, &base);
+    woods_preset(&d, &base);
 
     // Same bits as native: the paper scenario simulated and run in WASM
     // equals the native binary's output.
@@ -700,6 +701,68 @@ fn range_only_preset(d: &Driver, base: &str) {
     d.click(&layer("boxes"));
     d.screenshot("slam-range-only-shapes-alone");
     d.click(&layer("boxes"));
+}
+
+/// Issue 20: the SLAM demo's woods preset (an odometry2d robot among
+/// identical landmarks, with scans) simulated by core's woods generator and
+/// run in WASM, basic against projection; both panels draw the headings as
+/// wedges, with "heading (interval)" and "true heading" in the legend, and
+/// the headings' box hides and shows them.
+fn woods_preset(d: &Driver, base: &str) {
+    d.goto(&format!("{base}/?tab=slam&demo=woods"));
+    let summary = d.wait(
+        "const s = document.getElementById('sl-summary'); return (s.dataset.error || (s.dataset.scenario === 'woods' && s.dataset.recall)) && s.textContent",
+        Duration::from_secs(60),
+    );
+    let data = d.js("return {...document.getElementById('sl-summary').dataset}");
+    assert_eq!(data["error"], "", "{summary}");
+    assert_eq!(data["model"], "odometry2d", "{summary}");
+    assert_eq!(data["contractor"], "projection", "{summary}");
+    assert_eq!(data["truthInside"], "true", "{summary}");
+    assert_eq!(data["errors"], "0", "{summary}");
+    let width: f64 = data["maxHeadingWidth"].as_str().unwrap().parse().unwrap();
+    assert!(width > 0.0 && width.is_finite(), "{summary}");
+    eprintln!("BROWSER woods preset: {summary}");
+    for canvas in ["sl-basic", "sl-nv"] {
+        let n = canvas_data(d, canvas, "headings");
+        assert!((30.0..=49.0).contains(&n), "{canvas}: {n} heading wedges");
+        legend_and_axes(
+            d,
+            canvas,
+            &["heading (interval)", "true heading", "truth path"],
+            "m",
+        );
+    }
+    d.screenshot("slam-woods");
+    let toggle = "#sl-legend input[data-layer='headings']";
+    // Orange pixels (the wedges' outline, #e67e22) in the panel.
+    let orange = || {
+        d.js("const c = document.getElementById('sl-nv'); const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; \
+              let n = 0; for (let i = 0; i < px.length; i += 4) if (px[i] > 190 && px[i + 1] > 80 && px[i + 1] < 170 && px[i + 2] < 110 && px[i] - px[i + 2] > 100) n++; return n;")
+            .as_f64()
+            .unwrap()
+    };
+    let (all, n, lit) = (
+        painted(d, "sl-nv"),
+        canvas_data(d, "sl-nv", "headings"),
+        orange(),
+    );
+    assert!(lit > 50.0, "{lit} orange pixels with the headings drawn");
+    d.click(toggle);
+    assert_eq!(canvas_data(d, "sl-nv", "headings"), 0.0);
+    let legend = d.js("return document.getElementById('sl-nv').dataset.legend");
+    assert!(
+        !legend.as_str().unwrap().contains("heading (interval)"),
+        "{legend}"
+    );
+    assert!(
+        orange() * 10.0 < lit,
+        "hiding the headings left {} orange pixels of {lit}",
+        orange()
+    );
+    d.click(toggle);
+    assert_eq!(canvas_data(d, "sl-nv", "headings"), n);
+    assert_eq!(painted(d, "sl-nv"), all, "the picture is back");
 }
 
 /// CMU Plaza 1 (3529 ranges, ids hidden) uploaded through the page, run

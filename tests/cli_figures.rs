@@ -273,3 +273,133 @@ fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
         "{svg}"
     );
 }
+
+/// The heading marks' outline colour (core::figure::HEADINGS, #e67e22),
+/// with some tolerance.
+fn is_heading(c: [u8; 3]) -> bool {
+    let [r, g, b] = c.map(i32::from);
+    r >= 200 && (90..=170).contains(&g) && b <= 90 && r - g >= 60
+}
+
+/// Simulates `scenario` with `steps` steps, runs it with `none` and draws
+/// it as SVG (`run --plot`) and PNG (`plot`): (mission, result, SVG's
+/// words, PNG).
+fn drawn(scenario: &str, steps: &str) -> (serde_json::Value, serde_json::Value, String, Image) {
+    let m = temp_file(&format!("{scenario}.json"));
+    succeeded(&run(&[
+        "simulate",
+        "--scenario",
+        scenario,
+        "--steps",
+        steps,
+        "--seed",
+        "3",
+        "--out",
+        m.to_str().unwrap(),
+    ]));
+    let r = temp_file(&format!("{scenario}-result.json"));
+    let svg = temp_file(&format!("{scenario}.svg"));
+    succeeded(&run(&[
+        "run",
+        m.to_str().unwrap(),
+        "--contractor",
+        "none",
+        "--out",
+        r.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]));
+    let png = temp_file(&format!("{scenario}.png"));
+    succeeded(&run(&[
+        "plot",
+        r.to_str().unwrap(),
+        "--mission",
+        m.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ]));
+    let read = |p: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
+    (
+        read(&m),
+        read(&r),
+        svg_words(&std::fs::read_to_string(&svg).unwrap()),
+        Image::read(&png),
+    )
+}
+
+/// The pixels of the plotting area in the headings' colour.
+fn heading_pixels(img: &Image) -> usize {
+    let [l, t, r, b] = img.area.map(|v| v as i64);
+    (t..b)
+        .flat_map(|j| (l..r).map(move |i| (i, j)))
+        .filter(|&(i, j)| img.at(i, j).is_some_and(is_heading))
+        .count()
+}
+
+/// Issue 20: an odometry2d result's figure draws its headings (wedges
+/// from the position boxes' centres, in the legend as "heading
+/// (interval)") and the true headings; a unicycle2d figure has none.
+#[test]
+fn odometry2d_figures_draw_the_headings_and_unicycle2d_ones_do_not() {
+    let (mission, result, words, img) = drawn("woods", "150");
+    assert_eq!(result["headings"].as_array().unwrap().len(), 151);
+    for wanted in ["heading (interval) at every", "true heading", "true path"] {
+        assert!(words.contains(wanted), "the SVG lacks '{wanted}': {words}");
+    }
+    // Each wedge's arc, where core's description puts it, is drawn in the
+    // headings' colour within 2 pixels; the wedge's apex is the centre of
+    // that step's position box (read from the result, not the figure).
+    let fig = nvector_core::figure::describe(&result, Some(&mission));
+    let wedges = fig
+        .layers
+        .iter()
+        .filter(|l| l.name.starts_with("headings"))
+        .flat_map(|l| l.polygons.iter().map(move |p| (l.name == "headings", p)))
+        .collect::<Vec<_>>();
+    assert!(wedges.len() >= 30, "{} heading marks", wedges.len());
+    let centres: Vec<[f64; 2]> = result["trajectory"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| {
+            let m = |a: &serde_json::Value| (a[0].as_f64().unwrap() + a[1].as_f64().unwrap()) / 2.0;
+            [m(&b[0]), m(&b[1])]
+        })
+        .collect();
+    let mut missing = Vec::new();
+    for &(is_wedge, w) in &wedges {
+        if is_wedge {
+            assert!(
+                centres
+                    .iter()
+                    .any(|c| (c[0] - w[0][0]).abs() < 1e-9 && (c[1] - w[0][1]).abs() < 1e-9),
+                "a wedge's apex {:?} is no position box's centre",
+                w[0]
+            );
+        }
+        let p = w[w.len() / 2 + 1];
+        let (i, j) = img.pixel(p[0], p[1]);
+        let seen = (-2..=2)
+            .flat_map(|di| (-2..=2).map(move |dj| (di, dj)))
+            .any(|(di, dj)| img.at(i + di, j + dj).is_some_and(is_heading));
+        if !seen {
+            missing.push(p);
+        }
+    }
+    // The truth's ticks and path are drawn over some of them.
+    assert!(
+        missing.len() * 5 <= wedges.len(),
+        "{} of {} heading marks not drawn, e.g. {:?}",
+        missing.len(),
+        wedges.len(),
+        &missing[..missing.len().min(3)]
+    );
+    assert!(heading_pixels(&img) > 200);
+
+    let (_, result, words, img) = drawn("paper", "300");
+    assert!(result.get("headings").is_none());
+    assert!(!words.contains("heading"), "{words}");
+    assert_eq!(heading_pixels(&img), 0);
+}

@@ -420,7 +420,87 @@ fn load_run_of_the_bench(b: &Backend) {
     assert!(v["peak_rss_mib"].as_f64().unwrap() > 1.0, "{v}");
 }
 
+/// Issue 20: an odometry2d mission with every new field (`scan`,
+/// `sensor_offset`, `landmark_min_separation`, `initial_heading`,
+/// `heading_error`, `truth.headings`, null truth entries) is accepted and
+/// stored as uploaded; its job's result carries a heading interval per
+/// step holding the true heading, and its SVG figure draws them.
+fn odometry2d_missions_and_headings(b: &Backend) {
+    let path = common::temp_file("woods-http.json");
+    common::succeeded(&common::run(&[
+        "simulate",
+        "--scenario",
+        "woods",
+        "--steps",
+        "120",
+        "--seed",
+        "4",
+        "--out",
+        path.to_str().unwrap(),
+    ]));
+    let mut mission = common::read_json(&path);
+    assert_eq!(mission["model"], "odometry2d");
+    for field in [
+        "sensor_offset",
+        "landmark_min_separation",
+        "initial_heading",
+        "heading_error",
+    ] {
+        assert!(!mission[field].is_null(), "the woods mission lacks {field}");
+    }
+    assert!(mission["detections"][0]["scan"].is_u64());
+    // A motion-capture gap: null truth at step 30.
+    mission["truth"]["positions"][30] = Value::Null;
+    mission["truth"]["headings"][30] = Value::Null;
+
+    let s = Server::start_on(b, &["--workers", "1"]);
+    let (st, m) = s.post("/api/v1/missions", &mission);
+    assert_eq!(st, 201, "{m}");
+    let id = m["id"].as_str().unwrap().to_string();
+    assert_eq!(m["steps"], 120);
+    let (_, back) = s.get(&format!("/api/v1/missions/{id}"));
+    assert_eq!(back, mission, "stored as uploaded");
+    let (st, job) = s.post(
+        "/api/v1/jobs",
+        &json!({"mission": id, "contractor": "none"}),
+    );
+    assert_eq!(st, 202, "{job}");
+    let jid = job["id"].as_str().unwrap().to_string();
+    let done = s.wait_job(&jid, Duration::from_secs(60));
+    assert_eq!(done["state"], "done", "{done}");
+    let (st, result) = s.get(&format!("/api/v1/jobs/{jid}/result"));
+    assert_eq!(st, 200);
+    assert_eq!(result["score"]["truth_inside"], true, "{}", result["score"]);
+    let headings = result["headings"].as_array().expect("headings");
+    assert_eq!(headings.len(), 121);
+    let truth = mission["truth"]["headings"].as_array().unwrap();
+    for (i, (h, t)) in headings.iter().zip(truth).enumerate() {
+        let (lo, hi) = (h[0].as_f64().unwrap(), h[1].as_f64().unwrap());
+        if let Some(t) = t.as_f64() {
+            assert!(
+                lo <= t && t <= hi,
+                "step {i}: true heading {t} not in [{lo}, {hi}]"
+            );
+        }
+    }
+    assert!(result["metrics"]["max_heading_width"].as_f64().unwrap() > 0.0);
+    let (st, _, svg) = s.req(
+        "GET",
+        &format!("/api/v1/jobs/{jid}/result?format=svg"),
+        None,
+        &[],
+    );
+    assert_eq!(st, 200);
+    let svg = String::from_utf8_lossy(&svg);
+    assert!(
+        svg.contains("heading (interval)"),
+        "the figure draws no heading"
+    );
+    assert!(svg.contains("true heading"));
+}
+
 on_both_storages!(
+    odometry2d_missions_and_headings,
     load_run_of_the_bench,
     missions_jobs_results,
     cancel_a_long_job,

@@ -12,7 +12,14 @@
 //!    fill. Thousands of overlapping boxes would otherwise pile up into one
 //!    opaque block that hides the truth. The envelope covers every box
 //!    (a box marks every cell it touches), so it never shows less than the
-//!    boxes do;
+//!    boxes do; then, for odometry2d results (`headings`), the heading
+//!    interval of every k-th step (at most [`MAX_HEADING_MARKS`], the last
+//!    kept) as a wedge from the centre of that step's position box, its
+//!    radius [`HEADING_RADIUS`] of the view's longer side, its arc
+//!    spanning the interval; a heading 2π wide or more (or unbounded) is a
+//!    circle, in a layer of its own, outlined only. The legend reads
+//!    "heading (interval) ...". Other models have no `headings` and no
+//!    such layer;
 //! 2. the detection boxes, outlined in grey, only when there are at most
 //!    [`MAX_DETECTION_BOXES`] (past that they are not drawn, and the
 //!    legend says so);
@@ -23,17 +30,21 @@
 //!    box, smallest area first, at most [`MAX_GROUP_OUTLINES`]. A group
 //!    whose box holds a drawn one adds no place the eye can use;
 //! 5. the truth (from the mission): the path (at most [`MAX_PATH_POINTS`]
-//!    points, every k-th and the last) and the landmarks, on top.
+//!    points, every k-th and the last) and the landmarks, on top; with
+//!    `truth.headings`, a short tick along the true heading from the true
+//!    position at the steps that have a wedge.
 //!
 //! The title rounds the diameters to metres ("max trajectory diameter
 //! 73.0 m") and the groups' legend reads "k proved groups of at most n
 //! landmarks" (n the mission's `landmark_count`, when known).
 //!
-//! Pure: no I/O; the only float operations are + - * / and floor, which
-//! are exact or correctly rounded, so native and wasm give the same bits.
+//! Pure: no I/O; the float operations are + - * /, floor and ceil, which
+//! are exact or correctly rounded, and libm's sin and cos for the heading
+//! wedges, so native and wasm give the same bits.
 //! Nothing decides soundness here: this is a drawing. Complexity:
 //! O(N + D + G log G + G·[`MAX_GROUP_OUTLINES`] + R + ENVELOPE_CELLS²) for
-//! N trajectory boxes, D detections, G groups and R region boxes; no
+//! N trajectory boxes, D detections, G groups and R region boxes (the
+//! heading wedges add O(N + [`MAX_HEADING_MARKS`]·[`ARC_POINTS`])); no
 //! allocation is sized by a number read from the input (only by the input's
 //! own length or the constants here).
 
@@ -50,6 +61,12 @@ pub const MAX_DETECTION_BOXES: usize = 300;
 pub const MAX_GROUP_OUTLINES: usize = 64;
 /// Most points of the truth path.
 pub const MAX_PATH_POINTS: usize = 5000;
+/// Most heading wedges drawn (every k-th step and the last).
+pub const MAX_HEADING_MARKS: usize = 48;
+/// Radius of a heading wedge, as a fraction of the view's longer side.
+pub const HEADING_RADIUS: f64 = 0.035;
+/// Points on the arc of a full turn (a wedge has its share, at least 2).
+pub const ARC_POINTS: usize = 36;
 
 /// How a layer is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -61,13 +78,16 @@ pub enum Kind {
     Path,
     /// Markers at `points`.
     Points,
+    /// Closed polygons `polygons` (filled when `fill_alpha` > 0, outlined
+    /// when `line_width` > 0); a polygon of two points is a segment.
+    Polygons,
 }
 
 /// One layer of the picture, in drawing order.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Layer {
-    /// Stable name: `trajectory`, `detections`, `regions`, `groups`,
-    /// `truth_path`, `truth_landmarks`.
+    /// Stable name: `trajectory`, `headings`, `detections`, `regions`,
+    /// `groups`, `truth_path`, `truth_headings`, `truth_landmarks`.
     pub name: &'static str,
     /// The legend's text.
     pub label: String,
@@ -83,6 +103,8 @@ pub struct Layer {
     pub rects: Vec<[f64; 4]>,
     /// Points `[x, y]` (kinds `path` and `points`).
     pub points: Vec<[f64; 2]>,
+    /// Polygons, each a list of points `[x, y]` (kind `polygons`).
+    pub polygons: Vec<Vec<[f64; 2]>>,
 }
 
 /// The whole picture.
@@ -110,6 +132,8 @@ pub const DETECTIONS: &str = "#888888";
 pub const GROUPS: &str = "#c0392b";
 /// Colour of the truth.
 pub const TRUTH: &str = "#000000";
+/// Colour of the heading wedges.
+pub const HEADINGS: &str = "#e67e22";
 
 /// A box's first two axes `[x0, x1, y0, y1]`, when bounded and non-empty.
 fn rect(b: &Value) -> Option<[f64; 4]> {
@@ -150,6 +174,9 @@ pub fn metres(x: Option<f64>) -> String {
     }
 }
 
+/// A step's position box and heading interval, when drawable.
+type StepMark = (Option<[f64; 4]>, Option<[f64; 2]>);
+
 /// What a figure draws, read from a result and its mission: the
 /// drawable rectangles `[x_lo, x_hi, y_lo, y_hi]` and points `[x, y]`.
 struct Drawable {
@@ -162,6 +189,11 @@ struct Drawable {
     group_boxes: Vec<Option<[f64; 4]>>,
     truth_path: Vec<[f64; 2]>,
     truth_landmarks: Vec<[f64; 2]>,
+    /// odometry2d: per step, the position box and the heading interval
+    /// (`None`: not drawable); empty for the other models.
+    steps: Vec<StepMark>,
+    /// Per step, the true position and heading (`None`: unknown).
+    truth_poses: Vec<(Option<[f64; 2]>, Option<f64>)>,
 }
 
 impl Drawable {
@@ -190,6 +222,19 @@ impl Drawable {
             truth_landmarks: list(&mission["truth"]["landmarks"])
                 .iter()
                 .filter_map(point)
+                .collect(),
+            steps: list(&result["headings"])
+                .iter()
+                .enumerate()
+                .map(|(i, h)| (result["trajectory"].get(i).and_then(rect), heading(h)))
+                .collect(),
+            truth_poses: list(&mission["truth"]["headings"])
+                .iter()
+                .enumerate()
+                .map(|(i, h)| {
+                    let p = mission["truth"]["positions"].get(i).and_then(point);
+                    (p, h.as_f64().filter(|t| t.is_finite()))
+                })
                 .collect(),
         }
     }
@@ -241,6 +286,150 @@ impl Drawable {
     }
 }
 
+/// A heading interval `[lo, hi]` (a bound may be `"inf"` or `"-inf"`),
+/// when not empty.
+fn heading(v: &Value) -> Option<[f64; 2]> {
+    let a = v.as_array()?;
+    let bound = |v: Option<&Value>| -> Option<f64> {
+        match v? {
+            Value::String(s) if s == "inf" || s == "+inf" => Some(f64::INFINITY),
+            Value::String(s) if s == "-inf" => Some(f64::NEG_INFINITY),
+            v => v.as_f64().filter(|x| !x.is_nan()),
+        }
+    };
+    let (lo, hi) = (bound(a.first())?, bound(a.get(1))?);
+    (lo <= hi).then_some([lo, hi])
+}
+
+/// The outline of a heading wedge: the centre `c`, then the arc of radius
+/// `r` over the interval `h`; a disc (the circle alone) when `h` is 2π
+/// wide or more, or unbounded. A zero-width interval gives a segment.
+fn wedge(c: [f64; 2], r: f64, h: [f64; 2]) -> Vec<[f64; 2]> {
+    let turn = 2.0 * core::f64::consts::PI;
+    let width = h[1] - h[0];
+    let at = |a: f64| [c[0] + r * libm::cos(a), c[1] + r * libm::sin(a)];
+    // A NaN width (both bounds infinite) is a disc too.
+    if width >= turn || width.is_nan() {
+        return (0..ARC_POINTS)
+            .map(|k| at(k as f64 * turn / ARC_POINTS as f64))
+            .collect();
+    }
+    let n = ((width / turn * ARC_POINTS as f64).ceil() as usize).clamp(1, ARC_POINTS);
+    let mut points = Vec::with_capacity(n + 2);
+    points.push(c);
+    points.extend((0..=n).map(|k| at(h[0] + width * k as f64 / n as f64)));
+    points
+}
+
+/// "1st", "2nd", "3rd", "4th", "11th", "12th", "22nd".
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
+/// Layer 1b (odometry2d): the heading wedges of every k-th step that has a
+/// bounded position box and a heading, at most [`MAX_HEADING_MARKS`] (the
+/// last kept), and the circles of those 2π wide or more (a layer of their
+/// own, outlined only: stacked discs would hide everything under them);
+/// with the steps drawn, for the true-heading ticks. Empty when there is
+/// none, or the view is too wide for a finite radius.
+fn heading_layers(d: &Drawable, view: [f64; 4]) -> (Vec<Layer>, Vec<usize>) {
+    let r = HEADING_RADIUS * (view[1] - view[0]).max(view[3] - view[2]);
+    let candidates: Vec<usize> = (0..d.steps.len())
+        .filter(|&i| matches!(d.steps[i], (Some(_), Some(_))))
+        .collect();
+    let m = candidates.len();
+    if m == 0 || !(r.is_finite() && r > 0.0) {
+        return (Vec::new(), Vec::new());
+    }
+    let stride = m.div_ceil(MAX_HEADING_MARKS).max(1);
+    let mut drawn: Vec<usize> = candidates.iter().step_by(stride).copied().collect();
+    if drawn.last() != Some(&candidates[m - 1]) {
+        drawn.push(candidates[m - 1]);
+    }
+    let turn = 2.0 * core::f64::consts::PI;
+    let (mut wedges, mut discs) = (Vec::new(), Vec::new());
+    for &i in &drawn {
+        if let (Some(b), Some(h)) = d.steps[i] {
+            let c = [b[0] / 2.0 + b[1] / 2.0, b[2] / 2.0 + b[3] / 2.0];
+            if h[1] - h[0] < turn {
+                wedges.push(wedge(c, r, h));
+            } else {
+                discs.push(wedge(c, r, h));
+            }
+        }
+    }
+    let at = if stride == 1 {
+        format!("at each of the {m} steps")
+    } else {
+        format!("at every {} of {m} steps", ordinal(stride))
+    };
+    let layer = |name, label, fill_alpha, line_width, polygons| Layer {
+        name,
+        label,
+        kind: Kind::Polygons,
+        colour: HEADINGS,
+        fill_alpha,
+        line_width,
+        rects: Vec::new(),
+        points: Vec::new(),
+        polygons,
+    };
+    let mut layers = Vec::new();
+    if !wedges.is_empty() {
+        layers.push(layer(
+            "headings",
+            format!("heading (interval) {at}"),
+            0.2,
+            1.0,
+            wedges,
+        ));
+    }
+    if !discs.is_empty() {
+        let n = discs.len();
+        layers.push(layer(
+            "headings_unknown",
+            format!("heading (interval) 2\u{3c0} wide or more: a circle ({n} of the steps drawn)"),
+            0.0,
+            0.6,
+            discs,
+        ));
+    }
+    (layers, drawn)
+}
+
+/// The true-heading ticks: from the true position along the true heading,
+/// one wedge radius long, at the steps that have a wedge and a known truth.
+fn truth_heading_layer(d: &Drawable, view: [f64; 4], drawn: &[usize]) -> Option<Layer> {
+    let r = HEADING_RADIUS * (view[1] - view[0]).max(view[3] - view[2]);
+    let polygons: Vec<Vec<[f64; 2]>> = drawn
+        .iter()
+        .filter_map(|&i| match d.truth_poses.get(i) {
+            Some(&(Some(p), Some(t))) => {
+                Some(vec![p, [p[0] + r * libm::cos(t), p[1] + r * libm::sin(t)]])
+            }
+            _ => None,
+        })
+        .collect();
+    (!polygons.is_empty()).then(|| Layer {
+        name: "truth_headings",
+        label: "true heading".to_string(),
+        kind: Kind::Polygons,
+        colour: TRUTH,
+        fill_alpha: 0.0,
+        line_width: 1.0,
+        rects: Vec::new(),
+        points: Vec::new(),
+        polygons,
+    })
+}
+
 /// A layer of rectangles.
 fn rects_layer(
     name: &'static str,
@@ -259,6 +448,7 @@ fn rects_layer(
         line_width,
         rects,
         points: Vec::new(),
+        polygons: Vec::new(),
     }
 }
 
@@ -362,6 +552,7 @@ fn truth_layers(d: &Drawable, layers: &mut Vec<Layer>) {
             line_width: 1.5,
             rects: Vec::new(),
             points,
+            polygons: Vec::new(),
         });
     }
     if !d.truth_landmarks.is_empty() {
@@ -374,6 +565,7 @@ fn truth_layers(d: &Drawable, layers: &mut Vec<Layer>) {
             line_width: 1.0,
             rects: Vec::new(),
             points: d.truth_landmarks.clone(),
+            polygons: Vec::new(),
         });
     }
 }
@@ -414,6 +606,8 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
     let view = d.view();
     let mut layers = Vec::new();
     layers.extend(trajectory_layer(&d, view));
+    let (headings, drawn) = heading_layers(&d, view);
+    layers.extend(headings);
     // 2. Detections.
     if !d.detections.is_empty() && d.shows_detections() {
         let label = match d.detections.len() {
@@ -432,6 +626,14 @@ pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
     }
     group_layers(&d, result, mission, &mut layers);
     truth_layers(&d, &mut layers);
+    if let Some(ticks) = truth_heading_layer(&d, view, &drawn) {
+        // Over the true path, under the true landmarks' markers.
+        let at = layers
+            .iter()
+            .position(|l| l.name == "truth_landmarks")
+            .unwrap_or(layers.len());
+        layers.insert(at, ticks);
+    }
     let (title, subtitle) = titles(result);
     Figure {
         title,
@@ -612,6 +814,161 @@ mod tests {
         assert!(layer.rects.len() <= MAX_TRAJECTORY_BOXES + 1);
         assert!(f.subtitle.contains("unbounded"));
         assert!(describe(&json!(null), Some(&json!(7))).layers.is_empty());
+    }
+
+    /// An odometry2d-like result: `n` + 1 steps along x, heading interval
+    /// [0.1 i - w, 0.1 i + w] at step i (w = 4 past step 300: a disc).
+    fn odometry_result(n: usize) -> (Value, Value) {
+        let traj: Vec<Value> = (0..=n)
+            .map(|i| json!([[i as f64 - 0.5, i as f64 + 0.5], [-0.5, 0.5]]))
+            .collect();
+        let heads: Vec<Value> = (0..=n)
+            .map(|i| {
+                let w = if i > 300 { 4.0 } else { 0.2 };
+                json!([0.1 * i as f64 - w, 0.1 * i as f64 + w])
+            })
+            .collect();
+        let truth_pos: Vec<Value> = (0..=n).map(|i| json!([i as f64, 0.0])).collect();
+        let truth_heads: Vec<Value> = (0..=n)
+            .map(|i| {
+                if i == 0 {
+                    Value::Null
+                } else {
+                    json!(0.1 * i as f64)
+                }
+            })
+            .collect();
+        (
+            json!({"trajectory": traj, "headings": heads}),
+            json!({"truth": {"positions": truth_pos, "headings": truth_heads}}),
+        )
+    }
+
+    #[test]
+    fn headings_are_wedges_from_the_box_centres_over_their_intervals() {
+        let (result, mission) = odometry_result(400);
+        let f = describe(&result, Some(&mission));
+        let names: Vec<&str> = f.layers.iter().map(|l| l.name).collect();
+        assert_eq!(
+            names,
+            [
+                "trajectory",
+                "headings",
+                "headings_unknown",
+                "truth_path",
+                "truth_headings"
+            ]
+        );
+        let (h, u) = (&f.layers[1], &f.layers[2]);
+        assert_eq!(h.kind, Kind::Polygons);
+        assert_eq!(h.label, "heading (interval) at every 9th of 401 steps");
+        assert_eq!(
+            u.label,
+            "heading (interval) 2\u{3c0} wide or more: a circle (12 of the steps drawn)"
+        );
+        assert_eq!((u.fill_alpha, h.fill_alpha > 0.0), (0.0, true));
+        assert!(h.polygons.len() + u.polygons.len() <= MAX_HEADING_MARKS + 1);
+        let r = HEADING_RADIUS * (f.view[1] - f.view[0]).max(f.view[3] - f.view[2]);
+        let steps: Vec<usize> = (0..=400).step_by(9).chain([400]).collect();
+        assert_eq!(h.polygons.len() + u.polygons.len(), steps.len());
+        let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs());
+        for (poly, &i) in h.polygons.iter().chain(&u.polygons).zip(&steps) {
+            let c = [i as f64, 0.0];
+            let (lo, hi) = if i > 300 {
+                (0.1 * i as f64 - 4.0, 0.1 * i as f64 + 4.0)
+            } else {
+                (0.1 * i as f64 - 0.2, 0.1 * i as f64 + 0.2)
+            };
+            let arc = if i > 300 {
+                // A disc: the circle alone, every point at the radius.
+                assert_eq!(poly.len(), ARC_POINTS);
+                &poly[..]
+            } else {
+                assert_eq!(poly[0], c, "step {i}: the wedge starts at the box centre");
+                &poly[1..]
+            };
+            for p in arc {
+                let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+                assert!(near(libm::hypot(dx, dy), r), "step {i}: {p:?} off the arc");
+                if i <= 300 {
+                    // The point's angle, brought next to the interval,
+                    // lies in it.
+                    let mut a = libm::atan2(dy, dx);
+                    let turn = 2.0 * core::f64::consts::PI;
+                    while a < lo - 1e-9 {
+                        a += turn;
+                    }
+                    while a > hi + 1e-9 {
+                        a -= turn;
+                    }
+                    assert!(
+                        lo - 1e-9 <= a && a <= hi + 1e-9,
+                        "step {i}: angle {a} not in [{lo}, {hi}]"
+                    );
+                }
+            }
+            if i <= 300 {
+                // Both ends of the interval are on the arc.
+                let (first, last) = (arc[0], arc[arc.len() - 1]);
+                assert!(
+                    near(first[0], c[0] + r * libm::cos(lo)) && near(first[1], r * libm::sin(lo))
+                );
+                assert!(
+                    near(last[0], c[0] + r * libm::cos(hi)) && near(last[1], r * libm::sin(hi))
+                );
+            }
+        }
+        // The true-heading ticks: at the drawn steps with a known truth
+        // (not step 0), along the true heading.
+        let t = &f.layers[4];
+        assert_eq!(t.label, "true heading");
+        assert_eq!(t.polygons.len(), steps.len() - 1);
+        let p = &t.polygons[0];
+        assert_eq!(p[0], [9.0, 0.0]);
+        assert!(near(p[1][0], 9.0 + r * libm::cos(0.9)));
+    }
+
+    #[test]
+    fn no_headings_no_heading_layer_and_unbounded_headings_are_discs() {
+        // A unicycle2d result has no `headings`.
+        let (mut result, mission) = odometry_result(20);
+        result.as_object_mut().unwrap().remove("headings");
+        let f = describe(&result, Some(&mission));
+        assert!(f
+            .layers
+            .iter()
+            .all(|l| l.name != "headings" && l.name != "truth_headings"));
+        assert!(f.layers.iter().all(|l| !l.label.contains("heading")));
+        // Unbounded, huge, empty and non-number headings; an unbounded box.
+        let result = json!({
+            "trajectory": [[[0, 1], [0, 1]], [[0, 1], [0, 1]], [[0, 1], [0, 1]], [["-inf", "inf"], [0, 1]], [[1, 2], [1, 2]], [[1, 2], [1, 2]]],
+            "headings": [["-inf", "inf"], [-1e308, 1e308], [1e300, 1e300], [0, 1], "empty", [2, 1]],
+        });
+        let f = describe(&result, None);
+        let h = f.layers.iter().find(|l| l.name == "headings").unwrap();
+        let u = f
+            .layers
+            .iter()
+            .find(|l| l.name == "headings_unknown")
+            .unwrap();
+        assert_eq!((h.polygons.len(), u.polygons.len()), (1, 2));
+        assert_eq!(u.polygons[0].len(), ARC_POINTS);
+        assert_eq!(u.polygons[1].len(), ARC_POINTS);
+        assert!(h
+            .polygons
+            .iter()
+            .chain(&u.polygons)
+            .flatten()
+            .all(|p| p[0].is_finite() && p[1].is_finite()));
+        // A view too wide for a finite radius: no wedges, no panic.
+        let wide = json!({"trajectory": [[[-1.7e308, 1.7e308], [0, 1]]], "headings": [[0, 1]]});
+        assert!(describe(&wide, None)
+            .layers
+            .iter()
+            .all(|l| l.name != "headings"));
+        assert_eq!(ordinal(2), "2nd");
+        assert_eq!(ordinal(13), "13th");
+        assert_eq!(ordinal(21), "21st");
     }
 
     #[test]

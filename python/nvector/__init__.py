@@ -160,8 +160,13 @@ def simulate(
 
     ``scenario``: ``"paper"`` (the paper's section 6 experiment: a robot
     looping around its start, side-scan sonar detections of ``landmarks``
-    landmarks, default 4, at most 64) or ``"auv"`` (a Redermor-scale 3-D
-    survey). ``steps`` defaults to 10,000 (paper) or 60,000 (auv), at most
+    landmarks, default 4, at most 64), ``"auv"`` (a Redermor-scale 3-D
+    survey) or ``"woods"`` (an ``odometry2d`` robot, its heading integrated
+    from a turn rate, among ``landmarks`` identical landmarks, default 17,
+    seen by range-and-bearing scans: ``scan`` on the detections,
+    ``sensor_offset``, ``landmark_min_separation``, ``truth["headings"]``;
+    default 3000 steps; ``layout``, ``range_only``, ``false_detections``
+    and ``noise`` must keep their defaults). ``steps`` defaults to 10,000 (paper) or 60,000 (auv), at most
     2,000,000 (below 2 reads as 2; ``landmarks`` 0 reads as 1); ``noise``,
     in [0, 100], scales
     the sensor error bounds; ``operator`` writes the true matching as
@@ -214,6 +219,11 @@ def run(
     ``progress``: True draws a progress bar on stderr (tqdm when installed);
     a callable is called as ``progress(round, max_trajectory_diameter,
     fraction)``.
+
+    Every model of the formats runs, ``odometry2d`` included (with
+    ``scan``, ``sensor_offset``, ``landmark_min_separation`` and ``None``
+    truth entries): its result has ``headings`` (an interval per step) and
+    ``metrics["max_heading_width"]``.
 
     The result equals ``nvector run``'s, ``metrics.elapsed_ms`` aside.
     The computation runs without the GIL; Ctrl-C stops it (KeyboardInterrupt).

@@ -45,4 +45,5 @@ def figure(result: Any, mission: Any = None) -> str:
     """The picture of a nvector-result/1 result (with the truth of the
     mission, when given), as JSON text: title, subtitle, axis labels, view
     [x0, x1, y0, y1] and layers (name, label, kind, colour, fill_alpha,
-    line_width, rects, points), bottom first; what the CLI's figures draw."""
+    line_width, rects, points, polygons), bottom first; what the CLI's
+    figures draw (odometry2d headings as polygons)."""

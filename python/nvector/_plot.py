@@ -4,8 +4,10 @@ The same picture as ``nvector plot`` and ``nvector run --plot``: both draw
 the one description of the picture that the compiled core computes
 (``nvector._nvector.figure``, Rust ``nvector_core::figure``): the
 trajectory's boxes translucent (their envelope past 400 boxes), the
-tightest proved groups outlined with their landmark regions, the truth
-(path and landmarks) on top; axes in metres at one scale, the diameters in
+tightest proved groups outlined with their landmark regions, the
+headings of an ``odometry2d`` result as wedges (every k-th step; a circle
+where the heading is 2 pi wide or more), the truth (path, heading ticks
+and landmarks) on top; axes in metres at one scale, the diameters in
 metres in the title, and a legend. Each call fits the axes to its own
 result, so panels side by side each show their result at its own scale.
 """
@@ -36,9 +38,10 @@ def figure(result: dict[str, Any] | PathLike, mission: dict[str, Any] | PathLike
     """The description of a result's picture (a dict), as the CLI draws it:
     ``title``, ``subtitle``, ``x_label``, ``y_label``, ``view`` ([x0, x1,
     y0, y1] in metres) and ``layers``, bottom first, each with ``name``,
-    ``label`` (the legend's text), ``kind`` (``rects``, ``path`` or
-    ``points``), ``colour``, ``fill_alpha``, ``line_width`` (pixels),
-    ``rects`` ([x0, x1, y0, y1]) and ``points`` ([x, y])."""
+    ``label`` (the legend's text), ``kind`` (``rects``, ``path``,
+    ``points`` or ``polygons``), ``colour``, ``fill_alpha``, ``line_width``
+    (pixels), ``rects`` ([x0, x1, y0, y1]), ``points`` ([x, y]) and
+    ``polygons`` (lists of [x, y]; closed; two points make a segment)."""
     res = _read(result)
     mis = _read(mission) if mission is not None else None
     out: dict[str, Any] = json.loads(_nvector.figure(res, mis))
@@ -63,7 +66,7 @@ def plot(
         import matplotlib.pyplot as plt
         from matplotlib.collections import PatchCollection
         from matplotlib.lines import Line2D
-        from matplotlib.patches import Patch, Rectangle
+        from matplotlib.patches import Patch, Polygon, Rectangle
     except ImportError as e:  # pragma: no cover - depends on the machine
         raise ImportError("nvector.plot needs matplotlib: pip install matplotlib") from e
 
@@ -102,6 +105,18 @@ def plot(
                 PatchCollection(shapes, facecolor=face, edgecolor=edge, linewidth=max(width, pt) if width > 0 else 0, zorder=1 + z, label=layer["label"])
             )
             handles.append(Patch(facecolor=face, edgecolor=edge, linewidth=max(width, pt) if width > 0 else 0, label=layer["label"]))
+        elif layer["kind"] == "polygons":
+            polys = [Polygon([(cx(p[0]), cy(p[1])) for p in poly], closed=len(poly) > 2) for poly in layer["polygons"]]
+            face = (*_rgb(colour), alpha) if alpha > 0 else "none"
+            edge = colour if width > 0 else "none"
+            if width > 0 and width < pt:
+                edge = (*_rgb(colour), 0.5)
+            lw = max(width, pt) if width > 0 else 0
+            ax.add_collection(PatchCollection(polys, facecolor=face, edgecolor=edge, linewidth=lw, zorder=1 + z, label=layer["label"]))
+            if alpha > 0:
+                handles.append(Patch(facecolor=face, edgecolor=edge, linewidth=lw, label=layer["label"]))
+            else:
+                handles.append(Line2D([], [], color=edge, linewidth=lw, label=layer["label"]))
         elif layer["kind"] == "path":
             xs = [cx(p[0]) for p in layer["points"]]
             ys = [cy(p[1]) for p in layer["points"]]

@@ -15,6 +15,34 @@ fn bad_simulation_options_name_the_field() {
     assert!(e.to_string().contains("layout"), "{e}");
 }
 
+/// The page's woods preset: core's woods generator through the facade
+/// (the CLI's `simulate --scenario woods`), its options checked by name.
+#[test]
+fn woods_through_the_facade() {
+    let m = simulate_json(&json!({"scenario": "woods", "seed": 3, "steps": 120, "operator": null}))
+        .unwrap();
+    let direct =
+        nvector_core::slam::woods::simulate_woods(&nvector_core::slam::woods::WoodsOptions {
+            seed: 3,
+            steps: Some(120),
+            landmarks: None,
+            operator: false,
+        });
+    assert_eq!(m, direct);
+    assert_eq!(m["model"], "odometry2d");
+    assert_eq!(m["truth"]["headings"].as_array().unwrap().len(), 121);
+    for (bad, field) in [
+        (json!({"scenario": "woods", "layout": "ring"}), "layout"),
+        (json!({"scenario": "woods", "steps": 0}), "steps"),
+        (json!({"scenario": "woods", "steps": 1e12}), "steps"),
+        (json!({"scenario": "woods", "landmarks": 1000}), "landmarks"),
+        (json!({"scenario": "woods", "seed": -1}), "seed"),
+    ] {
+        let e = simulate_json(&bad).unwrap_err();
+        assert_eq!(e.path, field, "{bad}: {e}");
+    }
+}
+
 #[test]
 fn native_reference() {
     let contract_inputs = [

@@ -5,7 +5,7 @@ import init, { Nvector } from './pkg/nvector_web.js';
 import { $ } from './dom.js';
 import { useCore } from './draw.js';
 import { initPlayground, loadPreset, playgroundReady } from './playground.js';
-import { initSlam, sl, slamDemo, slamPreset, slamReady } from './slam.js';
+import { initSlam, sl, slamDemo, slamPreset, slamReady, slamWoods } from './slam.js';
 import { initMissions, redrawResults, refreshLists, shown } from './missions.js';
 
 document.querySelectorAll('nav button').forEach((b) => b.addEventListener('click', () => {
@@ -35,4 +35,5 @@ init().then(() => {
   const demo = params.get('demo');
   if (demo === '1') slamDemo();
   else if (demo === 'range-only') slamPreset(true);
+  else if (demo === 'woods') slamWoods();
 }).catch((e) => { $('wasm-status').textContent = `WASM failed: ${e}`; });

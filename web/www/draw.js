@@ -12,6 +12,10 @@ const TRAJECTORY = 'rgb(74,144,217)';
 const REGION = '#c80000';
 const TRUTH = '#000000';
 const KERNEL = 'rgba(0,120,0,0.35)';
+/** The headings' colour (core/src/figure.rs HEADINGS). */
+const HEADING = '#e67e22';
+/** Most heading wedges drawn (core/src/figure.rs MAX_HEADING_MARKS). */
+const MAX_HEADINGS = 48;
 
 let core = null;
 /** The wasm handle whose `outlines` gives the shapes' polygons (set once it is loaded). */
@@ -186,7 +190,7 @@ export function drawLegend(ctx, entries) {
 /** The layers of a SLAM picture a user can hide, and their names. */
 export const LAYER_NAMES = {
   trajectory: 'trajectory boxes', shapes: 'detection shapes (rings, sectors)', unmatched: 'shapes of unmatched detections',
-  boxes: 'detection boxes', groups: 'proved groups', regions: 'landmark regions', truth: 'truth',
+  boxes: 'detection boxes', groups: 'proved groups', regions: 'landmark regions', headings: 'headings (odometry2d)', truth: 'truth',
 };
 export const LAYERS = Object.keys(LAYER_NAMES);
 
@@ -502,8 +506,23 @@ function scenePaths(result, mission, last) {
     });
     if (parts.length) truthPath = new Path2D(parts.join(''));
   }
+  // odometry2d: the heading interval of every k-th step (at most
+  // MAX_HEADINGS, the last kept) with a bounded box, as core's figure.
+  const heads = [];
+  if (Array.isArray(result.headings)) {
+    const cand = [];
+    for (let i = 0; i <= last; i++) {
+      const r = rect(traj[i]), h = interval(result.headings[i]);
+      if (r && h && h[0] <= h[1]) cand.push([i, r, h]);
+    }
+    const k = Math.max(1, Math.ceil(cand.length / MAX_HEADINGS));
+    cand.forEach((c, j) => { if (j % k === 0 || j === cand.length - 1) heads.push(c); });
+    heads.stride = k;
+  }
+  const trueHeadings = truth && Array.isArray(truth.headings) && Array.isArray(truth.positions) ? truth.headings : [];
   const out = {
-    mission, last, drawn, boxes, stride,
+    mission, last, drawn, boxes, stride, heads,
+    trueHeads: heads.filter(([i]) => Number.isFinite(trueHeadings[i]) && Array.isArray(truth.positions[i])).map(([i]) => [truth.positions[i], trueHeadings[i]]),
     boxPaths: new Map([...boxParts].map(([c, p]) => [c, new Path2D(p.join(''))])),
     groups: groupOutlines(result),
     truthPath,
@@ -619,6 +638,27 @@ function render(layer, canvas, view, sc, shapes, regions, show, last) {
     ctx.lineWidth = 2 * px;
     for (const g of sc.groups) { ctx.strokeStyle = g.colour; ctx.strokeRect(g.r.x0, g.r.y0, g.r.x1 - g.r.x0, g.r.y1 - g.r.y0); }
   }
+  let headings = 0;
+  if (show('headings') && sc.heads.length) {
+    // A wedge of 14 pixels from the box's centre over the heading
+    // interval; a circle when it is 2 pi wide or more.
+    const R = 14 * px;
+    ctx.lineWidth = px; ctx.strokeStyle = HEADING; ctx.fillStyle = 'rgba(230,126,34,0.25)';
+    for (const [, r, h] of sc.heads) {
+      const x = r.x0 / 2 + r.x1 / 2, y = r.y0 / 2 + r.y1 / 2;
+      if (!meets({ x0: x - R, x1: x + R, y0: y - R, y1: y + R }, seen)) continue;
+      ctx.beginPath();
+      if (!(h[1] - h[0] < 2 * Math.PI)) { ctx.arc(x, y, R, 0, 2 * Math.PI); ctx.stroke(); } else { ctx.moveTo(x, y); ctx.arc(x, y, R, h[0], h[1]); ctx.closePath(); ctx.fill(); ctx.stroke(); }
+      headings++;
+    }
+  }
+  if (show('truth') && sc.trueHeads.length) {
+    // The true heading: a tick from the true position.
+    const R = 14 * px;
+    ctx.strokeStyle = TRUTH; ctx.lineWidth = px; ctx.beginPath();
+    for (const [p, t] of sc.trueHeads) { ctx.moveTo(p[0], p[1]); ctx.lineTo(p[0] + R * Math.cos(t), p[1] + R * Math.sin(t)); }
+    ctx.stroke();
+  }
   if (show('truth') && sc.truthPath) {
     // A white halo under a black line: visible over any colour.
     ctx.lineJoin = 'round';
@@ -632,7 +672,7 @@ function render(layer, canvas, view, sc, shapes, regions, show, last) {
       ctx.fillStyle = TRUTH; ctx.beginPath(); ctx.arc(view.tx(l[0]), view.ty(l[1]), 3, 0, 7); ctx.fill();
     }
   }
-  return { shapes: drawnShapes, sectors: drawnSectors };
+  return { shapes: drawnShapes, sectors: drawnSectors, headings };
 }
 
 /** The legend entries of a SLAM picture: what is drawn, with counts. */
@@ -645,6 +685,8 @@ function resultLegend(result, mission, sc, drawn, regions, show) {
   const k = Array.isArray(result.matching) ? result.matching.length : 0;
   if (show('groups') && k) e.push({ label: `proved groups (${k}${sc.groups.length < k ? `, ${sc.groups.length} drawn` : ''})`, kind: 'outline', colour: PALETTE.slice(0, 3) });
   if (show('regions') && regions.rects.length) e.push({ label: 'landmark regions', kind: 'fill', colour: 'rgba(200,0,0,0.4)' });
+  if (show('headings') && sc.heads.length) e.push({ label: `heading (interval)${sc.heads.stride > 1 ? `, 1 step in ${sc.heads.stride}` : ''}`, kind: 'fill', colour: 'rgba(230,126,34,0.5)' });
+  if (show('truth') && sc.trueHeads.length) e.push({ label: 'true heading', kind: 'line', colour: TRUTH });
   if (drawn.shapes) e.push({ label: 'detection shapes', kind: 'fill', colour: [...PALETTE.slice(0, 2).map((c) => c + '55'), '#99999955'] });
   if (show('boxes') && sc.boxes) e.push({ label: 'detection boxes', kind: 'outline', colour: [PALETTE[0], UNMATCHED] });
   if (!truth && !e.length) e.push({ label: 'nothing to draw', kind: 'outline', colour: '#ccc' });
@@ -655,8 +697,9 @@ function resultLegend(result, mission, sc, drawn, regions, show) {
  * Draws a SLAM result: the trajectory's envelope (boxes up to `untilStep`,
  * translucent, under the rest), detection shapes (faint, coloured by proved
  * group; unmatched ones grey), landmark regions (filled faintly, outlined),
- * detection boxes, the proved groups' boxes as outlines, the truth path on
- * top with a halo; then axes in metres and the legend. `layers` hides
+ * detection boxes, the proved groups' boxes as outlines, odometry2d's
+ * headings as wedges (every k-th step, at most 48; a circle when 2 pi wide
+ * or more), the truth path on top with a halo and the true headings; then axes in metres and the legend. `layers` hides
  * layers ({shapes: false, ...}); `moving` (during a pan or zoom) allows the
  * picture of the previous view, moved and scaled, and then the canvas's
  * dataset says `stale` = "true". Writes what was drawn into the canvas's
@@ -694,7 +737,7 @@ export function drawResult(canvas, view, result, mission, untilStep, layers = {}
   drawAxes(ctx, view, 'm');
   drawLegend(ctx, resultLegend(result, mission, sc, c.drawn, regions, show));
   Object.assign(canvas.dataset, {
-    shapes: c.drawn.shapes, sectors: c.drawn.sectors,
+    shapes: c.drawn.shapes, sectors: c.drawn.sectors, headings: c.drawn.headings,
     boxes: show('boxes') ? sc.boxes : 0, regions: show('regions') ? regions.count : 0,
     regionSegments: show('regions') ? regions.segments : 0, groups: show('groups') ? sc.groups.length : 0,
     stale, ms: (performance.now() - t0).toFixed(2),

@@ -14,12 +14,20 @@ function redraw(moving = false) {
   sl.shown.forEach((s) => drawResult($(s.id), s.view, s.result, sl.mission, undefined, l, moving === true));
 }
 
-/** Simulates with the controls' options, runs basic and nvector, draws both and writes the summary. */
-export function slamDemo() {
+/** Steps of the woods preset: small enough for the browser (core's woods generator, core/src/slam/woods.rs). */
+const WOODS_STEPS = 400;
+
+/**
+ * Simulates with the controls' options (`woods`: the woods scenario, an
+ * odometry2d robot among identical landmarks, at the controls' seed), runs
+ * basic and nvector, draws both and writes the summary.
+ */
+export function slamDemo(woods = false) {
   if (!nv) return;
   const mode = $('sl-mode').value;
-  const opts = {
-    scenario: 'paper', seed: Number($('sl-seed').value) | 0, steps: Number($('sl-steps').value), noise: Number($('sl-noise').value),
+  const seed = Number($('sl-seed').value) | 0;
+  const opts = woods === true ? { scenario: 'woods', seed, steps: WOODS_STEPS } : {
+    scenario: 'paper', seed, steps: Number($('sl-steps').value), noise: Number($('sl-noise').value),
     landmarks: Number($('sl-landmarks').value), layout: $('sl-layout').value, range_only: $('sl-range-only').checked,
   };
   let mission, basic, withNv, t0, t1, t2;
@@ -47,12 +55,13 @@ export function slamDemo() {
   const n = mission.landmark_count;
   $('sl-basic-cap').textContent = `basic model: max diameter ${Number(basic.metrics.max_trajectory_diameter).toFixed(2)} m`;
   $('sl-nv-cap').textContent = `with atmost_nvector (${mode}): max diameter ${Number(withNv.metrics.max_trajectory_diameter).toFixed(2)} m, ${groups} proved groups of at most ${n} landmarks`;
-  const kind = `${opts.layout}${opts.range_only ? ', range only' : ', range + bearing'}`;
+  const kind = opts.scenario === 'woods' ? `woods (odometry2d, ${n} identical landmarks, scans, max heading width ${Number(withNv.metrics.max_heading_width).toFixed(2)} rad)` : `${opts.layout}${opts.range_only ? ', range only' : ', range + bearing'}`;
   Object.assign($('sl-summary').dataset, {
     basicDiameter: basic.metrics.max_trajectory_diameter, nvectorDiameter: withNv.metrics.max_trajectory_diameter,
     recall: withNv.score.matching_recall, errors: withNv.score.matching_errors, ms: (t2 - t1).toFixed(1),
     truthInside: String(basic.score.truth_inside && withNv.score.truth_inside), contractor: withNv.options.contractor,
-    rangeOnly: String(opts.range_only), layout: opts.layout, detections: mission.detections.length, groups, error: '',
+    rangeOnly: String(!!opts.range_only), layout: opts.layout || '', detections: mission.detections.length, groups, error: '',
+    scenario: opts.scenario, model: mission.model, maxHeadingWidth: withNv.metrics.max_heading_width ?? '',
   });
   $('sl-summary').textContent = `${kind}: detections ${mission.detections.length}; basic ${(t1 - t0).toFixed(1)} ms, ${mode} ${(t2 - t1).toFixed(1)} ms; ratio ${(basic.metrics.max_trajectory_diameter / withNv.metrics.max_trajectory_diameter).toFixed(1)}x; ${groups} proved groups of at most ${n} landmarks; recall ${withNv.score.matching_recall.toFixed(2)}; truth inside ${basic.score.truth_inside && withNv.score.truth_inside}; errors ${withNv.score.matching_errors}`;
 }
@@ -62,6 +71,12 @@ export function slamPreset(rangeOnly) {
   $('sl-range-only').checked = rangeOnly;
   $('sl-mode').value = rangeOnly ? 'shapes' : 'best';
   slamDemo();
+}
+
+/** The woods preset: the woods scenario (odometry2d), basic against projection (best takes tens of seconds there). */
+export function slamWoods() {
+  $('sl-mode').value = 'projection';
+  slamDemo(true);
 }
 
 /** Wires the demo's controls and views. */
@@ -90,7 +105,8 @@ export function initSlam() {
       request(true);
     });
   });
-  $('sl-run').addEventListener('click', slamDemo);
+  $('sl-run').addEventListener('click', () => slamDemo());
+  $('sl-preset-woods').addEventListener('click', slamWoods);
   $('sl-preset-bearing').addEventListener('click', () => slamPreset(false));
   $('sl-preset-range').addEventListener('click', () => slamPreset(true));
 }

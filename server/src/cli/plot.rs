@@ -273,6 +273,58 @@ fn draw_layer<DB: DrawingBackend>(
                 )
                 .map_err(err)?;
         }
+        Kind::Polygons => draw_polygons(chart, layer, c, view)?,
+    }
+    Ok(())
+}
+
+/// A layer of polygons (heading wedges, true-heading ticks): filled when
+/// `fill_alpha` > 0, outlined (closed; a two-point polygon is a segment)
+/// when `line_width` > 0, coordinates brought within a view's span as in
+/// [`draw_layer`].
+fn draw_polygons<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    layer: &Layer,
+    c: RGBColor,
+    view: [f64; 4],
+) -> Result<(), CliError> {
+    let (sx, sy) = (view[1] - view[0], view[3] - view[2]);
+    let pts = |poly: &Vec<[f64; 2]>| -> Vec<(f64, f64)> {
+        poly.iter()
+            .map(|p| {
+                (
+                    p[0].clamp(view[0] - sx, view[1] + sx),
+                    p[1].clamp(view[2] - sy, view[3] + sy),
+                )
+            })
+            .collect()
+    };
+    if layer.fill_alpha > 0.0 {
+        let style = c.mix(layer.fill_alpha).filled();
+        chart
+            .draw_series(
+                layer
+                    .polygons
+                    .iter()
+                    .filter(|p| p.len() > 2)
+                    .map(|p| Polygon::new(pts(p), style)),
+            )
+            .map_err(err)?;
+    }
+    if layer.line_width > 0.0 {
+        let style = c.stroke_width(layer.line_width.ceil() as u32);
+        chart
+            .draw_series(layer.polygons.iter().map(|p| {
+                let mut v = pts(p);
+                if v.len() > 2 {
+                    v.push(v[0]);
+                }
+                PathElement::new(v, style)
+            }))
+            .map_err(err)?;
     }
     Ok(())
 }
@@ -317,6 +369,25 @@ fn legend<DB: DrawingBackend>(
                 .map_err(err)?,
             Kind::Points => area
                 .draw(&Circle::new((25, y + 8), 5, c.filled()))
+                .map_err(err)?,
+            Kind::Polygons if layer.fill_alpha > 0.0 => {
+                // A wedge: its apex on the left, its arc on the right.
+                let wedge = vec![(x0, y + 8), (x1, y0), (x1 + 2, y + 8), (x1, y1)];
+                area.draw(&Polygon::new(
+                    wedge.clone(),
+                    c.mix(layer.fill_alpha).filled(),
+                ))
+                .map_err(err)?;
+                let mut outline = wedge;
+                outline.push((x0, y + 8));
+                area.draw(&PathElement::new(outline, c.stroke_width(1)))
+                    .map_err(err)?;
+            }
+            Kind::Polygons => area
+                .draw(&PathElement::new(
+                    vec![(x0, y + 8), (x1, y + 8)],
+                    c.stroke_width(layer.line_width.ceil() as u32),
+                ))
                 .map_err(err)?,
         }
         for line in wrap(&layer.label, 34) {
