@@ -35,6 +35,7 @@ use utoipa::OpenApi;
         (name = "missions", description = "Store, list, read and delete missions; simulate one"),
         (name = "jobs", description = "SLAM jobs on stored missions: queue, follow, cancel, results"),
         (name = "contraction", description = "One atmost_nvector contraction"),
+        (name = "tdoa", description = "TDOA passive location: a problem stored and solved as a job"),
         (name = "operations", description = "Health, readiness, metrics"),
     ),
     components(schemas(
@@ -133,8 +134,24 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
     camel_case_links(&mut doc["paths"]);
     unsigned_formats(&mut doc);
     encodings(&mut doc);
+    tdoa_result(&mut doc);
     security(&mut doc, config);
     doc
+}
+
+/// A job's JSON result is `nvector-result/1` for a SLAM job and
+/// `nvector-tdoa-result/1` (core's `tdoa::result::result_schema`, next to
+/// its writer) for a TDOA job (`POST /tdoa`).
+fn tdoa_result(doc: &mut Value) {
+    doc["components"]["schemas"]["TdoaResult"] = nvector_core::tdoa::result::result_schema();
+    if let Some(json) = doc.pointer_mut(
+        "/paths/~1api~1v1~1jobs~1{id}~1result/get/responses/200/content/application~1json",
+    ) {
+        json["schema"] = json!({"oneOf": [
+            {"$ref": "#/components/schemas/SlamResult"},
+            {"$ref": "#/components/schemas/TdoaResult"}
+        ]});
+    }
 }
 
 /// This service's limits: steps, detections, false detections, the job
