@@ -152,6 +152,16 @@ fn tdoa_result(doc: &mut Value) {
             {"$ref": "#/components/schemas/TdoaResult"}
         ]});
     }
+    // `GET /missions/{id}` of a TDOA problem's id (`t-...`) answers the
+    // problem as stored.
+    if let Some(json) = doc
+        .pointer_mut("/paths/~1api~1v1~1missions~1{id}/get/responses/200/content/application~1json")
+    {
+        json["schema"] = json!({"oneOf": [
+            {"$ref": "#/components/schemas/Mission"},
+            {"$ref": "#/components/schemas/TdoaDoc"}
+        ]});
+    }
 }
 
 /// This service's limits: steps, detections, false detections, the job
@@ -183,6 +193,15 @@ fn fit_limits(doc: &mut Value, config: &Config) {
         "maximum",
         json!(config.job_time_limit_s),
     );
+    // A TDOA job's time limit, a query parameter.
+    if let Some(params) = doc
+        .pointer_mut("/paths/~1api~1v1~1tdoa/post/parameters")
+        .and_then(Value::as_array_mut)
+    {
+        for p in params.iter_mut().filter(|p| p["name"] == "time_limit_s") {
+            p["schema"]["maximum"] = json!(config.job_time_limit_s);
+        }
+    }
     // With auv, range_only may only be its default.
     set(
         doc,
