@@ -927,6 +927,13 @@ fn the_radar_demo_in_headless_chromium() {
         "m",
     );
     d.screenshot("radar");
+    // The wheel zooms in: the axes' step shrinks.
+    let step = canvas_data(&d, "rd-canvas", "axes.split(',')[2]");
+    d.js("const c = document.getElementById('rd-canvas'); for (let i = 0; i < 8; i++) c.dispatchEvent(new WheelEvent('wheel', {deltaY: -100, clientX: c.getBoundingClientRect().left + 200, clientY: c.getBoundingClientRect().top + 200, cancelable: true})); return 1;");
+    d.wait(
+        &format!("return Number(document.getElementById('rd-canvas').dataset.axes.split(',')[2]) < {step}"),
+        Duration::from_secs(10),
+    );
     let run = d.js("return window.nvectorRadar");
     let (problem, result) = (&run["problem"], &run["result"]);
     let truth = &problem["truth"];

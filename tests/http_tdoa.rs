@@ -134,15 +134,56 @@ fn radar_job_matches_the_truth(b: &Backend) {
     )
     .iter()
     .any(|e| e.contains("trajectory")));
-    // The problem is stored as sent, not listed among the missions, and
-    // its result is JSON only.
+    // The problem is stored as sent and not listed among the missions.
     let (st, stored) = s.get(&format!("/api/v1/missions/{pid}"));
     assert_eq!(st, 200);
     assert_eq!(stored, problem);
     let (_, list) = s.get("/api/v1/missions");
     assert_eq!(list["missions"], json!([]), "{list}");
-    let (st, e) = s.get(&format!("/api/v1/jobs/{id}/result?format=svg"));
-    assert_eq!((st, &e["error"]["path"]), (400, &json!("format")), "{e}");
+    // As CSV, one row of bounds per pulse box, as in the JSON.
+    let (st, _, csv) = s.req(
+        "GET",
+        &format!("/api/v1/jobs/{id}/result?format=csv"),
+        None,
+        &[],
+    );
+    assert_eq!(st, 200);
+    let csv = String::from_utf8(csv).unwrap();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows[0], "pulse,x_lo,x_hi,y_lo,y_hi,z_lo,z_hi");
+    assert_eq!(rows.len(), 41);
+    let first: Vec<f64> = rows[1]
+        .split(',')
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let axes = result["pulses"][0].as_array().unwrap();
+    let want: Vec<f64> = axes
+        .iter()
+        .flat_map(|a| [a[0].as_f64().unwrap(), a[1].as_f64().unwrap()])
+        .collect();
+    assert_eq!(first, want);
+    // As SVG: a receiver per receiver, a ring per proved group, a box per pulse.
+    let (st, _, svg) = s.req(
+        "GET",
+        &format!("/api/v1/jobs/{id}/result?format=svg"),
+        None,
+        &[],
+    );
+    assert_eq!(st, 200);
+    let svg = String::from_utf8(svg).unwrap();
+    assert!(svg.starts_with("<svg"), "{svg}");
+    let count = |class: &str| svg.matches(&format!("class=\"{class}\"")).count();
+    assert_eq!(
+        count("receiver"),
+        problem["receivers"].as_array().unwrap().len()
+    );
+    assert_eq!(
+        count("emitter"),
+        result["matching"].as_array().unwrap().len()
+    );
+    assert_eq!(count("pulse"), 40);
+    assert_eq!(count("truth"), 3);
 
     // Without atmost_nvector and with the ids hidden, nothing is grouped;
     // the boxes still hold the truth.

@@ -4,7 +4,7 @@
 // module does not carry the TDOA solver. Drawn in the x-y plane in metres:
 // receivers, every pulse's box (its emitter's position) coloured by its
 // proved group, the emitter regions (one box per group), the truth.
-import { $ } from './dom.js';
+import { $, canvasPoint, scheduler } from './dom.js';
 import { PALETTE, UNMATCHED, View, drawAxes, drawLegend, drawRect, hull, rect } from './draw.js';
 
 /** The last run, for the browser tests: {problem, result, ms}. */
@@ -100,7 +100,25 @@ export async function radarDemo() {
   summary.textContent = `${result.pulses.length} pulses, ${problem.receivers.length} receivers, at most ${problem.emitter_count} emitters: ${result.matching.length} proved groups, recall ${s.matching_recall.toFixed(2)}, matching errors ${s.matching_errors}, truth inside ${s.truth_inside}, ${radar.ms.toFixed(0)} ms (${result.contractor})`;
 }
 
-/** Wires the controls; the module loads on the first run. */
+/** Wires the controls and the view (drag to pan, wheel to zoom); the module loads on the first run. */
 export function initRadar() {
   $('rd-run').addEventListener('click', radarDemo);
+  const c = $('rd-canvas'), request = scheduler(draw);
+  let drag = null;
+  c.addEventListener('pointerdown', (ev) => { drag = canvasPoint(c, ev); c.setPointerCapture(ev.pointerId); });
+  c.addEventListener('pointerup', () => { drag = null; });
+  c.addEventListener('pointermove', (ev) => {
+    if (!drag || !view) return;
+    const p = canvasPoint(c, ev);
+    view.pan(p[0] - drag[0], p[1] - drag[1]);
+    drag = p;
+    request(true);
+  });
+  c.addEventListener('wheel', (ev) => {
+    if (!view) return;
+    ev.preventDefault();
+    const [px, py] = canvasPoint(c, ev);
+    view.zoom(ev.deltaY < 0 ? 1.25 : 1 / 1.25, px, py);
+    request(true);
+  });
 }

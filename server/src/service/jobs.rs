@@ -553,9 +553,11 @@ pub enum ResultFormat {
     /// The result JSON (`nvector-result/1`; `nvector-tdoa-result/1` for a
     /// TDOA job, whose result is JSON only).
     Json,
-    /// The trajectory as CSV: `step,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]`.
+    /// The trajectory as CSV: `step,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]` (a
+    /// TDOA job: its pulse boxes, `pulse,x_lo,...,z_hi`).
     Csv,
-    /// The figure (SVG).
+    /// The figure (SVG; a TDOA job: receivers, pulse boxes by proved
+    /// group, emitter regions and truth in the x-y plane).
     Svg,
 }
 
@@ -619,13 +621,23 @@ pub(super) async fn job_result(
             .ok_or_else(|| AppError::not_found("result"))?
     };
     let format = q.format.as_deref().unwrap_or("json");
-    if format != "json" && JobKind::of(&job.mission) == JobKind::Tdoa {
-        return Err(AppError::new(
-            StatusCode::BAD_REQUEST,
-            "invalid_query",
-            format!("a TDOA job's result is JSON only (format=json), not '{format}'"),
-        )
-        .at("format"));
+    if JobKind::of(&job.mission) == JobKind::Tdoa && matches!(format, "csv" | "svg") {
+        let v = parse_json(text.as_bytes())?;
+        if format == "csv" {
+            return Ok((
+                [(header::CONTENT_TYPE, "text/csv")],
+                super::tdoa::pulses_csv(&v),
+            )
+                .into_response());
+        }
+        let problem_id = job.mission.clone();
+        let problem = state
+            .db(move |st| st.mission_body(&owner, &problem_id))
+            .await?
+            .and_then(|b| serde_json::from_str(&b).ok())
+            .unwrap_or(Value::Null);
+        let svg = super::tdoa::tdoa_svg(&v, &problem);
+        return Ok(([(header::CONTENT_TYPE, "image/svg+xml")], svg).into_response());
     }
     match format {
         "json" => Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response()),
