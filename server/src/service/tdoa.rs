@@ -24,6 +24,7 @@ use nvector_core::format::tdoa::TdoaDoc;
 use nvector_core::slam::types::Association;
 use nvector_core::tdoa::TdoaProblem;
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
 use utoipa::{IntoParams, ToSchema};
 
 /// The options of a TDOA job (query parameters; all optional).
@@ -108,7 +109,7 @@ pub struct TdoaQueued {
 
 /// Validates a problem: core's parser (422 naming the JSON path), then this
 /// service's limit on arrivals (413), the TDOA counterpart of detections.
-fn check_problem(v: &serde_json::Value, max_arrivals: usize) -> ApiResult<TdoaProblem> {
+fn check_problem(v: &Value, max_arrivals: usize) -> ApiResult<TdoaProblem> {
     let p = TdoaProblem::from_value(v).map_err(|e| AppError::bad("invalid_tdoa", e))?;
     let arrivals: usize = p.pulses.iter().map(|k| k.arrivals.len()).sum();
     if arrivals > max_arrivals {
@@ -226,7 +227,7 @@ pub(super) async fn post_tdoa(
 
 /// A TDOA result's pulse boxes as CSV (`GET /jobs/{id}/result?format=csv`):
 /// `pulse,x_lo,x_hi,y_lo,y_hi,z_lo,z_hi`, bounds as the JSON writes them.
-pub(super) fn pulses_csv(result: &serde_json::Value) -> String {
+pub(super) fn pulses_csv(result: &Value) -> String {
     let csv = super::jobs::trajectory_csv(&serde_json::json!({"trajectory": result["pulses"]}));
     csv.replacen("step", "pulse", 1)
 }
@@ -236,23 +237,10 @@ pub(super) fn pulses_csv(result: &serde_json::Value) -> String {
 /// pulse boxes outlined in their proved group's colour (grey: in none),
 /// emitter regions ringed, true emitters (dots). Unbounded boxes are left
 /// out.
-pub(super) fn tdoa_svg(result: &serde_json::Value, problem: &serde_json::Value) -> String {
-    use serde_json::Value;
+pub(super) fn tdoa_svg(result: &Value, problem: &Value) -> String {
     const PALETTE: [&str; 8] = [
         "#e6194b", "#3cb44b", "#4363d8", "#f58231", "#911eb4", "#42d4f4", "#f032e6", "#9a6324",
     ];
-    let xy = |b: &Value| -> Option<[f64; 4]> {
-        let a = b.as_array()?;
-        let r = [
-            a[0][0].as_f64()?,
-            a[0][1].as_f64()?,
-            a[1][0].as_f64()?,
-            a[1][1].as_f64()?,
-        ];
-        Some(r)
-    };
-    let empty = Vec::new();
-    let list = |v: &Value| v.as_array().unwrap_or(&empty).clone();
     let receivers: Vec<[f64; 4]> = list(&problem["receivers"])
         .iter()
         .filter_map(|r| xy(&r["position"]))
@@ -262,19 +250,7 @@ pub(super) fn tdoa_svg(result: &serde_json::Value, problem: &serde_json::Value) 
         .filter_map(|p| Some((p[0].as_f64()?, p[1].as_f64()?)))
         .collect();
     let emitters: Vec<Option<[f64; 4]>> = list(&result["emitters"]).iter().map(xy).collect();
-    let mut group = vec![usize::MAX; list(&result["pulses"]).len()];
-    for (g, members) in list(&result["matching"]).iter().enumerate() {
-        for m in list(members) {
-            if let Some(slot) = m.as_u64().and_then(|k| group.get_mut(k as usize)) {
-                *slot = g;
-            }
-        }
-    }
-    let pulses: Vec<(usize, [f64; 4])> = list(&result["pulses"])
-        .iter()
-        .enumerate()
-        .filter_map(|(k, b)| Some((group[k], xy(b)?)))
-        .collect();
+    let pulses = pulses_by_group(result);
     let e = extent(&receivers, &emitters, &truth);
     let span = (e[1] - e[0]).max(e[3] - e[2]).max(1e-9);
     let (size, pad) = (800.0, 0.06 * span);
@@ -349,4 +325,40 @@ fn extent(receivers: &[[f64; 4]], emitters: &[Option<[f64; 4]>], truth: &[(f64, 
     } else {
         [-1.0, 1.0, -1.0, 1.0]
     }
+}
+
+/// The x-y rectangle `[x_lo, x_hi, y_lo, y_hi]` of a result box, when its
+/// bounds are finite numbers.
+fn xy(b: &Value) -> Option<[f64; 4]> {
+    let a = b.as_array()?;
+    let (x, y) = (a.first()?, a.get(1)?);
+    Some([
+        x[0].as_f64()?,
+        x[1].as_f64()?,
+        y[0].as_f64()?,
+        y[1].as_f64()?,
+    ])
+}
+
+/// The elements of a JSON array (none for anything else).
+fn list(v: &Value) -> Vec<Value> {
+    v.as_array().cloned().unwrap_or_default()
+}
+
+/// Each bounded pulse box with its proved group (`usize::MAX`: none).
+fn pulses_by_group(result: &Value) -> Vec<(usize, [f64; 4])> {
+    let pulses = list(&result["pulses"]);
+    let mut group = vec![usize::MAX; pulses.len()];
+    for (g, members) in list(&result["matching"]).iter().enumerate() {
+        for m in list(members) {
+            if let Some(slot) = m.as_u64().and_then(|k| group.get_mut(k as usize)) {
+                *slot = g;
+            }
+        }
+    }
+    pulses
+        .iter()
+        .enumerate()
+        .filter_map(|(k, b)| Some((group[k], xy(b)?)))
+        .collect()
 }
