@@ -19,7 +19,7 @@ lint:
 	cargo fmt --all -- --check
 	python3 scripts/long_fns.py --check
 	cargo clippy --workspace --all-targets -- -D warnings
-	cargo clippy -p nvector-core -p nvector-web --target wasm32-unknown-unknown -- -D warnings
+	cargo clippy -p nvector-core -p nvector-web -p nvector-web-radar --target wasm32-unknown-unknown -- -D warnings
 
 test-rust: web
 	cargo test --workspace

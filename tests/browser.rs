@@ -934,3 +934,93 @@ fn pixel_stats(d: &Driver, canvas: &str) -> Value {
          return {{ red: red / n, grey: grey / n }};"
     ))
 }
+
+/// Whether a result box (`[[lo, hi] x3]`) holds the point `p`.
+fn box_holds(b: &Value, p: &Value) -> bool {
+    let bound = |v: &Value| match v {
+        Value::String(s) if s == "-inf" => f64::NEG_INFINITY,
+        Value::String(s) if s == "inf" => f64::INFINITY,
+        v => v.as_f64().unwrap_or(f64::NAN),
+    };
+    b.as_array().is_some_and(|axes| {
+        axes.len() == 3
+            && axes.iter().zip(p.as_array().unwrap()).all(|(a, x)| {
+                let x = x.as_f64().unwrap();
+                bound(&a[0]) <= x && x <= bound(&a[1])
+            })
+    })
+}
+
+/// The radar demo: its wasm module is not loaded with the page, only when
+/// its tab opens; it draws its legend and axes in metres, and its proved
+/// groups match the problem's truth (checked here, not by the page): one
+/// true emitter per group, whose position the group's box holds, and every
+/// pulse's box holds its true position.
+#[test]
+fn the_radar_demo_in_headless_chromium() {
+    let Some(d) = Driver::start() else { return };
+    let s = page_server();
+    let base = format!("http://{}", s.addr);
+    d.goto(&format!("{base}/"));
+    d.wait(
+        "return document.getElementById('wasm-status').dataset.ready === 'true'",
+        Duration::from_secs(30),
+    );
+    let loaded = "return performance.getEntriesByType('resource').filter((e) => e.name.includes('pkg-radar')).length";
+    assert_eq!(d.js(loaded), 0, "the radar module loaded with the page");
+    d.click("nav button[data-tab='radar']");
+    let groups = d.wait(
+        "const s = document.getElementById('rd-summary').dataset; return (s.groups || s.error) && [s.groups, s.error || '']",
+        Duration::from_secs(120),
+    );
+    assert_eq!(groups[1], "", "the demo failed: {groups}");
+    assert!(
+        d.js(loaded).as_u64().unwrap() >= 1,
+        "the radar module was not fetched"
+    );
+    legend_and_axes(
+        &d,
+        "rd-canvas",
+        &[
+            "receivers",
+            "pulse boxes",
+            "emitter regions",
+            "true emitters",
+        ],
+        "m",
+    );
+    d.screenshot("radar");
+    // The wheel zooms in: the axes' step shrinks.
+    let step = canvas_data(&d, "rd-canvas", "axes.split(',')[2]");
+    d.js("const c = document.getElementById('rd-canvas'); for (let i = 0; i < 8; i++) c.dispatchEvent(new WheelEvent('wheel', {deltaY: -100, clientX: c.getBoundingClientRect().left + 200, clientY: c.getBoundingClientRect().top + 200, cancelable: true})); return 1;");
+    d.wait(
+        &format!("return Number(document.getElementById('rd-canvas').dataset.axes.split(',')[2]) < {step}"),
+        Duration::from_secs(10),
+    );
+    let run = d.js("return window.nvectorRadar");
+    let (problem, result) = (&run["problem"], &run["result"]);
+    let truth = &problem["truth"];
+    for (k, b) in result["pulses"].as_array().unwrap().iter().enumerate() {
+        assert!(box_holds(b, &truth["positions"][k]), "pulse {k}: {b}");
+    }
+    let matching = result["matching"].as_array().unwrap();
+    assert!(matching.len() >= 2, "{}", result["matching"]);
+    let mut grouped = 0;
+    for (g, members) in matching.iter().enumerate() {
+        let members = members.as_array().unwrap();
+        let e = &truth["matching"][members[0].as_u64().unwrap() as usize];
+        for m in members {
+            assert_eq!(
+                &truth["matching"][m.as_u64().unwrap() as usize],
+                e,
+                "group {g}"
+            );
+        }
+        let point = &truth["emitters"][e.as_u64().unwrap() as usize];
+        assert!(box_holds(&result["emitters"][g], point), "group {g}");
+        grouped += members.len();
+    }
+    let recall = grouped as f64 / result["pulses"].as_array().unwrap().len() as f64;
+    assert!(recall >= 0.8, "recall {recall}");
+    assert_eq!(groups[0], json!(matching.len().to_string()));
+}

@@ -8,6 +8,8 @@
 //! - solving problems of several emitters (ids hidden, false arrivals with
 //!   `max_outliers`) keeps every truth inside and never groups pulses of
 //!   two emitters;
+//! - a solve stopped early (a time limit) keeps the truth, proves no wrong
+//!   group, and its boxes hold the whole solve's;
 //! - the radar scenario: truth inside, no matching error.
 //!
 //! Case count: `PROPTEST_CASES` (default 3000; the solves a tenth).
@@ -19,7 +21,7 @@ use nvector_core::tdoa::problem::TdoaProblem;
 use nvector_core::tdoa::pulse::PulseCtx;
 use nvector_core::tdoa::result::score;
 use nvector_core::tdoa::simulate::{simulate_radar, RadarOptions};
-use nvector_core::tdoa::{solve_tdoa, TdoaOptions};
+use nvector_core::tdoa::{solve_tdoa, solve_tdoa_with, TdoaOptions};
 use proptest::prelude::*;
 use serde_json::{json, Value};
 
@@ -260,6 +262,36 @@ proptest! {
         let sc = score(&p, &s).unwrap();
         prop_assert!(sc.truth_inside);
         prop_assert_eq!(sc.matching_errors, 0);
+    }
+}
+
+proptest! {
+    #![proptest_config(common::config_div(3000, 30, 10))]
+
+    /// Stopped early (`solve_tdoa_with` answering false, as a time limit
+    /// does), a solve keeps the truth, proves no wrong group, and its boxes
+    /// hold those of the whole solve (the rounds only contract).
+    #[test]
+    fn a_solve_stopped_early_is_sound_and_wider(
+        seed in any::<u64>(), n in 1usize..4, k in 2usize..10, bad in 0usize..3, stop in 1usize..4,
+    ) {
+        let p = several(seed, n, k, bad);
+        let o = TdoaOptions { mode: Some(Contractor::Best), budget: 24, max_rounds: 4 };
+        let full = solve_tdoa(&p, &o);
+        let mut asked = Vec::new();
+        let cut = solve_tdoa_with(&p, &o, &mut |done| { asked.push(done); done < stop });
+        prop_assert!(cut.rounds <= stop.max(1));
+        prop_assert!(asked.iter().all(|&d| d >= 1 && d <= cut.rounds), "{:?}", asked);
+        prop_assert!(cut.infeasible.is_none(), "{:?}", cut.infeasible);
+        let sc = score(&p, &cut).unwrap();
+        prop_assert!(sc.truth_inside);
+        prop_assert_eq!(sc.matching_errors, 0);
+        for (a, b) in cut.vars.iter().zip(&full.vars) {
+            for i in 0..3 {
+                prop_assert!(a.x[i].lo() <= b.x[i].lo() && b.x[i].hi() <= a.x[i].hi(),
+                    "axis {}: {:?} does not hold {:?}", i, a.x[i], b.x[i]);
+            }
+        }
     }
 }
 

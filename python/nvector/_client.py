@@ -146,6 +146,30 @@ class Client:
         stored = self.upload(mission)
         return self.create_job(stored["id"], contractor, max_rounds, time_limit_s)
 
+    def submit_tdoa(
+        self,
+        problem: dict[str, Any] | PathLike,
+        contractor: str | None = None,
+        max_rounds: int | None = None,
+        time_limit_s: float | None = None,
+    ) -> str:
+        """Stores a TDOA problem (``nvector-tdoa/1``: a dict or a file) and
+        queues a job on it (``POST /api/v1/tdoa``); returns the job id. Follow
+        it with :meth:`wait` (its result is ``nvector-tdoa-result/1``, the
+        same as :func:`nvector.tdoa` with the default budget) or
+        :meth:`cancel`. ``contractor`` None: the service's default, best. A
+        problem the service refuses raises :class:`ServiceError` naming the
+        JSON path."""
+        if isinstance(problem, (str, os.PathLike)):
+            with open(os.fspath(problem), "rb") as f:
+                body = f.read()
+        else:
+            body = _nvector.dumps(problem).encode("utf-8")
+        options = {"contractor": contractor, "max_rounds": max_rounds, "time_limit_s": time_limit_s}
+        query = urllib.parse.urlencode({k: str(v) for k, v in options.items() if v is not None})
+        with self._open("POST", "/api/v1/tdoa" + ("?" + query if query else ""), body) as response:
+            return str(json.loads(response.read())["id"])
+
     def job(self, job_id: str) -> dict[str, Any]:
         """The job: ``id``, ``mission``, ``state`` (queued, running, done,
         failed, cancelled), ``progress`` (round, max_trajectory_diameter,
@@ -182,7 +206,8 @@ class Client:
 
     def wait(self, job_id: str, progress: bool = True, timeout: float | None = None) -> dict[str, Any]:
         """Follows the job's event stream until it ends and returns its
-        result (``nvector-result/1`` dict). ``progress`` draws a progress bar
+        result (``nvector-result/1`` dict; ``nvector-tdoa-result/1`` for a
+        TDOA job). ``progress`` draws a progress bar
         on stderr (tqdm when installed, else a text bar). A job that failed
         or was cancelled raises :class:`JobError`; past ``timeout`` seconds,
         :class:`TimeoutError` (the job goes on)."""
@@ -289,6 +314,11 @@ def final_message(result: dict[str, Any]) -> str:
     """The progress bar's last words: the result's status, rounds and
     diameters (what the job ended on)."""
     m = result.get("metrics") or {}
+    if result.get("format") == "nvector-tdoa-result/1":
+        return (
+            f"{result.get('status')}, {m.get('rounds', '?')} rounds, {len(result.get('matching') or [])} "
+            f"emitters proved, max pulse diameter {metres(m.get('max_pulse_diameter'))}"
+        )
     return (
         f"{result.get('status')}, {m.get('rounds', '?')} rounds, max trajectory diameter "
         f"{metres(m.get('max_trajectory_diameter'))} (mean {metres(m.get('mean_trajectory_diameter'))})"

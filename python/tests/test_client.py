@@ -170,3 +170,24 @@ def test_api_keys(nvector_bin: Path, tmp_path: Path, mission: dict) -> None:
         assert err.value.status == 404
     finally:
         stop_service(secured)
+
+
+def test_tdoa_job_equals_the_local_solve(service: Service, cli: Cli, tmp_path: Path) -> None:
+    problem = tmp_path / "radar.json"
+    cli.run("simulate", "--scenario", "radar", "--seed", "6", "--emitters", "3", "--pulses", "30", "--out", str(problem))
+    client = nvector.Client(service.url)
+    job = client.submit_tdoa(problem)
+    result = client.wait(job, progress=False, timeout=120)
+    assert result["format"] == "nvector-tdoa-result/1"
+    assert result["score"]["truth_inside"] is True and result["score"]["matching_errors"] == 0
+    # The service runs core's solver with nvector.tdoa's defaults: the same bits.
+    assert canonical(result, CLOCK) == canonical(nvector.tdoa(problem), CLOCK)
+    assert client.job(job)["mission"].startswith("t-")
+    # Options travel as the query; a refused problem names its JSON path.
+    none = client.wait(client.submit_tdoa(json.loads(problem.read_text(encoding="utf-8")), contractor="none"), progress=False, timeout=120)
+    assert none["contractor"] == "none" and none["matching"] == []
+    bad = {"format": "nvector-tdoa/1", "propagation_speed": [1, 2], "receivers": [],
+           "pulses": [{"arrivals": [{"receiver": 0, "time": [0, 1]}]}]}
+    with pytest.raises(nvector.ServiceError) as e:
+        client.submit_tdoa(bad)
+    assert e.value.status == 422 and e.value.path == "pulses[0].arrivals[0].receiver"

@@ -6,14 +6,14 @@ entries, and so on. The OpenAPI document lists those rules in the
 descriptions of the schemas they constrain; this module implements them a
 second time, in Python, from docs/formats.md (not from the Rust code), and
 the check `rules_oracle` holds the service to them for every request the
-fuzzer generates as schema-valid on POST /api/v1/missions and
-POST /api/v1/contract:
+fuzzer generates as schema-valid on POST /api/v1/missions,
+POST /api/v1/contract and POST /api/v1/tdoa:
 
 - schema-valid and within the rules -> must be accepted (201 / 200);
 - schema-valid but breaking a rule  -> must be refused with 422 naming a
   JSON path.
 
-Schemathesis's own `positive_data_acceptance` is off for these two
+Schemathesis's own `positive_data_acceptance` is off for these three
 operations (it would count the second case as a wrongful refusal); every
 other check stays on, `negative_data_rejection` included (schema-invalid
 requests must be refused everywhere).
@@ -166,6 +166,70 @@ def contract_rules(r):
         raise Broken("boxes: exact takes at most 40 boxes")
 
 
+def tdoa_rules(t):
+    """Raises Broken when a schema-valid nvector-tdoa/1 problem breaks a
+    rule of docs/formats.md ("TDOA passive location") that the schema
+    cannot state."""
+    lo, _ = interval(t["propagation_speed"], "propagation_speed")
+    if lo <= 0:
+        raise Broken("propagation_speed: not positive")
+    receivers = t["receivers"]
+    for i, r in enumerate(receivers):
+        box(r["position"], f"receivers[{i}].position", 3)
+        if not absent(r, "clock_bias"):
+            interval(r["clock_bias"], f"receivers[{i}].clock_bias")
+    n = t.get("emitter_count")
+    if n is not None and not 1 <= n <= 1 << 20:
+        raise Broken("emitter_count: not in 1..=2^20")
+    pulses = t["pulses"]
+    ids = n if n is not None else max(len(pulses), 1)
+    arrivals = 0
+    for k, p in enumerate(pulses):
+        at = f"pulses[{k}]"
+        for a, arr in enumerate(p["arrivals"]):
+            if arr["receiver"] >= len(receivers):
+                raise Broken(f"{at}.arrivals[{a}].receiver: no such receiver")
+            interval(arr["time"], f"{at}.arrivals[{a}].time")
+            arrivals += 1
+        if not absent(p, "emitter") and p["emitter"] >= ids:
+            raise Broken(f"{at}.emitter: not below emitter_count")
+        if not absent(p, "distance_from"):
+            d = p["distance_from"]
+            box(d["point"], f"{at}.distance_from.point", 3)
+            interval(d["range"], f"{at}.distance_from.range")
+        if not absent(p, "altitude"):
+            interval(p["altitude"], f"{at}.altitude")
+        if not absent(p, "region"):
+            box(p["region"], f"{at}.region", 3)
+    q = t.get("max_outliers")
+    if q is not None and q > arrivals:
+        raise Broken("max_outliers: above the number of arrivals")
+    if not absent(t, "emitter_region"):
+        box(t["emitter_region"], "emitter_region", 3)
+    if not absent(t, "meta") and not isinstance(t["meta"], dict):
+        raise Broken("meta: not an object")
+    truth = t.get("truth")
+    if truth is not None:
+        positions = truth.get("positions")
+        if positions is not None:
+            if len(positions) != len(pulses):
+                raise Broken("truth.positions: not one per pulse")
+            for i, x in enumerate(positions):
+                if x is not None and len(x) != 3:
+                    raise Broken(f"truth.positions[{i}]: not 3 coordinates")
+        emitters = truth.get("emitters") or []
+        for i, x in enumerate(emitters):
+            if len(x) != 3:
+                raise Broken(f"truth.emitters[{i}]: not 3 coordinates")
+        matching = truth.get("matching")
+        if matching is not None:
+            if len(matching) != len(pulses):
+                raise Broken("truth.matching: not one per pulse")
+            for i, x in enumerate(matching):
+                if x is not None and x >= max(len(emitters), len(pulses)):
+                    raise Broken(f"truth.matching[{i}]: no such emitter")
+
+
 def mission_of(case):
     body = case.body
     if isinstance(body, (bytes, str)):
@@ -186,6 +250,7 @@ def mission_of(case):
 RULES = {
     ("POST", "/api/v1/missions"): (mission_rules, 201),
     ("POST", "/api/v1/contract"): (contract_rules, 200),
+    ("POST", "/api/v1/tdoa"): (tdoa_rules, 202),
 }
 
 

@@ -1,5 +1,6 @@
-// The page's entry: the tabs, the WASM handle, and the three features,
-// each in its own module (playground.js, slam.js, missions.js) drawing
+// The page's entry: the tabs, the WASM handle, and the features, each in
+// its own module (playground.js, slam.js, missions.js; radar.js with its
+// own wasm, loaded when its tab opens) drawing
 // through the one drawing module (draw.js).
 import init, { Nvector } from './pkg/nvector_web.js';
 import { $ } from './dom.js';
@@ -8,10 +9,19 @@ import { initPlayground, loadPreset, playgroundReady } from './playground.js';
 import { initSlam, sl, slamDemo, slamPreset, slamReady, slamWoods } from './slam.js';
 import { initMissions, redrawResults, refreshLists, shown } from './missions.js';
 
+// The radar demo and its wasm module load when its tab first opens.
+let radarModule = null;
+function openRadar() {
+  if (!radarModule) {
+    radarModule = import('./radar.js').then((m) => { m.initRadar(); window.nvectorRadar = m.radar; return m.radarDemo(); });
+  }
+}
+
 document.querySelectorAll('nav button').forEach((b) => b.addEventListener('click', () => {
   document.querySelectorAll('nav button').forEach((x) => x.classList.toggle('active', x === b));
   document.querySelectorAll('.tab').forEach((t) => t.classList.toggle('active', t.id === b.dataset.tab));
   if (b.dataset.tab === 'missions') refreshLists();
+  if (b.dataset.tab === 'radar') openRadar();
 }));
 
 initPlayground();

@@ -38,6 +38,8 @@ macro_rules! object_only {
 
 pub mod contract;
 pub mod leaf;
+#[cfg(feature = "openapi")]
+mod leaf_schema;
 pub mod mission;
 pub mod tdoa;
 

@@ -9,23 +9,44 @@ use super::present;
 use serde::Deserialize;
 use serde_json::Value;
 
-/// A TDOA problem document.
+/// A TDOA problem document (`nvector-tdoa/1`, docs/formats.md, "TDOA
+/// passive location").
+///
+/// Rules (beyond the schema): every box has 3 axes (x east, y north, z up,
+/// metres); every interval has lo <= hi; `propagation_speed` > 0; an
+/// arrival's `receiver` is below the number of receivers; a pulse's
+/// `emitter` is below `emitter_count` (or the number of pulses without
+/// it); `emitter_count` is in 1..=1,048,576 (2^20); `max_outliers` is at most the
+/// number of arrivals; `meta` is an object; `truth.positions` and
+/// `truth.matching` have one entry per pulse, every truth point 3
+/// coordinates, and a matching id is below the number of truth emitters
+/// (or of pulses, if more).
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 pub struct TdoaDoc {
     /// `"nvector-tdoa/1"` (any JSON, checked by the validation).
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(required = true, nullable = false, value_type = String, pattern = "^nvector-tdoa/1$")
+    )]
     pub format: Option<Value>,
     /// Name (default `"tdoa"`).
     pub name: Option<String>,
     /// Interval of the propagation speed c (m/s).
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
     pub propagation_speed: Option<IntervalIn>,
     /// The receivers.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<ReceiverDoc>>))]
     pub receivers: Option<List<ReceiverDoc>>,
     /// The pulses.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<PulseDoc>>))]
     pub pulses: Option<List<PulseDoc>>,
     /// n (atmost_nvector over the pulses' positions).
     pub emitter_count: Option<Integer>,
@@ -41,20 +62,25 @@ pub struct TdoaDoc {
 
 /// One receiver.
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 #[allow(missing_docs)]
 pub struct ReceiverDoc {
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
     pub position: Option<BoxIn>,
     pub clock_bias: Option<IntervalIn>,
 }
 
 /// One pulse.
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 #[allow(missing_docs)]
 pub struct PulseDoc {
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<ArrivalDoc>>))]
     pub arrivals: Option<List<ArrivalDoc>>,
     pub altitude: Option<IntervalIn>,
     pub region: Option<BoxIn>,
@@ -65,36 +91,46 @@ pub struct PulseDoc {
 /// A distance cut: the emitter is at a distance in `range` from a point
 /// in the box `point` (an altitude on a curved Earth: the Earth's centre).
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 #[allow(missing_docs)]
 pub struct DistanceFromDoc {
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
     pub point: Option<BoxIn>,
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
     pub range: Option<IntervalIn>,
 }
 
 /// One arrival.
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 #[allow(missing_docs)]
 pub struct ArrivalDoc {
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
     pub receiver: Option<Integer>,
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(required = true, nullable = false))]
     pub time: Option<IntervalIn>,
 }
 
 /// The `truth` object.
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 #[allow(missing_docs)]
 pub struct TdoaTruthDoc {
     /// One point per pulse (`null` where unknown).
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<Option<Vec<f64>>>>))]
     pub positions: Option<List<Option<List<Finite>>>>,
     /// One point per emitter.
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<Vec<f64>>>))]
     pub emitters: Option<List<List<Finite>>>,
     /// One emitter id per pulse (`null`: unknown).
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<Option<u64>>>))]
     pub matching: Option<List<Option<Integer>>>,
 }
 

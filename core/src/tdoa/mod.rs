@@ -21,4 +21,4 @@ pub mod solve;
 
 pub use problem::TdoaProblem;
 pub use result::tdoa_result_json;
-pub use solve::{solve_tdoa, TdoaOptions, TdoaSolution};
+pub use solve::{solve_tdoa, solve_tdoa_with, TdoaOptions, TdoaSolution};

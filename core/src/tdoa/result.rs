@@ -124,3 +124,61 @@ pub fn tdoa_result_json(
     }
     out
 }
+
+/// The JSON Schema of what [`tdoa_result_json`] writes (feature `openapi`:
+/// the server's document, `GET /jobs/{id}/result` of a TDOA job), kept next
+/// to the writer it describes.
+#[cfg(feature = "openapi")]
+pub fn result_schema() -> Value {
+    let bound = json!({"oneOf": [{"type": "number"}, {"type": "string", "enum": ["-inf", "inf"]}]});
+    let interval = json!({"oneOf": [
+        {"type": "array", "items": bound, "minItems": 2, "maxItems": 2},
+        {"type": "string", "enum": ["empty"]}
+    ], "description": "[lo, hi] (bounds are numbers, \"-inf\" or \"inf\"), or \"empty\"."});
+    let boxed = json!({"oneOf": [
+        {"type": "array", "items": interval, "minItems": 3, "maxItems": 3},
+        {"type": "string", "enum": ["empty"]}
+    ], "description": "A box of 3 intervals (x, y, z in metres), or \"empty\"."});
+    json!({
+        "type": "object",
+        "description": "The result of a TDOA job (`nvector-tdoa-result/1`, docs/formats.md).",
+        "required": ["format", "name", "status", "contractor", "pulses", "emission_times",
+                     "matching", "emitters", "metrics"],
+        "properties": {
+            "format": {"type": "string", "enum": [RESULT_FORMAT]},
+            "name": {"type": "string", "description": "The problem's name."},
+            "status": {"type": "string", "enum": ["consistent", "infeasible"]},
+            "reason": {"type": "string", "description": "Why it is infeasible (with `infeasible`)."},
+            "contractor": {"type": "string", "description": "The atmost_nvector contractor, or `none`."},
+            "pulses": {"type": "array", "items": boxed,
+                       "description": "One box per pulse: its emitter's position."},
+            "emission_times": {"type": "array", "items": interval,
+                               "description": "One interval per pulse: its emission time (s)."},
+            "matching": {"type": "array",
+                         "items": {"type": "array", "items": {"type": "integer", "minimum": 0}},
+                         "description": "Groups of pulse indices proved to share an emitter."},
+            "emitters": {"type": "array", "items": boxed,
+                         "description": "One box per group of `matching`."},
+            "metrics": {
+                "type": "object",
+                "required": ["max_pulse_diameter", "median_pulse_diameter", "rounds", "elapsed_ms"],
+                "properties": {
+                    "max_pulse_diameter": bound,
+                    "median_pulse_diameter": bound,
+                    "rounds": {"type": "integer", "minimum": 0},
+                    "elapsed_ms": {"type": "number", "minimum": 0}
+                }
+            },
+            "score": {
+                "type": "object",
+                "description": "Against the problem's truth, when it has one.",
+                "required": ["truth_inside", "matching_errors", "matching_recall"],
+                "properties": {
+                    "truth_inside": {"type": "boolean"},
+                    "matching_errors": {"type": "integer", "minimum": 0},
+                    "matching_recall": {"type": "number", "minimum": 0, "maximum": 1}
+                }
+            }
+        }
+    })
+}

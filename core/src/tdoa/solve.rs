@@ -162,6 +162,19 @@ impl Run<'_> {
 /// Solves `p`: boxes of every pulse's emitter and emission time, the
 /// groups proved, or a proof of infeasibility.
 pub fn solve_tdoa(p: &TdoaProblem, o: &TdoaOptions) -> TdoaSolution {
+    solve_tdoa_with(p, o, &mut |_| true)
+}
+
+/// [`solve_tdoa`], asking `go_on(rounds done)` before every round after
+/// the first: `false` stops the rounds there (a time limit, a
+/// cancellation). The boxes after any whole round enclose every solution
+/// (each round only contracts sound enclosures), so a solution stopped
+/// early is sound, only wider.
+pub fn solve_tdoa_with(
+    p: &TdoaProblem,
+    o: &TdoaOptions,
+    go_on: &mut dyn FnMut(usize) -> bool,
+) -> TdoaSolution {
     let k = p.pulses.len();
     let start = PulseVars {
         x: [Interval::ENTIRE; 3],
@@ -187,6 +200,9 @@ pub fn solve_tdoa(p: &TdoaProblem, o: &TdoaOptions) -> TdoaSolution {
     let mut rounds = 0;
     let mut infeasible = None;
     while rounds < o.max_rounds.max(1) {
+        if rounds > 0 && !go_on(rounds) {
+            break;
+        }
         rounds += 1;
         let before = total_width(&run.vars);
         let step = run

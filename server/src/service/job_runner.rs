@@ -42,6 +42,33 @@ pub struct JobOrder {
     pub time_limit_s: f64,
     /// The length of the mission JSON that follows the line.
     pub mission_bytes: usize,
+    /// What the job solves (absent: a SLAM mission).
+    #[serde(default)]
+    pub kind: JobKind,
+}
+
+/// What a job solves: a SLAM mission (`POST /jobs`) or a TDOA problem
+/// (`POST /tdoa`, `nvector-tdoa/1`; the result is `nvector-tdoa-result/1`).
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JobKind {
+    /// `slam::solve_model` on a mission.
+    #[default]
+    Slam,
+    /// `tdoa::solve_tdoa` on a TDOA problem.
+    Tdoa,
+}
+
+impl JobKind {
+    /// The kind of the job on a stored document: TDOA problems have ids
+    /// `t-...` (`POST /tdoa`), missions `m-...`.
+    pub fn of(document_id: &str) -> JobKind {
+        if document_id.starts_with("t-") {
+            JobKind::Tdoa
+        } else {
+            JobKind::Slam
+        }
+    }
 }
 
 /// What a worker process reports (one JSON line each).
@@ -156,6 +183,9 @@ fn send(out: &mut impl Write, report: &Report) -> Result<(), String> {
 
 /// Runs one job and reports its end (its progress on the way).
 fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<(), String> {
+    if order.kind == JobKind::Tdoa {
+        return run_tdoa(order, &mission, out);
+    }
     // A mission this release's solver cannot use soundly (odometry2d,
     // sensor_offset) fails naming the field rather than get a wrong answer.
     let mission = match Mission::from_json(&mission).and_then(|m| m.unsupported().map(|()| m)) {
@@ -263,3 +293,67 @@ fn send_result(out: &mut impl Write, mission: Mission, run: Finished) -> Result<
         .and_then(|()| w.flush())
         .map_err(|e| format!("writing the result to the service: {e}"))
 }
+
+/// Runs one TDOA job: the problem solved by core's `tdoa::solve_tdoa_with`
+/// with the job's contractor (`none` or an atmost_nvector contractor) and
+/// round cap, reported as `nvector-tdoa-result/1`. Progress goes out after
+/// each round; at the time limit the rounds stop and the (sound, wider)
+/// result is reported with `timed_out`.
+fn run_tdoa(order: &JobOrder, text: &str, out: &mut impl Write) -> Result<(), String> {
+    use nvector_core::nvector::Contractor;
+    use nvector_core::tdoa::{solve_tdoa_with, tdoa_result_json, TdoaOptions, TdoaProblem};
+    let problem = match TdoaProblem::from_json_str(text) {
+        Ok(p) => p,
+        Err(e) => {
+            return send(
+                out,
+                &Report::Failed {
+                    code: "invalid_mission".into(),
+                    message: e.to_string(),
+                },
+            )
+        }
+    };
+    let options = TdoaOptions {
+        mode: Contractor::parse(&order.contractor),
+        max_rounds: (order.max_rounds as usize).clamp(1, MAX_TDOA_ROUNDS),
+        ..TdoaOptions::default()
+    };
+    let start = Instant::now();
+    let limit = Duration::from_secs_f64(order.time_limit_s.clamp(0.001, 1e9));
+    let mut timed_out = false;
+    let mut broken: Option<String> = None;
+    let rounds = options.max_rounds as f64;
+    let mut go_on = |done: usize| {
+        let report = Report::Progress {
+            round: done as u64,
+            diameter: None,
+            fraction: (done as f64 / rounds).min(1.0),
+        };
+        if let Err(e) = send(out, &report) {
+            broken = Some(e);
+            return false;
+        }
+        timed_out = start.elapsed() > limit;
+        !timed_out
+    };
+    let solution = solve_tdoa_with(&problem, &options, &mut go_on);
+    if let Some(e) = broken {
+        return Err(e);
+    }
+    let elapsed_ms = start.elapsed().as_secs_f64() * 1e3;
+    let text = tdoa_result_json(&problem, &options, &solution, elapsed_ms).to_string();
+    send(
+        out,
+        &Report::Done {
+            result_bytes: text.len(),
+            timed_out,
+        },
+    )?;
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(|e| format!("writing the result to the service: {e}"))
+}
+
+/// Most rounds of a TDOA job (as `nvector tdoa`'s `--max-rounds` cap).
+pub const MAX_TDOA_ROUNDS: usize = 1000;

@@ -5,6 +5,7 @@
 
 use super::error::{parse_json, ApiResult, AppError, Body, RequestBody};
 use super::formats::{ErrorBody, SlamResult};
+use super::job_runner::JobKind;
 use super::state::{AppState, Owner};
 use super::store::{JobRow, JobState, QueuePolicy, Queued};
 use super::worker::now_ms;
@@ -130,7 +131,12 @@ impl JobRequest {
 }
 
 /// A new queued job.
-fn new_job(mission: String, contractor: String, max_rounds: i64, time_limit_s: f64) -> JobRow {
+pub(super) fn new_job(
+    mission: String,
+    contractor: String,
+    max_rounds: i64,
+    time_limit_s: f64,
+) -> JobRow {
     JobRow {
         id: format!("j-{}", uuid::Uuid::new_v4().simple()),
         mission,
@@ -155,7 +161,7 @@ fn new_job(mission: String, contractor: String, max_rounds: i64, time_limit_s: f
 
 /// Queues `job` for `owner` (the queue limit checked by the insert itself,
 /// one atomic step) and wakes the workers.
-async fn enqueue(state: &AppState, owner: String, job: JobRow) -> ApiResult<()> {
+pub(super) async fn enqueue(state: &AppState, owner: String, job: JobRow) -> ApiResult<()> {
     let policy = QueuePolicy {
         max_queue: state.config.max_queue,
         short_cost: state.config.short_job_cost,
@@ -366,7 +372,11 @@ pub(super) async fn post_job(
             .await?
             .ok_or_else(|| AppError::not_found("mission").at("mission"))?
     };
-    let contractor = req.contractor(&body)?;
+    let contractor = match (&req.contractor, JobKind::of(&mission)) {
+        // A TDOA problem (`POST /tdoa`) run again: `best` by default.
+        (None | Some(Value::Null), JobKind::Tdoa) => "best".to_string(),
+        _ => req.contractor(&body)?,
+    };
     drop(body);
     let max_rounds = req.max_rounds()?;
     let time_limit_s = req.time_limit_s(state.config.job_time_limit_s)?;
@@ -540,11 +550,14 @@ pub(super) async fn job_events(
 #[derive(Deserialize, ToSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum ResultFormat {
-    /// The result JSON (`nvector-result/1`).
+    /// The result JSON (`nvector-result/1`; `nvector-tdoa-result/1` for a
+    /// TDOA job, whose result is JSON only).
     Json,
-    /// The trajectory as CSV: `step,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]`.
+    /// The trajectory as CSV: `step,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]` (a
+    /// TDOA job: its pulse boxes, `pulse,x_lo,...,z_hi`).
     Csv,
-    /// The figure (SVG).
+    /// The figure (SVG; a TDOA job: receivers, pulse boxes by proved
+    /// group, emitter regions and truth in the x-y plane).
     Svg,
 }
 
@@ -607,7 +620,26 @@ pub(super) async fn job_result(
             .await?
             .ok_or_else(|| AppError::not_found("result"))?
     };
-    match q.format.as_deref().unwrap_or("json") {
+    let format = q.format.as_deref().unwrap_or("json");
+    if JobKind::of(&job.mission) == JobKind::Tdoa && matches!(format, "csv" | "svg") {
+        let v = parse_json(text.as_bytes())?;
+        if format == "csv" {
+            return Ok((
+                [(header::CONTENT_TYPE, "text/csv")],
+                super::tdoa::pulses_csv(&v),
+            )
+                .into_response());
+        }
+        let problem_id = job.mission.clone();
+        let problem = state
+            .db(move |st| st.mission_body(&owner, &problem_id))
+            .await?
+            .and_then(|b| serde_json::from_str(&b).ok())
+            .unwrap_or(Value::Null);
+        let svg = super::tdoa::tdoa_svg(&v, &problem);
+        return Ok(([(header::CONTENT_TYPE, "image/svg+xml")], svg).into_response());
+    }
+    match format {
         "json" => Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response()),
         "csv" => {
             let v = parse_json(text.as_bytes())?;

@@ -5,7 +5,7 @@
 //! One file per resource: `missions`, `jobs` (HTTP side; the workers are in
 //! `worker`, each running its jobs in a worker process: `worker_process`
 //! is the service's side of one, `job_runner` what runs inside it),
-//! `contract`, `simulate`; `error` (the one `AppError`), `config`
+//! `contract`, `simulate`, `tdoa` (TDOA jobs); `error` (the one `AppError`), `config`
 //! (`Config`, sizes), `state` (`AppState`, API keys), `metrics` (health,
 //! readiness, the `/metrics` endpoint) and `meters` (the metric families),
 //! `formats` (the spec's JSON formats as types for the document), `openapi`
@@ -25,6 +25,7 @@ pub mod openapi;
 mod simulate;
 mod state;
 pub mod store;
+mod tdoa;
 pub mod worker;
 mod worker_process;
 
@@ -65,6 +66,7 @@ fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(jobs::job_result))
         .routes(routes!(contract::post_contract))
         .routes(routes!(simulate::post_simulate))
+        .routes(routes!(tdoa::post_tdoa))
         .routes(routes!(openapi::openapi_json))
         .fallback(api_not_found);
     OpenApiRouter::with_openapi(openapi::ApiDoc::openapi())

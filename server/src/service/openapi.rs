@@ -35,6 +35,7 @@ use utoipa::OpenApi;
         (name = "missions", description = "Store, list, read and delete missions; simulate one"),
         (name = "jobs", description = "SLAM jobs on stored missions: queue, follow, cancel, results"),
         (name = "contraction", description = "One atmost_nvector contraction"),
+        (name = "tdoa", description = "TDOA passive location: a problem stored and solved as a job"),
         (name = "operations", description = "Health, readiness, metrics"),
     ),
     components(schemas(
@@ -133,8 +134,34 @@ pub fn finish(api: utoipa::openapi::OpenApi, config: &Config) -> Value {
     camel_case_links(&mut doc["paths"]);
     unsigned_formats(&mut doc);
     encodings(&mut doc);
+    tdoa_result(&mut doc);
     security(&mut doc, config);
     doc
+}
+
+/// A job's JSON result is `nvector-result/1` for a SLAM job and
+/// `nvector-tdoa-result/1` (core's `tdoa::result::result_schema`, next to
+/// its writer) for a TDOA job (`POST /tdoa`).
+fn tdoa_result(doc: &mut Value) {
+    doc["components"]["schemas"]["TdoaResult"] = nvector_core::tdoa::result::result_schema();
+    if let Some(json) = doc.pointer_mut(
+        "/paths/~1api~1v1~1jobs~1{id}~1result/get/responses/200/content/application~1json",
+    ) {
+        json["schema"] = json!({"oneOf": [
+            {"$ref": "#/components/schemas/SlamResult"},
+            {"$ref": "#/components/schemas/TdoaResult"}
+        ]});
+    }
+    // `GET /missions/{id}` of a TDOA problem's id (`t-...`) answers the
+    // problem as stored.
+    if let Some(json) = doc
+        .pointer_mut("/paths/~1api~1v1~1missions~1{id}/get/responses/200/content/application~1json")
+    {
+        json["schema"] = json!({"oneOf": [
+            {"$ref": "#/components/schemas/Mission"},
+            {"$ref": "#/components/schemas/TdoaDoc"}
+        ]});
+    }
 }
 
 /// This service's limits: steps, detections, false detections, the job
@@ -166,6 +193,15 @@ fn fit_limits(doc: &mut Value, config: &Config) {
         "maximum",
         json!(config.job_time_limit_s),
     );
+    // A TDOA job's time limit, a query parameter.
+    if let Some(params) = doc
+        .pointer_mut("/paths/~1api~1v1~1tdoa/post/parameters")
+        .and_then(Value::as_array_mut)
+    {
+        for p in params.iter_mut().filter(|p| p["name"] == "time_limit_s") {
+            p["schema"]["maximum"] = json!(config.job_time_limit_s);
+        }
+    }
     // With auv, range_only may only be its default.
     set(
         doc,

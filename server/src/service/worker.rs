@@ -18,7 +18,7 @@
 //! variable, woken when a job is queued (and poll storage twice a second,
 //! for jobs queued by another process sharing the database).
 
-use super::job_runner::JobOrder;
+use super::job_runner::{JobKind, JobOrder};
 use super::meters::{self, Meters, ReasonLabel};
 use super::store::{JobError, JobRow, JobState, Store};
 use super::worker_process::{Message, WorkerProcess};
@@ -271,6 +271,7 @@ fn run_job(
         max_rounds: job.max_rounds.clamp(1, i64::from(u32::MAX)) as u32,
         time_limit_s: job.time_limit_s,
         mission_bytes: body.len(),
+        kind: JobKind::of(&job.mission),
     };
     let p = match ready_process(process, config.memory_limit) {
         Ok(p) => p,

@@ -200,7 +200,7 @@ impl Store for PostgresStore {
             };
             let rows = c.query(
                 "SELECT id, name, steps, detections, created FROM missions
-                 WHERE owner = $1 AND seq > $2 ORDER BY seq LIMIT $3",
+                 WHERE owner = $1 AND seq > $2 AND id NOT LIKE 't-%' ORDER BY seq LIMIT $3",
                 &[&owner, &after_seq, &limit],
             )?;
             Ok(rows

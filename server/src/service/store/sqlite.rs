@@ -141,7 +141,7 @@ impl Store for SqliteStore {
             };
             let mut st = c.prepare(
                 "SELECT id, name, steps, detections, created FROM missions
-                 WHERE owner = ?1 AND seq > ?2 ORDER BY seq LIMIT ?3",
+                 WHERE owner = ?1 AND seq > ?2 AND id NOT LIKE 't-%' ORDER BY seq LIMIT ?3",
             )?;
             let rows = st.query_map(params![owner, after_seq, limit], |r| {
                 Ok(MissionRow {
