@@ -237,3 +237,58 @@ fn a_phantom_cluster_of_budget_boxes_is_never_a_region() {
     }
     assert_eq!(regions(&det, &live, 3, 3), Regions::Unknown);
 }
+
+/// The whole engine on simulated paper missions with K false detections
+/// (phantoms: a range and bearing to no landmark) and q = K, ids hidden,
+/// every layout, with and without bearings: consistent, every true
+/// position and landmark inside, no group holding a false detection or two
+/// landmarks; and the regions do contract: with q = K a share of the runs
+/// ends well below the run where q is the detection count (no region can
+/// then be proved: n (q + 1) live boxes are needed), which they would not
+/// without the rule.
+#[test]
+fn simulated_phantoms_keep_the_truth_and_the_regions_contract() {
+    use nvector_core::slam::mission::Mission;
+    use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
+    use nvector_core::slam::types::{Association, SolveOptions};
+    use std::sync::atomic::AtomicBool;
+    let solve = |v: &serde_json::Value| {
+        let m = Mission::from_value(v).expect("valid mission");
+        let options = SolveOptions {
+            association: Association::NVector(nvector_core::nvector::Contractor::Best),
+            ..SolveOptions::default()
+        };
+        nvector_core::slam::solve::solve(&m, &options, &mut |_| {}, &AtomicBool::new(false))
+    };
+    let (mut runs, mut tighter) = (0, 0);
+    for seed in 1..=4 {
+        for layout in [Layout::Line, Layout::Ring, Layout::Random] {
+            for (k, range_only) in [(1, false), (2, false), (2, true), (5, false)] {
+                let mut o = SimulateOptions::new(Scenario::Paper, seed);
+                o.steps = Some(4000);
+                o.layout = layout;
+                o.range_only = range_only;
+                o.false_detections = k;
+                let mut v = simulate(&o);
+                let what = format!("seed {seed} {layout:?} K {k} range_only {range_only}");
+                let r = solve(&v);
+                assert_eq!(r["status"], "consistent", "{what}: {}", r["reason"]);
+                assert_eq!(r["score"]["truth_inside"], true, "{what}");
+                assert_eq!(r["score"]["matching_errors"], 0, "{what}");
+                let d = r["metrics"]["max_trajectory_diameter"].as_f64().unwrap();
+                let count = v["detections"].as_array().unwrap().len();
+                v["max_outliers"] = serde_json::json!(count);
+                let wide = solve(&v);
+                assert_eq!(wide["score"]["truth_inside"], true, "{what}");
+                let dw = wide["metrics"]["max_trajectory_diameter"].as_f64().unwrap();
+                assert!(d <= dw, "{what}: {d} > {dw}");
+                runs += 1;
+                tighter += usize::from(d < 0.5 * dw);
+            }
+        }
+    }
+    assert!(
+        tighter * 5 >= runs,
+        "only {tighter} of {runs} runs contracted"
+    );
+}
