@@ -808,7 +808,13 @@ impl<'a> Robust<'a> {
     /// Stopped (`max_rounds` or cancelled): the boxes are sound, and so is
     /// what they prove.
     fn stopped(self) -> Solution {
-        match kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q) {
+        match kept(
+            &self.model.det,
+            &self.ev.proved_false,
+            &self.groups,
+            self.q,
+            self.mission.landmark_count,
+        ) {
             Err(reason) => self.infeasible(reason),
             Ok(proof) => {
                 let matching = proof
@@ -865,8 +871,15 @@ impl<'a> Robust<'a> {
         // At the fixpoint: what the boxes prove of the detections kept in
         // every reading, and whether the refinement on them follows (then
         // this is not the end of the work yet).
-        let proof = (moved <= tol)
-            .then(|| kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q));
+        let proof = (moved <= tol).then(|| {
+            kept(
+                &self.model.det,
+                &self.ev.proved_false,
+                &self.groups,
+                self.q,
+                self.mission.landmark_count,
+            )
+        });
         let refines = matches!(proof, Some(Ok(Some(_)))) && self.round < self.options.max_rounds;
         progress(&Progress {
             round: self.round,
