@@ -59,6 +59,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("slam::woods", 6, "the woods scenario writer (odometry2d)"),
     ("tdoa::pulse", 6, "the per-pulse fixpoint and paving"),
     ("slam::types", 7, "shared options, progress, solution"),
+    (
+        "slam::robust_regions",
+        7,
+        "landmark regions under max_outliers",
+    ),
     ("tdoa::readings", 7, "max_outliers over arrivals"),
     ("tdoa::simulate", 7, "the radar scenario writer"),
     (

@@ -31,6 +31,16 @@
 //!   plus exactly one detection of each pair, so every other detection (the
 //!   *sure* set S) is kept, with its label right, in every reading. If
 //!   |P| + c < q, nothing is proved kept and `matching` is empty.
+//! - Disjoint witnesses (with `landmark_count` n): m detections, outside
+//!   P and the pairs, whose boxes are pairwise disjoint see m different
+//!   landmarks when kept, so at most n of them are kept: every reading
+//!   drops at least m - n of them. The pairs and these are disjoint sets,
+//!   so every reading has at least |P| + c + (m - n) detections; when that
+//!   is q, every reading is P, one of each pair and exactly m - n of the
+//!   witnesses, and every other detection is sure (the witnesses are
+//!   not). The witnesses are found greedily (the narrowest boxes first,
+//!   each kept when it meets none kept before), up to n + (q - |P| - c) + 1
+//!   of them (one more proves the mission infeasible).
 //! - Refinement on S: the mission whose detections outside S are stripped
 //!   of every constraint (range [0, +inf], no bearing, region, depth or
 //!   label), with q = 0, is a relaxation of every reading: a solution of a
@@ -81,20 +91,25 @@ pub struct Kept {
     pub proved_false: Vec<usize>,
     /// Disjoint pairs of which every reading drops exactly one.
     pub pairs: Vec<(usize, usize)>,
+    /// Detections with pairwise disjoint boxes of which every reading
+    /// drops exactly `witnesses.len() - n` (empty when not needed).
+    pub witnesses: Vec<usize>,
     /// q.
     pub max_outliers: usize,
 }
 
 /// The detections kept in every reading (module doc), from boxes `det`
 /// enclosing d(j) in every reading keeping j, the detections proved false,
-/// the operator's label groups and q. `Ok(None)`: none is proved kept
-/// (fewer than q detections are proved to be in every reading). `Err`: no
-/// reading exists; the reason names the detections.
+/// the operator's label groups, q and the landmark count n (for the
+/// disjoint witnesses). `Ok(None)`: none is proved kept (fewer than q
+/// detections are proved to be in every reading). `Err`: no reading
+/// exists; the reason names the detections.
 pub fn kept(
     det: &[IntervalBox],
     proved_false: &[bool],
     groups: &[Vec<usize>],
     q: usize,
+    n: Option<usize>,
 ) -> Result<Option<Kept>, String> {
     let dropped: Vec<usize> = (0..det.len()).filter(|&j| proved_false[j]).collect();
     let Some(budget) = q.checked_sub(dropped.len()) else {
@@ -117,20 +132,59 @@ pub fn kept(
             dropped.len() + pairs.len()
         ));
     }
-    if pairs.len() < budget {
-        return Ok(None);
-    }
     let mut sure: Vec<bool> = proved_false.iter().map(|&f| !f).collect();
     for &(a, b) in &pairs {
         sure[a] = false;
         sure[b] = false;
     }
+    let mut witnesses = Vec::new();
+    if pairs.len() < budget {
+        let (Some(n), left) = (n, budget - pairs.len()) else {
+            return Ok(None);
+        };
+        witnesses = disjoint_witnesses(det, &sure, n.saturating_add(left).saturating_add(1));
+        if witnesses.len().saturating_sub(n) > left {
+            return Err(format!(
+                "detections {dropped:?} are proved false, the pairs {pairs:?} hold one false detection each, and the {} detections {witnesses:?} have pairwise disjoint boxes ({} landmarks: all but {n} of them are false): more than max_outliers = {q}",
+                witnesses.len(),
+                n
+            ));
+        }
+        if witnesses.len().saturating_sub(n) < left {
+            return Ok(None);
+        }
+        for &w in &witnesses {
+            sure[w] = false;
+        }
+    }
     Ok(Some(Kept {
         sure,
         proved_false: dropped,
         pairs,
+        witnesses,
         max_outliers: q,
     }))
+}
+
+/// Detections among `open` with pairwise disjoint boxes, a maximal set of
+/// them found greedily (narrowest box first), at most `limit`. O(k log k +
+/// k · limit · d).
+fn disjoint_witnesses(det: &[IntervalBox], open: &[bool], limit: usize) -> Vec<usize> {
+    let mut order: Vec<(f64, usize)> = (0..det.len())
+        .filter(|&j| open[j] && !det[j].is_empty())
+        .map(|j| (det[j].diameter(), j))
+        .collect();
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut out: Vec<usize> = Vec::new();
+    for (_, j) in order {
+        if out.len() >= limit {
+            break;
+        }
+        if out.iter().all(|&w| !det[w].meets(&det[j])) {
+            out.push(j);
+        }
+    }
+    out
 }
 
 /// Adds to `out` pairwise disjoint pairs of members with disjoint boxes, a
@@ -298,8 +352,8 @@ pub fn refine(
     let s = rounds(&sub, &sub_options, &mut report, cancel);
     let forced = || {
         format!(
-            "with detections {:?} proved false and one of each pair {:?} (forced by max_outliers = {}), the other detections",
-            kept.proved_false, kept.pairs, kept.max_outliers
+            "with detections {:?} proved false, one of each pair {:?} and all but n of the disjoint witnesses {:?} (forced by max_outliers = {}), the other detections",
+            kept.proved_false, kept.pairs, kept.witnesses, kept.max_outliers
         )
     };
     let mut out = Refined {
@@ -402,17 +456,60 @@ mod tests {
     }
 
     #[test]
+    fn disjoint_witnesses_never_call_a_planted_false_detection_sure() {
+        // n landmarks on a line, true boxes holding theirs, up to q false
+        // boxes anywhere (some holding a landmark: they fit), no labels.
+        let mut rng = Lcg::new(18);
+        let mut sure_runs = 0;
+        for _ in 0..5000 {
+            let n = 1 + (rng.bits() % 4) as usize;
+            let lm: Vec<f64> = (0..n).map(|_| (rng.bits() % 40) as f64).collect();
+            let q = (rng.bits() % 4) as usize;
+            let mut det = Vec::new();
+            let mut fake = Vec::new();
+            for &l in &lm {
+                for _ in 0..1 + rng.bits() % 4 {
+                    let (a, b) = ((rng.bits() % 3) as f64, (rng.bits() % 3) as f64);
+                    det.push(IntervalBox::new(&[Interval::new(l - a, l + b)]));
+                    fake.push(false);
+                }
+            }
+            for _ in 0..rng.bits() % (q as u64 + 1) {
+                let lo = (rng.bits() % 50) as f64 - 5.0;
+                let w = match rng.bits() % 4 {
+                    0 => f64::INFINITY,
+                    _ => (rng.bits() % 3) as f64,
+                };
+                det.push(IntervalBox::new(&[Interval::new(lo, lo + w)]));
+                fake.push(true);
+            }
+            let none = vec![false; det.len()];
+            match kept(&det, &none, &[], q, Some(n)) {
+                Err(e) => panic!("truth infeasible: {e} {lm:?} {det:?} {fake:?}"),
+                Ok(None) => {}
+                Ok(Some(k)) => {
+                    sure_runs += usize::from(q > 0);
+                    for (j, &f) in fake.iter().enumerate() {
+                        assert!(!(f && k.sure[j]), "false {j} sure: {lm:?} {det:?} {k:?}");
+                    }
+                }
+            }
+        }
+        assert!(sure_runs > 500, "{sure_runs}");
+    }
+
+    #[test]
     fn the_sure_set_needs_every_unit_of_q_accounted_for() {
         // Group {0, 1, 2}: box 2 is apart from 0 and 1; 3 is proved false.
         let det = boxes(&[(0.0, 1.0), (0.5, 1.0), (5.0, 1.0), (0.0, 1.0), (9.0, 1.0)]);
         let groups = vec![vec![0, 1, 2]];
         let falses = [false, false, false, true, false];
         // q = 1: 3 alone uses it up, and the pair (0 or 1, 2) is one more.
-        assert!(kept(&det, &falses, &groups, 1)
+        assert!(kept(&det, &falses, &groups, 1, None)
             .unwrap_err()
             .contains("more than max_outliers = 1"));
         // q = 2: every reading is {3} and one of the pair.
-        let k = kept(&det, &falses, &groups, 2).unwrap().unwrap();
+        let k = kept(&det, &falses, &groups, 2, None).unwrap().unwrap();
         assert_eq!(k.proved_false, vec![3]);
         assert_eq!(k.pairs.len(), 1);
         assert!(k.pairs[0].1 == 2);
@@ -420,7 +517,7 @@ mod tests {
         let expect: Vec<bool> = (0..5).map(|j| j != 3 && j != 2 && j != pair_low).collect();
         assert_eq!(k.sure, expect);
         // q = 3: a reading may drop one more of anything: nothing is sure.
-        assert_eq!(kept(&det, &falses, &groups, 3).unwrap(), None);
+        assert_eq!(kept(&det, &falses, &groups, 3, None).unwrap(), None);
         // Groups cut to the sure set.
         let mut sure = vec![true; 5];
         sure[1] = false;

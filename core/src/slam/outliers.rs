@@ -84,6 +84,8 @@
 use super::kept::{kept, refine, sure_groups, Kept};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
+pub use super::robust_regions::relaxed_intersection;
+use super::robust_regions::{regions, Regions};
 use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
@@ -194,36 +196,6 @@ fn own(
     (ok && !p.is_empty() && !d.is_empty()).then_some((p, d))
 }
 
-/// The q-relaxed intersection of boxes (the points lying in all but at
-/// most q of them), enclosed per axis: on each axis the (q+1)-th largest
-/// lower bound and the (q+1)-th smallest upper bound (entire when there
-/// are at most q boxes). Tightness: on each axis, exactly the q-relaxed
-/// intersection of the projections (which encloses that of the boxes).
-/// O(m log m · d).
-pub fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> IntervalBox {
-    let mut out = IntervalBox::entire(dim);
-    if boxes.len() <= q {
-        return out;
-    }
-    let mut lo: Vec<f64> = Vec::with_capacity(boxes.len());
-    let mut hi: Vec<f64> = Vec::with_capacity(boxes.len());
-    for a in 0..dim {
-        lo.clear();
-        hi.clear();
-        lo.extend(boxes.iter().map(|b| b[a].lo()));
-        hi.extend(boxes.iter().map(|b| b[a].hi()));
-        lo.sort_unstable_by(|x, y| y.total_cmp(x));
-        hi.sort_unstable_by(|x, y| x.total_cmp(y));
-        let (l, h) = (lo[q], hi[q]);
-        out[a] = if l <= h {
-            Interval::new(l, h)
-        } else {
-            Interval::EMPTY
-        };
-    }
-    out
-}
-
 /// Evidence of every detection from the current boxes; shrinks the
 /// detection boxes. `Err` names why the mission is infeasible.
 fn gather(
@@ -236,7 +208,11 @@ fn gather(
 ) -> Result<usize, String> {
     let k = mission.detections.len();
     let dim = model.dim;
-    let own_box = own_boxes(mission, model, prior, ev);
+    let mut own_box = own_boxes(mission, model, prior, ev);
+    let false_count = ev.proved_false.iter().filter(|&&f| f).count();
+    if false_count <= q && groups.is_empty() {
+        region_cut(mission, model, q - false_count, ev, &mut own_box)?;
+    }
     let false_count = ev.proved_false.iter().filter(|&&f| f).count();
     if false_count > q {
         let list: Vec<usize> = (0..k).filter(|&j| ev.proved_false[j]).collect();
@@ -265,6 +241,47 @@ fn gather(
     }
     evidence_boxes(mission, model, ev, own_box, &landmark_of);
     Ok(budget)
+}
+
+/// Without operator labels: the landmark regions proved whichever
+/// detections are false ([`super::robust_regions`]); each detection's own
+/// box shrinks to the hull of its own constraints within each region, and
+/// one that meets no region is proved false. `Err`: a region is empty.
+fn region_cut(
+    mission: &Mission,
+    model: &Model,
+    budget: usize,
+    ev: &mut Evidence,
+    own_box: &mut [IntervalBox],
+) -> Result<(), String> {
+    let Some(n) = mission.landmark_count else {
+        return Ok(());
+    };
+    let live: Vec<bool> = ev.proved_false.iter().map(|&f| !f).collect();
+    let rs = match regions(own_box, &live, budget, n) {
+        Regions::Unknown => return Ok(()),
+        Regions::Infeasible(reason) => return Err(reason),
+        Regions::Proved(rs) => rs,
+    };
+    for (j, d) in own_box.iter_mut().enumerate() {
+        if ev.proved_false[j] {
+            continue;
+        }
+        let mut hull = IntervalBox::empty(model.dim);
+        for r in &rs {
+            if !r.meets(d) {
+                continue;
+            }
+            if let Some((_, cut)) = own(mission, model, j, &d.intersect(r)) {
+                hull = hull.hull(&cut);
+            }
+        }
+        if hull.is_empty() {
+            ev.proved_false[j] = true;
+        }
+        *d = hull;
+    }
+    Ok(())
 }
 
 /// Each detection's own box: its prior box and current box contracted by
@@ -791,7 +808,13 @@ impl<'a> Robust<'a> {
     /// Stopped (`max_rounds` or cancelled): the boxes are sound, and so is
     /// what they prove.
     fn stopped(self) -> Solution {
-        match kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q) {
+        match kept(
+            &self.model.det,
+            &self.ev.proved_false,
+            &self.groups,
+            self.q,
+            self.mission.landmark_count,
+        ) {
             Err(reason) => self.infeasible(reason),
             Ok(proof) => {
                 let matching = proof
@@ -848,8 +871,15 @@ impl<'a> Robust<'a> {
         // At the fixpoint: what the boxes prove of the detections kept in
         // every reading, and whether the refinement on them follows (then
         // this is not the end of the work yet).
-        let proof = (moved <= tol)
-            .then(|| kept(&self.model.det, &self.ev.proved_false, &self.groups, self.q));
+        let proof = (moved <= tol).then(|| {
+            kept(
+                &self.model.det,
+                &self.ev.proved_false,
+                &self.groups,
+                self.q,
+                self.mission.landmark_count,
+            )
+        });
         let refines = matches!(proof, Some(Ok(Some(_)))) && self.round < self.options.max_rounds;
         progress(&Progress {
             round: self.round,
