@@ -80,7 +80,8 @@ pub fn minimal_correction(
         return None;
     }
     let mut rest: Vec<usize> = (0..mission.detections.len()).collect();
-    rest.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
+    let dets = &mission.detections;
+    crate::sort::sort_indices_by(&mut rest, |a, b| dets[a].step.cmp(&dets[b].step));
     let mut kept: Vec<usize> = Vec::new();
     let mut culprits: Vec<usize> = Vec::new();
     let with = |kept: &[usize], more: &[usize]| -> Vec<usize> {

@@ -212,8 +212,12 @@ pub fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> Int
         hi.clear();
         lo.extend(boxes.iter().map(|b| b[a].lo()));
         hi.extend(boxes.iter().map(|b| b[a].hi()));
-        lo.sort_unstable_by(|x, y| y.total_cmp(x));
-        hi.sort_unstable_by(|x, y| x.total_cmp(y));
+        // One sort instantiation for both (and for the other f64 sorts):
+        // ties are equal bits, so reversing the ascending order is the
+        // descending one.
+        lo.sort_unstable_by(f64::total_cmp);
+        lo.reverse();
+        hi.sort_unstable_by(f64::total_cmp);
         let (l, h) = (lo[q], hi[q]);
         out[a] = if l <= h {
             Interval::new(l, h)
@@ -759,7 +763,8 @@ impl<'a> Robust<'a> {
         let k = mission.detections.len();
         let dim = model.dim;
         let mut order: Vec<usize> = (0..k).collect();
-        order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
+        let dets = &mission.detections;
+        crate::sort::sort_indices_by(&mut order, |a, b| dets[a].step.cmp(&dets[b].step));
         Robust {
             mission,
             options,
