@@ -68,13 +68,19 @@ fn permute<T>(v: &mut [T], at: &[usize]) {
     }
 }
 
-/// Sorts u64 items by `cmp`, the one instantiation for every u64 sort by a
-/// comparison (the radix sort's runs, the hitting set's masks). The
-/// comparison must be total on distinct items (ties only between equal
-/// items): then the order does not depend on the algorithm.
+/// Sorts u64 items by `cmp` (the radix sort's runs, the hitting set's
+/// masks), through [`sort_positions`]. The comparison must be total on
+/// distinct items (ties only between equal items) for the order to be the
+/// one of `sort_unstable_by`.
 #[inline(never)]
 pub fn sort_u64_by(v: &mut [u64], cmp: &mut dyn FnMut(u64, u64) -> Ordering) {
-    v.sort_unstable_by(|&a, &b| cmp(a, b));
+    sort_by(v, |&a, &b| cmp(a, b));
+}
+
+/// `v.sort_unstable()` for indices, in place: [`sort_positions`] with every
+/// comparison a tie, broken by value.
+pub fn sort_usize(v: &mut [usize]) {
+    sort_positions(v, &mut |_, _| Ordering::Equal);
 }
 
 #[cfg(test)]
@@ -126,6 +132,12 @@ mod tests {
             want.sort_unstable_by_key(|&x| key(x));
             let mut got = m;
             sort_u64_by(&mut got, &mut |a, b| key(a).cmp(&key(b)));
+            assert_eq!(got, want, "case {case}");
+            let u: Vec<usize> = (0..k).map(|_| (rng.bits() % 20) as usize).collect();
+            let mut want = u.clone();
+            want.sort_unstable();
+            let mut got = u;
+            sort_usize(&mut got);
             assert_eq!(got, want, "case {case}");
         }
     }

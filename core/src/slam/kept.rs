@@ -201,7 +201,7 @@ pub fn sure_groups(groups: &[Vec<usize>], sure: &[bool]) -> Vec<Vec<usize>> {
         .iter()
         .map(|g| {
             let mut g: Vec<usize> = g.iter().copied().filter(|&j| sure[j]).collect();
-            g.sort_unstable();
+            crate::sort::sort_usize(&mut g);
             g
         })
         .filter(|g| g.len() >= 2)

@@ -91,7 +91,7 @@ impl Registrations<'_> {
                 key(a).cmp(&key(b))
             });
             idx.truncate(self.options.register_groups);
-            idx.sort_unstable();
+            crate::sort::sort_usize(&mut idx);
             roots = idx.iter().map(|&i| roots[i]).collect();
             groups = idx.iter().map(|&i| groups[i].clone()).collect();
         }
