@@ -9,11 +9,13 @@
 //! the algorithm underneath: the comparison is completed by the positions,
 //! a total order on distinct items. So a call site that used a stable sort,
 //! or an unstable one with a comparison that is total on distinguishable
-//! items (every one in core breaks its ties), gets the same order as
-//! before, bit for bit.
+//! items (every call site moved here breaks its ties), gets the same order
+//! as before, bit for bit. Left on std's sorts, for speed: the radix
+//! sort's fast path, the f64, u32, u64 and (u32, u32) natural sorts; and
+//! the registration's pieces, whose key has ties (their order is std's).
 //!
 //! Complexity: O(k log k) comparisons, each an indirect call, plus O(k)
-//! extra space for the positions and the permuted copy.
+//! extra space for the positions (the items are then permuted by swaps).
 
 use std::cmp::Ordering;
 
