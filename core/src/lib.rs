@@ -19,6 +19,7 @@ pub mod outline;
 pub mod radix;
 pub mod shapes;
 pub mod slam;
+pub mod sort;
 pub mod tdoa;
 #[cfg(test)]
 mod test_rng;

@@ -158,7 +158,8 @@ pub fn fix_runs(items: &mut [u64], bits: u32, cmp: impl Fn(usize, usize) -> std:
             // already in index order: check before sorting.
             let run = &mut items[start..end];
             if !run.is_sorted_by(|a, b| by(a, b).is_le()) {
-                run.sort_unstable_by(by);
+                // One sort instantiation for every caller (wasm size).
+                crate::sort::sort_u64_by(run, &mut |a, b| by(&a, &b));
             }
         }
         start = end;

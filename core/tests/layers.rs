@@ -20,6 +20,7 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("error", 0, "the input error type"),
     ("interval", 0, "sound interval arithmetic"),
     ("radix", 0, "radix sorts"),
+    ("sort", 0, "the one comparison sort (wasm size)"),
     ("union_find", 0, "the union-find of proved equalities"),
     ("test_rng", 0, "the tests' generator"),
     ("ibox", 1, "interval boxes"),

@@ -330,7 +330,7 @@ impl<'a> HittingSet<'a> {
         masks.dedup();
         // Keep maximal masks only.
         let mut cliques: Vec<u64> = Vec::new();
-        masks.sort_unstable_by_key(|&m| (std::cmp::Reverse(m.count_ones()), m));
+        by_size_desc(&mut masks);
         for m in masks {
             work.charge(1 + cliques.len() as u64 / OPS_PER_NODE)?;
             if !cliques.iter().any(|&c| c & m == m) {
@@ -443,7 +443,7 @@ impl<'a> HittingSet<'a> {
         })?;
         masks.sort_unstable();
         masks.dedup();
-        masks.sort_unstable_by_key(|&m| (std::cmp::Reverse(m.count_ones()), m));
+        by_size_desc(&mut masks);
         for m in masks {
             if self.min_cover(all & !m)? < n {
                 return Ok(true);
@@ -523,6 +523,12 @@ fn representative(lo: f64, hi: f64) -> f64 {
         (false, true) => hi,
         (false, false) => 0.0,
     }
+}
+
+/// Masks by decreasing size, ties by value (distinct masks: one order).
+fn by_size_desc(masks: &mut [u64]) {
+    let key = |m: u64| (std::cmp::Reverse(m.count_ones()), m);
+    crate::sort::sort_u64_by(masks, &mut |a, b| key(a).cmp(&key(b)));
 }
 
 #[cfg(test)]

@@ -47,8 +47,8 @@ use crate::ibox::IntervalBox;
 /// Reusable buffers for [`find_independent`].
 #[derive(Debug, Default, Clone)]
 pub struct IndependentScratch {
-    order: Vec<(f64, u32)>,
-    by_size: Vec<u32>,
+    order: Vec<usize>,
+    by_size: Vec<usize>,
     chosen: Vec<u32>,
     best: Vec<u32>,
 }
@@ -72,12 +72,9 @@ pub fn find_independent(
         best,
     } = scratch;
     by_size.clear();
-    by_size.extend(0..k as u32);
-    by_size.sort_unstable_by(|&a, &b| {
-        boxes[a as usize]
-            .diameter()
-            .total_cmp(&boxes[b as usize].diameter())
-            .then(a.cmp(&b))
+    by_size.extend(0..k);
+    crate::sort::sort_indices_by(by_size, |a, b| {
+        boxes[a].diameter().total_cmp(&boxes[b].diameter())
     });
     best.clear();
     for seed_axis in 0..=dim {
@@ -86,16 +83,16 @@ pub fn find_independent(
             // Left greedy on this axis: the boxes creating points are
             // pairwise disjoint on the axis.
             order.clear();
-            order.extend(
-                boxes
-                    .iter()
-                    .enumerate()
-                    .map(|(i, b)| (b[seed_axis].hi(), i as u32)),
-            );
-            order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            order.extend(0..k);
+            crate::sort::sort_indices_by(order, |a, b| {
+                boxes[a][seed_axis]
+                    .hi()
+                    .total_cmp(&boxes[b][seed_axis].hi())
+            });
             let mut p = f64::NEG_INFINITY;
             let mut placed = false;
-            for &(hi, i) in order.iter() {
+            for &i in order.iter() {
+                let (hi, i) = (boxes[i][seed_axis].hi(), i as u32);
                 if !placed || boxes[i as usize][seed_axis].lo() > p {
                     p = hi;
                     placed = true;
@@ -108,7 +105,7 @@ pub fn find_independent(
         }
         if chosen.len() <= n {
             for &i in by_size.iter() {
-                let b = &boxes[i as usize];
+                let (b, i) = (&boxes[i], i as u32);
                 if chosen.contains(&i) || chosen.iter().any(|&j| boxes[j as usize].meets(b)) {
                     continue;
                 }

@@ -161,7 +161,7 @@ impl<'a> ChainSums<'a> {
     /// a query between two of them costs O(d). O(|steps| · BLOCK · d).
     pub fn with_steps(mut self, steps: &[usize]) -> ChainSums<'a> {
         let mut marks = steps.to_vec();
-        marks.sort_unstable();
+        crate::sort::sort_usize(&mut marks);
         marks.dedup();
         let mut sums = Vec::with_capacity(marks.len() * self.dim);
         for &t in &marks {

@@ -165,7 +165,7 @@ impl Frames {
                 }
             }
         }
-        all.sort_unstable();
+        crate::sort::sort_ord(&mut all);
         work += self.detections_against_pieces(&view, order, &all, uf, opts, out);
         work += self.pieces_against_pieces(&view, &all, opts, out);
         for (_, pieces) in self.cache.iter_mut().flatten() {
@@ -196,7 +196,9 @@ impl Frames {
                 None => {
                     let dets = v.dets;
                     let mut members = g.clone();
-                    members.sort_unstable_by_key(|&j| (dets[j].step, j));
+                    crate::sort::sort_indices_by(&mut members, |a, b| {
+                        dets[a].step.cmp(&dets[b].step)
+                    });
                     let mut pieces = Vec::new();
                     for chunk in
                         members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
@@ -337,7 +339,7 @@ fn build_pieces(
         let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
         // Ties in slice order (the references point into one slice, so their
         // addresses follow the indices): the order of a stable sort.
-        by_thickness.sort_unstable_by(|a, b| {
+        crate::sort::sort_by(&mut by_thickness, |a, b| {
             a.thickness()
                 .total_cmp(&b.thickness())
                 .then_with(|| std::ptr::from_ref::<Shape>(*a).cmp(&std::ptr::from_ref::<Shape>(*b)))

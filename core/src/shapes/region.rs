@@ -206,7 +206,7 @@ impl Paving {
             if room == 0 {
                 return changed;
             }
-            order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+            crate::sort::sort_by(&mut order, |a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
             order.truncate(room);
             let mut split = vec![false; self.boxes.len()];
             for &(_, i) in &order {

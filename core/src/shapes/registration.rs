@@ -378,7 +378,7 @@ fn merge(set: &mut Vec<Axes>, dim: usize, max: usize) {
     let axis = (0..dim)
         .max_by(|&a, &b| all[a].width().total_cmp(&all[b].width()))
         .unwrap_or(0);
-    set.sort_unstable_by(|a, b| {
+    crate::sort::sort_by(set, |a, b| {
         a[axis]
             .mid()
             .total_cmp(&b[axis].mid())

@@ -104,10 +104,8 @@ pub fn find_witnesses(
         return Vec::new();
     }
     let mut order: Vec<usize> = (0..k).collect();
-    order.sort_unstable_by(|&a, &b| {
-        (sizes[a].0.cmp(&sizes[b].0))
-            .then(sizes[a].1.total_cmp(&sizes[b].1))
-            .then(a.cmp(&b))
+    crate::sort::sort_indices_by(&mut order, |a, b| {
+        (sizes[a].0.cmp(&sizes[b].0)).then(sizes[a].1.total_cmp(&sizes[b].1))
     });
     let mut pool: Vec<usize> = Vec::with_capacity(POOL);
     let mut in_pool = vec![false; k];

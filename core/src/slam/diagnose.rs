@@ -64,7 +64,7 @@ pub fn minimal_correction(
         tests.set(tests.get() + 1);
         let mut sub = mission.clone();
         let mut sorted = kept.to_vec();
-        sorted.sort_unstable();
+        crate::sort::sort_usize(&mut sorted);
         sub.detections = sorted
             .iter()
             .map(|&j| mission.detections[j].clone())
@@ -80,7 +80,8 @@ pub fn minimal_correction(
         return None;
     }
     let mut rest: Vec<usize> = (0..mission.detections.len()).collect();
-    rest.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
+    let dets = &mission.detections;
+    crate::sort::sort_indices_by(&mut rest, |a, b| dets[a].step.cmp(&dets[b].step));
     let mut kept: Vec<usize> = Vec::new();
     let mut culprits: Vec<usize> = Vec::new();
     let with = |kept: &[usize], more: &[usize]| -> Vec<usize> {
@@ -92,7 +93,7 @@ pub fn minimal_correction(
     while !rest.is_empty() {
         if tests.get() >= max_tests {
             culprits.extend_from_slice(&rest);
-            culprits.sort_unstable();
+            crate::sort::sort_usize(&mut culprits);
             return Some(Correction {
                 detections: culprits,
                 minimal: false,
@@ -120,7 +121,7 @@ pub fn minimal_correction(
         culprits.push(rest[lo]);
         rest.drain(..hi);
     }
-    culprits.sort_unstable();
+    crate::sort::sort_usize(&mut culprits);
     Some(Correction {
         detections: culprits,
         minimal: true,

@@ -208,9 +208,9 @@ fn disjoint_pairs(
     let mut by_hi: Vec<Vec<usize>> = Vec::with_capacity(dim);
     for a in 0..dim {
         let mut lo: Vec<usize> = (0..m).collect();
-        lo.sort_unstable_by(|&x, &y| bx(y)[a].lo().total_cmp(&bx(x)[a].lo()).then(x.cmp(&y)));
+        crate::sort::sort_indices_by(&mut lo, |x, y| bx(y)[a].lo().total_cmp(&bx(x)[a].lo()));
         let mut hi: Vec<usize> = (0..m).collect();
-        hi.sort_unstable_by(|&x, &y| bx(x)[a].hi().total_cmp(&bx(y)[a].hi()).then(x.cmp(&y)));
+        crate::sort::sort_indices_by(&mut hi, |x, y| bx(x)[a].hi().total_cmp(&bx(y)[a].hi()));
         by_lo.push(lo);
         by_hi.push(hi);
     }
@@ -255,12 +255,12 @@ pub fn sure_groups(groups: &[Vec<usize>], sure: &[bool]) -> Vec<Vec<usize>> {
         .iter()
         .map(|g| {
             let mut g: Vec<usize> = g.iter().copied().filter(|&j| sure[j]).collect();
-            g.sort_unstable();
+            crate::sort::sort_usize(&mut g);
             g
         })
         .filter(|g| g.len() >= 2)
         .collect();
-    out.sort_unstable();
+    crate::sort::sort_ord(&mut out);
     out
 }
 
@@ -399,7 +399,7 @@ pub fn refine(
             out.matching.push(cut);
         }
     }
-    out.matching.sort_unstable();
+    crate::sort::sort_ord(&mut out.matching);
     if !regions.is_empty() {
         model.landmark_regions = landmark_regions;
     }

@@ -233,7 +233,7 @@ pub fn operator_groups(mission: &Mission) -> Vec<Vec<usize>> {
         .enumerate()
         .filter_map(|(j, d)| d.landmark.map(|l| (l, j)))
         .collect();
-    by_landmark.sort_unstable();
+    crate::sort::sort_ord(&mut by_landmark);
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (x, &(l, j)) in by_landmark.iter().enumerate() {
         if x > 0 && by_landmark[x - 1].0 == l {

@@ -776,7 +776,8 @@ impl<'a> Robust<'a> {
         let k = mission.detections.len();
         let dim = model.dim;
         let mut order: Vec<usize> = (0..k).collect();
-        order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
+        let dets = &mission.detections;
+        crate::sort::sort_indices_by(&mut order, |a, b| dets[a].step.cmp(&dets[b].step));
         Robust {
             mission,
             options,

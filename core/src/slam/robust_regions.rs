@@ -87,8 +87,12 @@ pub fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> Int
         hi.clear();
         lo.extend(boxes.iter().map(|b| b[a].lo()));
         hi.extend(boxes.iter().map(|b| b[a].hi()));
-        lo.sort_unstable_by(|x, y| y.total_cmp(x));
-        hi.sort_unstable_by(|x, y| x.total_cmp(y));
+        // One sort instantiation for both (and for the other f64 sorts):
+        // ties are equal bits, so reversing the ascending order is the
+        // descending one.
+        lo.sort_unstable_by(f64::total_cmp);
+        lo.reverse();
+        hi.sort_unstable_by(f64::total_cmp);
         let (l, h) = (lo[q], hi[q]);
         out[a] = if l <= h {
             Interval::new(l, h)
@@ -130,7 +134,7 @@ pub fn regions(det: &[IntervalBox], live: &[bool], budget: usize, n: usize) -> R
         .map(|j| (det[j].diameter(), j))
         .filter(|&(w, _)| w.is_finite())
         .collect();
-    cand.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    crate::sort::sort_by(&mut cand, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut kept: Vec<IntervalBox> = Vec::with_capacity(n);
     let mut tries = 0;
     for &(_, j) in &cand {

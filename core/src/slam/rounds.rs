@@ -147,7 +147,8 @@ impl<'a> Propagation<'a> {
             }
         }
         let mut order: Vec<usize> = (0..k).collect();
-        order.sort_unstable_by_key(|&j| (mission.detections[j].step, j));
+        let dets = &mission.detections;
+        crate::sort::sort_indices_by(&mut order, |a, b| dets[a].step.cmp(&dets[b].step));
         let mut steps = Vec::new();
         let mut starts = Vec::new();
         for (x, &j) in order.iter().enumerate() {

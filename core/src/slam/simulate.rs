@@ -453,7 +453,7 @@ fn paper_seen(
         .enumerate()
         .map(|(i, d)| (d.step, d.landmark.unwrap_or(usize::MAX), i))
         .collect();
-    keyed.sort_unstable();
+    crate::sort::sort_ord(&mut keyed);
     let mut slots: Vec<Option<Seen>> = seen.into_iter().map(Some).collect();
     keyed
         .iter()
@@ -720,7 +720,7 @@ fn auv_detections(
             detections.push((s, j));
         }
     }
-    detections.sort_unstable();
+    crate::sort::sort_ord(&mut detections);
     let mut det_json = Vec::new();
     let mut matching = Vec::new();
     for &(s, j) in &detections {

@@ -144,7 +144,7 @@ impl ShapesState {
         };
         let dets = &round.mission.detections;
         let mut order: Vec<usize> = (0..dets.len()).collect();
-        order.sort_unstable_by_key(|&j| (dets[j].step, j));
+        crate::sort::sort_indices_by(&mut order, |a, b| dets[a].step.cmp(&dets[b].step));
         let steps: Vec<usize> = dets.iter().map(|d| d.step).collect();
         let sums = ChainSums::new(round.dom.disp, round.dom.dim).with_steps(&steps);
         self.distinct_pairs(round, n, &order, &sums)?;

@@ -111,7 +111,7 @@ pub(super) fn scan_pairs(
         .enumerate()
         .filter_map(|(j, d)| d.scan.map(|s| (s, j as u32)))
         .collect();
-    by_scan.sort_unstable();
+    crate::sort::sort_ord(&mut by_scan);
     for run in by_scan.chunk_by(|a, b| a.0 == b.0) {
         if run.len() > n {
             return Err(format!(

@@ -90,7 +90,7 @@ impl ShapesState {
         let mut by_thickness: Vec<&Shape> = shapes.iter().collect();
         // Ties in slice order (the references point into one slice, so their
         // addresses follow the indices): the order of a stable sort.
-        by_thickness.sort_unstable_by(|a, b| {
+        crate::sort::sort_by(&mut by_thickness, |a, b| {
             a.thickness()
                 .total_cmp(&b.thickness())
                 .then_with(|| std::ptr::from_ref::<Shape>(*a).cmp(&std::ptr::from_ref::<Shape>(*b)))

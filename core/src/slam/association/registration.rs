@@ -79,15 +79,19 @@ impl Registrations<'_> {
         if groups.len() > self.options.register_groups {
             // The witness groups first, then the most pieces.
             let mut idx: Vec<usize> = (0..groups.len()).collect();
-            idx.sort_unstable_by_key(|&i| {
-                (
-                    groups[i].fixed.is_none(),
-                    usize::MAX - groups[i].pieces.len(),
-                    roots[i],
-                )
+            // (`roots` are distinct: one order whatever the sort.)
+            crate::sort::sort_indices_by(&mut idx, |a, b| {
+                let key = |i: usize| {
+                    (
+                        groups[i].fixed.is_none(),
+                        usize::MAX - groups[i].pieces.len(),
+                        roots[i],
+                    )
+                };
+                key(a).cmp(&key(b))
             });
             idx.truncate(self.options.register_groups);
-            idx.sort_unstable();
+            crate::sort::sort_usize(&mut idx);
             roots = idx.iter().map(|&i| roots[i]).collect();
             groups = idx.iter().map(|&i| groups[i].clone()).collect();
         }

@@ -89,7 +89,9 @@ pub fn separation_unions(
             (!b.is_empty() && diameter_above(&b) < s).then_some((r, b))
         })
         .collect();
-    narrow.sort_by(|a, b| a.1[0].lo().total_cmp(&b.1[0].lo()).then(a.0.cmp(&b.0)));
+    crate::sort::sort_by(&mut narrow, |a, b| {
+        a.1[0].lo().total_cmp(&b.1[0].lo()).then(a.0.cmp(&b.0))
+    });
     let mut active: Vec<(usize, IntervalBox)> = Vec::new();
     for (r, b) in narrow {
         // Groups whose box ends more than s before this one starts in x

@@ -73,7 +73,7 @@ impl ShapesState {
         round.out.contractions += 1;
         if chosen.len() > n {
             let mut named: Vec<usize> = chosen.clone();
-            named.sort_unstable();
+            crate::sort::sort_usize(&mut named);
             return Err(format!(
                 "detections {named:?} (with their groups): {} pairwise-disjoint shapes or proved-distinct groups, so at least {} distinct landmarks, more than landmark_count {n}",
                 chosen.len(),

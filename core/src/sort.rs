@@ -1,0 +1,165 @@
+//! One comparison sort for the whole crate, for the size of the page's
+//! wasm: every `sort_by`/`sort_unstable_by` with its own closure is its own
+//! copy of the standard library's sort (about 2.5 KB of wasm each, 28 of
+//! them measured before this module). Here the sort itself is compiled once,
+//! over positions with a `dyn` comparison; the generic wrappers only build
+//! the positions and apply the permutation.
+//!
+//! The result is the one of a stable sort (ties in slice order), whatever
+//! the algorithm underneath: the comparison is completed by the positions,
+//! a total order on distinct items. So a call site that used a stable sort,
+//! or an unstable one with a comparison that is total on distinguishable
+//! items (every call site moved here breaks its ties), gets the same order
+//! as before, bit for bit. Left on std's sorts, for speed: the radix
+//! sort's fast path, the f64, u32, u64 and (u32, u32) natural sorts; and
+//! the registration's pieces, whose key has ties (their order is std's).
+//!
+//! Complexity: O(k log k) comparisons, each an indirect call, plus O(k)
+//! extra space for the positions (the items are then permuted by swaps).
+
+use std::cmp::Ordering;
+
+/// Sorts positions `idx` by `cmp` (on the positions), ties by position.
+/// Not generic, and never inlined: the one instantiation of the sort.
+#[inline(never)]
+pub fn sort_positions(idx: &mut [usize], cmp: &mut dyn FnMut(usize, usize) -> Ordering) {
+    idx.sort_unstable_by(|&a, &b| cmp(a, b).then(a.cmp(&b)));
+}
+
+/// Sorts indices (into data the comparison reads) by `cmp`, ties by
+/// index value: what `idx.sort_unstable_by(|&a, &b| cmp(a, b).then(a.cmp(&b)))`
+/// does, in place, without a copy.
+pub fn sort_indices_by(idx: &mut [usize], mut cmp: impl FnMut(usize, usize) -> Ordering) {
+    sort_positions(idx, &mut cmp);
+}
+
+/// A stable sort of `v` by `cmp` (what `slice::sort_by` does).
+pub fn sort_by<T>(v: &mut [T], mut cmp: impl FnMut(&T, &T) -> Ordering) {
+    let mut at: Vec<usize> = (0..v.len()).collect();
+    let items: &[T] = v;
+    sort_positions(&mut at, &mut |a, b| cmp(&items[a], &items[b]));
+    permute(v, &at);
+}
+
+/// A stable sort of `v` by `key` (what `slice::sort_by_key` does).
+pub fn sort_by_key<T, K: Ord>(v: &mut [T], mut key: impl FnMut(&T) -> K) {
+    sort_by(v, |a, b| key(a).cmp(&key(b)));
+}
+
+/// `v.sort_unstable()`, the same result (equal items are alike), through
+/// the shared sort: for the tuple and vector types sorted once or twice
+/// per call, each of which would be its own copy of the sort.
+pub fn sort_ord<T: Ord>(v: &mut [T]) {
+    sort_by(v, T::cmp);
+}
+
+/// Puts `v[at[i]]` at `i` (`at` a permutation of the positions), by swaps:
+/// no copy of the items.
+fn permute<T>(v: &mut [T], at: &[usize]) {
+    // dest[j]: where the item now at j goes.
+    let mut dest = vec![0; at.len()];
+    for (i, &j) in at.iter().enumerate() {
+        dest[j] = i;
+    }
+    for i in 0..v.len() {
+        while dest[i] != i {
+            let j = dest[i];
+            v.swap(i, j);
+            dest.swap(i, j);
+        }
+    }
+}
+
+/// Sorts u64 items by `cmp` (the radix sort's runs, the hitting set's
+/// masks), through [`sort_positions`]. The comparison must be total on
+/// distinct items (ties only between equal items) for the order to be the
+/// one of `sort_unstable_by`.
+#[inline(never)]
+pub fn sort_u64_by(v: &mut [u64], cmp: &mut dyn FnMut(u64, u64) -> Ordering) {
+    sort_by(v, |&a, &b| cmp(a, b));
+}
+
+/// `v.sort_unstable()` for indices, in place: [`sort_positions`] with every
+/// comparison a tie, broken by value.
+pub fn sort_usize(v: &mut [usize]) {
+    sort_positions(v, &mut |_, _| Ordering::Equal);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Lcg;
+
+    #[test]
+    fn same_order_as_the_standard_stable_sort() {
+        let mut rng = Lcg::new(7);
+        for case in 0..2000 {
+            let k = (case % 40) as usize;
+            // Few distinct keys: many ties, which must keep slice order.
+            let v: Vec<(u32, usize)> = (0..k).map(|i| ((rng.bits() % 5) as u32, i)).collect();
+            let mut want = v.clone();
+            want.sort_by_key(|x| x.0);
+            let mut got = v.clone();
+            sort_by_key(&mut got, |x| x.0);
+            assert_eq!(got, want, "case {case}");
+            let mut idx: Vec<usize> = (0..k).rev().collect();
+            let mut want_idx = idx.clone();
+            want_idx.sort_by_key(|&i| (v[i].0, i));
+            sort_indices_by(&mut idx, |a, b| v[a].0.cmp(&v[b].0));
+            assert_eq!(idx, want_idx, "case {case}");
+        }
+    }
+
+    #[test]
+    fn sort_ord_and_u64_as_the_standard_sorts() {
+        let mut rng = Lcg::new(11);
+        for case in 0..2000 {
+            let k = (case % 50) as usize;
+            let v: Vec<(u64, Vec<usize>)> = (0..k)
+                .map(|_| {
+                    (
+                        rng.bits() % 4,
+                        vec![(rng.bits() % 3) as usize; (rng.bits() % 3) as usize],
+                    )
+                })
+                .collect();
+            let mut want = v.clone();
+            want.sort_unstable();
+            let mut got = v;
+            sort_ord(&mut got);
+            assert_eq!(got, want, "case {case}");
+            let m: Vec<u64> = (0..k).map(|_| rng.bits() % 64).collect();
+            let key = |x: u64| (std::cmp::Reverse(x.count_ones()), x);
+            let mut want = m.clone();
+            want.sort_unstable_by_key(|&x| key(x));
+            let mut got = m;
+            sort_u64_by(&mut got, &mut |a, b| key(a).cmp(&key(b)));
+            assert_eq!(got, want, "case {case}");
+            let u: Vec<usize> = (0..k).map(|_| (rng.bits() % 20) as usize).collect();
+            let mut want = u.clone();
+            want.sort_unstable();
+            let mut got = u;
+            sort_usize(&mut got);
+            assert_eq!(got, want, "case {case}");
+        }
+    }
+
+    #[test]
+    fn floats_in_total_order_with_nan_and_signed_zeros() {
+        let v = [
+            3.0,
+            f64::NAN,
+            -0.0,
+            0.0,
+            f64::NEG_INFINITY,
+            1e308,
+            -f64::NAN,
+            0.0,
+        ];
+        let mut want = v;
+        want.sort_by(f64::total_cmp);
+        let mut got = v;
+        sort_by(&mut got, f64::total_cmp);
+        assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits));
+    }
+}
