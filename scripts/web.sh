@@ -61,10 +61,11 @@ build_radar() {
 # formats' readers ~25 KB, 27 monomorphized sorts ~10.6 KB, measured on a
 # named build) and the odometry2d solver to 183,645. One shared sort in
 # core (core/src/sort.rs: 28 copies of std's quicksort down to 8) brought
-# it to 176,107: the budget holds the size where it is, with a small
-# margin, until the rest is cut (what is left: BENCHMARKS.md). Lower it as
-# it goes.
-WASM_BROTLI_BUDGET=180000
+# it to 176,107; the woods preset's generator (+3,185) and the robust
+# landmark regions brought it back to 182,228. The budget holds the size
+# where it is, with a small margin, until the rest is cut (what is left:
+# BENCHMARKS.md). Lower it as it goes.
+WASM_BROTLI_BUDGET=184000
 
 # The radar module's own budget (web-radar, loaded by the radar demo only):
 # core's TDOA solver, its format reader and atmost_nvector: 114,733 bytes
