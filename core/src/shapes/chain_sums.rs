@@ -193,6 +193,20 @@ impl<'a> ChainSums<'a> {
         p
     }
 
+    /// The sums without the displacements they were read from, to be
+    /// [`StoredSums::attach`]ed to the same displacements later (a
+    /// propagation whose displacements do not change keeps them across
+    /// rounds instead of building them again: O(N d) each round).
+    pub fn store(self) -> StoredSums {
+        StoredSums {
+            dim: self.dim,
+            len: self.disp.len(),
+            blocks: self.blocks,
+            marks: self.marks,
+            mark_sums: self.mark_sums,
+        }
+    }
+
     /// An enclosure of p(t) - p(s) on each axis (first `dim` entries):
     /// unbounded on a side where a displacement between the steps is;
     /// empty only when a displacement between them is empty.
@@ -207,6 +221,33 @@ impl<'a> ChainSums<'a> {
             *o = if s < t { forward } else { -forward };
         }
         out
+    }
+}
+
+/// A [`ChainSums`] without its displacements ([`ChainSums::store`]).
+#[derive(Debug, Clone)]
+pub struct StoredSums {
+    dim: usize,
+    len: usize,
+    blocks: Vec<Prefix>,
+    marks: Vec<usize>,
+    mark_sums: Vec<Prefix>,
+}
+
+impl StoredSums {
+    /// The sums again, reading `disp`, which must hold the very
+    /// displacements (bit for bit) they were built from: the caller's
+    /// promise (the queries then give the same bits as a fresh
+    /// [`ChainSums::new`] with the same steps). None when `disp` or `dim`
+    /// is not of the stored size (a different chain).
+    pub fn attach(self, disp: &[Interval], dim: usize) -> Option<ChainSums<'_>> {
+        (disp.len() == self.len && dim == self.dim).then_some(ChainSums {
+            dim,
+            disp,
+            blocks: self.blocks,
+            marks: self.marks,
+            mark_sums: self.mark_sums,
+        })
     }
 }
 

@@ -138,6 +138,9 @@ impl<'a> Propagation<'a> {
         cancel: &'a AtomicBool,
     ) -> Propagation<'a> {
         let model = Model::new(mission);
+        // odometry2d's D(i) follow the headings; the others' are fixed
+        // (Model::refresh_displacements).
+        let fixed_displacements = model.odometry.is_none();
         let k = mission.detections.len();
         let mut matching = Uf::new(k);
         // Operator matching: detections of one landmark share one variable.
@@ -184,7 +187,11 @@ impl<'a> Propagation<'a> {
                 options.association,
                 Association::NVector(Contractor::Best | Contractor::Shapes)
             )
-            .then(|| ShapesState::new(k)),
+            .then(|| {
+                let mut state = ShapesState::new(k);
+                state.fixed_displacements = fixed_displacements;
+                state
+            }),
             shapes_mission: mission
                 .sensor_offset
                 .is_some_and(|o| o != [0.0, 0.0])

@@ -7,6 +7,7 @@
 
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use crate::shapes::chain_sums::StoredSums;
 use crate::shapes::distinct::Distinct;
 use crate::shapes::frames::{FrameOptions, Frames};
 use crate::shapes::region::Paving;
@@ -149,6 +150,13 @@ pub struct ShapesState {
     /// What each registration step last read, and the candidates it gave.
     /// By step, in step order.
     pub(super) registered: Vec<(usize, RegKey, Vec<u64>)>,
+    /// The displacement boxes D(i) stay the same over the propagation
+    /// (the caller's promise: every model but odometry2d, whose D(i)
+    /// follow the headings): the chain sums are then built once
+    /// ([`ShapesState::stored_sums`]) instead of each round.
+    pub fixed_displacements: bool,
+    /// The chain sums of the last round, with `fixed_displacements`.
+    pub(super) stored_sums: Option<StoredSums>,
 }
 
 /// The inputs of one registration (see [`RegKey::close`]).
@@ -214,6 +222,8 @@ impl ShapesState {
             frames: Frames::default(),
             relative_done: false,
             registered: Vec::new(),
+            fixed_displacements: false,
+            stored_sums: None,
         }
     }
 
