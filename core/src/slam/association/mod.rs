@@ -113,6 +113,7 @@ impl ShapesState {
             *self = ShapesState {
                 options: self.options.clone(),
                 fixed_displacements: self.fixed_displacements,
+                full_work: self.full_work,
                 ..ShapesState::new(k)
             };
         }

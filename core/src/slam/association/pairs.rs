@@ -37,17 +37,23 @@ impl ShapesState {
         if !self.relative_done {
             self.relative_done = true;
             let mut pairs = Vec::new();
-            relative_pairs(
-                &sightings,
-                order,
-                dom.dim,
-                sums,
-                dom.pos,
-                dom.det,
-                dom.heading_at,
-                self.options.max_ahead,
-                &mut pairs,
-            );
+            // Issue 18: with every landmark named by the operator, the
+            // names say which detections see distinct landmarks; the
+            // shapes' pairs (O(k · max_ahead) shape tests) are not sought.
+            let named = !self.full_work && label_pairs(round.mission, n, &mut pairs);
+            if !named {
+                relative_pairs(
+                    &sightings,
+                    order,
+                    dom.dim,
+                    sums,
+                    dom.pos,
+                    dom.det,
+                    dom.heading_at,
+                    self.options.max_ahead,
+                    &mut pairs,
+                );
+            }
             scan_pairs(round.mission, n, &mut pairs)?;
             round.out.contractions += pairs.len() as u64;
             self.distinct.add(pairs);
@@ -91,6 +97,39 @@ impl ShapesState {
         Ok(merged)
     }
 }
+
+/// When every detection carries the operator's `landmark` (an id below
+/// n naming the landmark, formats.md) and at most [`MAX_LABELS_FOR_PAIRS`]
+/// ids are used: one pair between the first detections of every two ids
+/// (distinct ids name distinct landmarks; the groups carry the pairs to
+/// their members), and true. Else nothing and false. O(k + ids²).
+fn label_pairs(
+    mission: &crate::slam::mission::Mission,
+    n: usize,
+    out: &mut Vec<(u32, u32)>,
+) -> bool {
+    let mut first: Vec<(usize, u32)> = Vec::new();
+    for (j, d) in mission.detections.iter().enumerate() {
+        let Some(l) = d.landmark.filter(|&l| l < n) else {
+            return false;
+        };
+        if let Err(x) = first.binary_search_by_key(&l, |e| e.0) {
+            if first.len() == MAX_LABELS_FOR_PAIRS {
+                return false;
+            }
+            first.insert(x, (l, j as u32));
+        }
+    }
+    for (x, a) in first.iter().enumerate() {
+        for b in &first[x + 1..] {
+            out.push((a.1.min(b.1), a.1.max(b.1)));
+        }
+    }
+    true
+}
+
+/// Most operator ids whose pairs [`label_pairs`] lists.
+const MAX_LABELS_FOR_PAIRS: usize = 64;
 
 /// Scans larger than this add no pairs (their pairs grow as the square of
 /// the scan's size; dropping evidence is sound).

@@ -157,6 +157,16 @@ pub struct ShapesState {
     pub fixed_displacements: bool,
     /// The chain sums of the last round, with `fixed_displacements`.
     pub(super) stored_sums: Option<StoredSums>,
+    /// Every step runs in every round over every group (the schedule
+    /// before issue 18; kept as the reference the tests compare with):
+    /// no group skipped for not having moved, the distinct pairs of the
+    /// detection shapes computed even when the operator named every
+    /// detection's landmark.
+    pub full_work: bool,
+    /// Per group (at its first member): the bits of what its step 1 read
+    /// when it last ran ([`ShapesState::group_signature`]); the step is
+    /// skipped for the group while they stay the same.
+    pub(super) group_seen: Vec<Option<Vec<u64>>>,
 }
 
 /// The inputs of one registration (see [`RegKey::close`]).
@@ -224,6 +234,8 @@ impl ShapesState {
             registered: Vec::new(),
             fixed_displacements: false,
             stored_sums: None,
+            full_work: false,
+            group_seen: vec![None; k],
         }
     }
 
