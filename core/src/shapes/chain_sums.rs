@@ -372,4 +372,24 @@ mod tests {
         assert!(sums.delta(30, 50)[0].is_empty());
         assert!(!sums.delta(41, 99)[0].is_empty() && !sums.delta(0, 40)[0].is_empty());
     }
+
+    /// Issue 18: sums kept across rounds answer, once attached to the
+    /// same displacements, with the bits of freshly built ones; attached
+    /// to a chain of another size or dimension they are refused.
+    #[test]
+    fn stored_sums_attached_again_answer_like_fresh_ones() {
+        let disp: Vec<Interval> = (0..400)
+            .map(|i| Interval::new(i as f64 * 0.013 - 1.0, i as f64 * 0.007 + 0.5))
+            .collect();
+        let steps = [3, 70, 150, 199];
+        let fresh = ChainSums::new(&disp, 2).with_steps(&steps);
+        let stored = ChainSums::new(&disp, 2).with_steps(&steps).store();
+        assert!(stored.clone().attach(&disp[..398], 2).is_none());
+        assert!(stored.clone().attach(&disp[..399], 3).is_none());
+        let again = stored.attach(&disp, 2).expect("the same chain");
+        let bits = |d: [Interval; MAX_DIM]| d.map(|x| (x.lo().to_bits(), x.hi().to_bits()));
+        for (s, t) in [(0, 200), (3, 199), (70, 5), (150, 151), (64, 128), (199, 0)] {
+            assert_eq!(bits(fresh.delta(s, t)), bits(again.delta(s, t)), "{s} {t}");
+        }
+    }
 }

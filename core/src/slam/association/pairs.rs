@@ -170,3 +170,52 @@ pub(super) fn scan_pairs(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::slam::mission::Mission;
+
+    fn mission(labels: &[Option<usize>]) -> Mission {
+        let detections: Vec<serde_json::Value> = labels
+            .iter()
+            .map(|l| match l {
+                Some(l) => serde_json::json!({"step": 1, "range": [1, 2], "landmark": l}),
+                None => serde_json::json!({"step": 1, "range": [1, 2]}),
+            })
+            .collect();
+        Mission::from_value(&serde_json::json!({
+            "format": "nvector-mission/1",
+            "model": "unicycle2d",
+            "dt": 1.0,
+            "steps": 1,
+            "landmark_count": 3,
+            "initial_position": [[0, 0], [0, 0]],
+            "inputs": {"speed": {"value": [1.0], "error": 0}, "heading": {"value": [0.0], "error": 0}},
+            "detections": detections
+        }))
+        .expect("valid mission")
+    }
+
+    /// Issue 18: with every landmark named, one pair between the first
+    /// detections of every two names; with one detection unnamed, none
+    /// (the shapes' pairs are sought instead).
+    #[test]
+    fn label_pairs_pair_the_names_only_when_every_detection_is_named() {
+        let mut pairs = Vec::new();
+        assert!(label_pairs(
+            &mission(&[Some(2), Some(0), Some(2), Some(1)]),
+            3,
+            &mut pairs
+        ));
+        pairs.sort_unstable();
+        assert_eq!(pairs, [(0, 1), (0, 3), (1, 3)]);
+        let mut pairs = Vec::new();
+        assert!(!label_pairs(
+            &mission(&[Some(2), None, Some(0)]),
+            3,
+            &mut pairs
+        ));
+        assert!(pairs.is_empty());
+    }
+}
