@@ -193,6 +193,20 @@ impl<'a> ChainSums<'a> {
         p
     }
 
+    /// The sums without the displacements they were read from, to be
+    /// [`StoredSums::attach`]ed to the same displacements later (a
+    /// propagation whose displacements do not change keeps them across
+    /// rounds instead of building them again: O(N d) each round).
+    pub fn store(self) -> StoredSums {
+        StoredSums {
+            dim: self.dim,
+            len: self.disp.len(),
+            blocks: self.blocks,
+            marks: self.marks,
+            mark_sums: self.mark_sums,
+        }
+    }
+
     /// An enclosure of p(t) - p(s) on each axis (first `dim` entries):
     /// unbounded on a side where a displacement between the steps is;
     /// empty only when a displacement between them is empty.
@@ -207,6 +221,33 @@ impl<'a> ChainSums<'a> {
             *o = if s < t { forward } else { -forward };
         }
         out
+    }
+}
+
+/// A [`ChainSums`] without its displacements ([`ChainSums::store`]).
+#[derive(Debug, Clone)]
+pub struct StoredSums {
+    dim: usize,
+    len: usize,
+    blocks: Vec<Prefix>,
+    marks: Vec<usize>,
+    mark_sums: Vec<Prefix>,
+}
+
+impl StoredSums {
+    /// The sums again, reading `disp`, which must hold the very
+    /// displacements (bit for bit) they were built from: the caller's
+    /// promise (the queries then give the same bits as a fresh
+    /// [`ChainSums::new`] with the same steps). None when `disp` or `dim`
+    /// is not of the stored size (a different chain).
+    pub fn attach(self, disp: &[Interval], dim: usize) -> Option<ChainSums<'_>> {
+        (disp.len() == self.len && dim == self.dim).then_some(ChainSums {
+            dim,
+            disp,
+            blocks: self.blocks,
+            marks: self.marks,
+            mark_sums: self.mark_sums,
+        })
     }
 }
 
@@ -330,5 +371,25 @@ mod tests {
         let sums = ChainSums::new(&disp, 1);
         assert!(sums.delta(30, 50)[0].is_empty());
         assert!(!sums.delta(41, 99)[0].is_empty() && !sums.delta(0, 40)[0].is_empty());
+    }
+
+    /// Issue 18: sums kept across rounds answer, once attached to the
+    /// same displacements, with the bits of freshly built ones; attached
+    /// to a chain of another size or dimension they are refused.
+    #[test]
+    fn stored_sums_attached_again_answer_like_fresh_ones() {
+        let disp: Vec<Interval> = (0..400)
+            .map(|i| Interval::new(i as f64 * 0.013 - 1.0, i as f64 * 0.007 + 0.5))
+            .collect();
+        let steps = [3, 70, 150, 199];
+        let fresh = ChainSums::new(&disp, 2).with_steps(&steps);
+        let stored = ChainSums::new(&disp, 2).with_steps(&steps).store();
+        assert!(stored.clone().attach(&disp[..398], 2).is_none());
+        assert!(stored.clone().attach(&disp[..399], 3).is_none());
+        let again = stored.attach(&disp, 2).expect("the same chain");
+        let bits = |d: [Interval; MAX_DIM]| d.map(|x| (x.lo().to_bits(), x.hi().to_bits()));
+        for (s, t) in [(0, 200), (3, 199), (70, 5), (150, 151), (64, 128), (199, 0)] {
+            assert_eq!(bits(fresh.delta(s, t)), bits(again.delta(s, t)), "{s} {t}");
+        }
     }
 }

@@ -121,8 +121,43 @@ pub fn register(
     distinct: &dyn Fn(usize, usize) -> bool,
     opts: &RegisterOptions,
 ) -> Registration {
+    let coarse = CoarseWitnesses::new(witnesses, p.dim(), opts.coarse);
+    register_on(p, &coarse, groups, distinct, opts)
+}
+
+/// The witness regions W(1..n) coarsened to `coarse` boxes each, as
+/// [`register`] reads them: built once for the many registrations of a
+/// round that share the witnesses ([`register_on`]; the same boxes, bit
+/// for bit, as `register` builds each time).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoarseWitnesses {
+    boxes: Vec<Vec<Axes>>,
+}
+
+impl CoarseWitnesses {
+    /// `witnesses` (boxes of dimension `dim`) coarsened to `coarse` boxes
+    /// each. O(n · m² · d) for m boxes per witness.
+    pub fn new(witnesses: &[Vec<IntervalBox>], dim: usize, coarse: usize) -> CoarseWitnesses {
+        CoarseWitnesses {
+            boxes: witnesses
+                .iter()
+                .map(|b| coarsen(b.iter().map(to_axes).collect(), dim, coarse))
+                .collect(),
+        }
+    }
+}
+
+/// [`register`] on witnesses coarsened beforehand (with `opts.coarse` and
+/// the dimension of `p`).
+pub fn register_on(
+    p: &IntervalBox,
+    witnesses: &CoarseWitnesses,
+    groups: &[LocalGroup],
+    distinct: &dyn Fn(usize, usize) -> bool,
+    opts: &RegisterOptions,
+) -> Registration {
     let dim = p.dim();
-    let n = witnesses.len();
+    let n = witnesses.boxes.len();
     if n > 64 {
         return Registration {
             p: p.clone(),
@@ -139,7 +174,7 @@ pub fn register(
     if p.is_empty() {
         return out;
     }
-    let diff = differences(witnesses, groups, dim, opts.coarse);
+    let diff = differences(&witnesses.boxes, groups, dim, opts.coarse);
     let all = if n >= 64 { u64::MAX } else { (1u64 << n) - 1 };
     let masks = |s: &Axes, work: &mut u64| candidate_masks(&diff, s, all, dim, work);
     // Breadth first: a list read from `head` on, halves appended.
@@ -190,20 +225,16 @@ pub fn register(
     out
 }
 
-/// The difference boxes W(i) - R(g, piece), both coarsened to `coarse`
-/// boxes: `diff[g][piece][i]` (empty for a witness other than a group's
+/// The difference boxes W(i) - R(g, piece) (`w`: the coarsened W, R
+/// coarsened here to `coarse` boxes): `diff[g][piece][i]` (empty for a witness other than a group's
 /// fixed one).
 fn differences(
-    witnesses: &[Vec<IntervalBox>],
+    w: &[Vec<Axes>],
     groups: &[LocalGroup],
     dim: usize,
     coarse: usize,
 ) -> Vec<Vec<Vec<Vec<Axes>>>> {
-    let n = witnesses.len();
-    let w: Vec<Vec<Axes>> = witnesses
-        .iter()
-        .map(|b| coarsen(b.iter().map(to_axes).collect(), dim, coarse))
-        .collect();
+    let n = w.len();
     groups
         .iter()
         .map(|g| {

@@ -138,6 +138,9 @@ impl<'a> Propagation<'a> {
         cancel: &'a AtomicBool,
     ) -> Propagation<'a> {
         let model = Model::new(mission);
+        // odometry2d's D(i) follow the headings; the others' are fixed
+        // (Model::refresh_displacements).
+        let fixed_displacements = model.odometry.is_none();
         let k = mission.detections.len();
         let mut matching = Uf::new(k);
         // Operator matching: detections of one landmark share one variable.
@@ -185,7 +188,11 @@ impl<'a> Propagation<'a> {
                 options.association,
                 Association::NVector(Contractor::Best | Contractor::Shapes)
             )
-            .then(|| ShapesState::new(k)),
+            .then(|| {
+                let mut state = ShapesState::new(k);
+                state.fixed_displacements = fixed_displacements;
+                state
+            }),
             shapes_mission: mission
                 .sensor_offset
                 .is_some_and(|o| o != [0.0, 0.0])
@@ -656,8 +663,38 @@ pub fn rounds(
     progress: &mut dyn FnMut(&Progress),
     cancel: &AtomicBool,
 ) -> Solution {
+    run_rounds(mission, options, false, progress, cancel)
+}
+
+/// [`rounds`] with the shapes' full work in every round (every group's
+/// step 1 even when none of its inputs moved, the distinct pairs of the
+/// detection shapes even when the operator named every landmark:
+/// `ShapesState::full_work`), the schedule before issue 18. The tests
+/// compare [`rounds`] with it: every box of `rounds` must lie in this
+/// one's, its groups hold this one's.
+#[doc(hidden)]
+pub fn rounds_full_shapes(
+    mission: &Mission,
+    options: &SolveOptions,
+    progress: &mut dyn FnMut(&Progress),
+    cancel: &AtomicBool,
+) -> Solution {
+    run_rounds(mission, options, true, progress, cancel)
+}
+
+/// [`rounds`], with `full_work` for the shapes state (above).
+fn run_rounds(
+    mission: &Mission,
+    options: &SolveOptions,
+    full_work: bool,
+    progress: &mut dyn FnMut(&Progress),
+    cancel: &AtomicBool,
+) -> Solution {
     debug_assert_eq!(mission.max_outliers, 0);
     let mut p = Propagation::new(mission, options, progress, cancel);
+    if let Some(state) = p.shapes.as_mut() {
+        state.full_work = full_work;
+    }
     let status = match p.run() {
         Ok(()) => SolveStatus::Consistent,
         Err(Halt::Infeasible(reason)) => SolveStatus::Infeasible(reason),

@@ -112,6 +112,8 @@ impl ShapesState {
         if self.regions.len() != k {
             *self = ShapesState {
                 options: self.options.clone(),
+                fixed_displacements: self.fixed_displacements,
+                full_work: self.full_work,
                 ..ShapesState::new(k)
             };
         }
@@ -145,17 +147,42 @@ impl ShapesState {
         let dets = &round.mission.detections;
         let mut order: Vec<usize> = (0..dets.len()).collect();
         crate::sort::sort_indices_by(&mut order, |a, b| dets[a].step.cmp(&dets[b].step));
-        let steps: Vec<usize> = dets.iter().map(|d| d.step).collect();
-        let sums = ChainSums::new(round.dom.disp, round.dom.dim).with_steps(&steps);
-        self.distinct_pairs(round, n, &order, &sums)?;
+        let (disp, dim) = (round.dom.disp, round.dom.dim);
+        // Built once when the displacements do not change (the same bits:
+        // the same displacements and detection steps).
+        let kept = self.stored_sums.take().filter(|_| self.fixed_displacements);
+        let sums = match kept.and_then(|s| s.attach(disp, dim)) {
+            Some(sums) => sums,
+            None => {
+                let steps: Vec<usize> = dets.iter().map(|d| d.step).collect();
+                ChainSums::new(disp, dim).with_steps(&steps)
+            }
+        };
+        let result = self.steps_with_sums(round, n, &order, &sums);
+        if self.fixed_displacements {
+            self.stored_sums = Some(sums.store());
+        }
+        result
+    }
+
+    /// The steps of the module doc after the groups' regions, with the
+    /// chain sums `sums`.
+    fn steps_with_sums(
+        &mut self,
+        round: &mut Round,
+        n: usize,
+        order: &[usize],
+        sums: &ChainSums,
+    ) -> Result<(), String> {
+        self.distinct_pairs(round, n, order, sums)?;
         if let Some(mut w) = self.witness_regions(round, n)? {
             // An infeasible group ends the round at once (the witness
             // regions and the pairs found are dropped: the mission is
             // infeasible).
             self.groups_on_witnesses(round, &mut w)?;
-            let mut result = self.detections_on_witnesses(round, &mut w, &order);
+            let mut result = self.detections_on_witnesses(round, &mut w, order);
             if result.is_ok() && self.options.registration && n <= 64 {
-                result = self.register_anchors(round, &sums, &mut w);
+                result = self.register_anchors(round, sums, &mut w);
             }
             self.restore(w);
             result?;

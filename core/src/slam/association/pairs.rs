@@ -37,6 +37,9 @@ impl ShapesState {
         if !self.relative_done {
             self.relative_done = true;
             let mut pairs = Vec::new();
+            // Two operator ids do not prove two landmarks distinct (the
+            // model ties each id to a variable; atmost_nvector allows two
+            // variables to coincide): the pairs come from the shapes only.
             relative_pairs(
                 &sightings,
                 order,

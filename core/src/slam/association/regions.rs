@@ -22,17 +22,68 @@ impl ShapesState {
     /// Step 1: regions of the groups, and their members contracted.
     pub(super) fn group_regions(&mut self, round: &mut Round) -> Result<(), String> {
         for g in round.uf.groups() {
-            let mut region = self.region_to_cut(&g, round);
-            let shapes: Vec<Shape> = g.iter().map(|&j| round.shape_of(j)).collect();
-            self.cut_by_members(&g, &shapes, &mut region, round);
-            if region.is_empty() {
-                return Err(format!(
-                    "landmark of detections {g:?}: their shapes (ranges and bearings around their positions) have no common point"
-                ));
+            // Issue 18: a group none of whose inputs moved since its last
+            // step 1 (the same members, positions, boxes, pieces and
+            // region, bit for bit) is not cut, refined and branched again.
+            let seen = (!self.full_work).then(|| self.group_signature(&g, round));
+            if seen.is_some() && seen == self.group_seen[g[0]] {
+                continue;
             }
-            self.branch_members(&g, &shapes, &region, round)?;
-            self.regions[g[0]] = Some(region);
+            self.group_region(&g, round)?;
+            if !self.full_work {
+                self.group_seen[g[0]] = Some(self.group_signature(&g, round));
+            }
         }
+        Ok(())
+    }
+
+    /// The bits of what step 1 reads of group `g`: its members, their
+    /// p(step) and d(j), its local pieces (step and box count), and the
+    /// region it holds (hull and box count). O(|g| · d + pieces).
+    fn group_signature(&self, g: &[usize], round: &Round) -> Vec<u64> {
+        let dim = round.dom.dim;
+        let mut sig = Vec::with_capacity(g.len() * (1 + 4 * dim) + 8);
+        let push = |x: Interval, sig: &mut Vec<u64>| {
+            sig.push(x.lo().to_bits());
+            sig.push(x.hi().to_bits());
+        };
+        for &j in g {
+            sig.push(j as u64);
+            let t = round.step_of(j);
+            for a in 0..dim {
+                push(round.dom.pos[t * dim + a], &mut sig);
+                push(round.dom.det[j][a], &mut sig);
+            }
+        }
+        for (step, rel) in self.frames.pieces(g) {
+            sig.push(step as u64);
+            sig.push(rel.boxes().len() as u64);
+        }
+        sig.push(u64::MAX);
+        for &j in g {
+            if let Some(r) = &self.regions[j] {
+                sig.push(j as u64);
+                sig.push(r.boxes().len() as u64);
+                for a in 0..r.hull_ref().dim() {
+                    push(r.hull_ref()[a], &mut sig);
+                }
+            }
+        }
+        sig
+    }
+
+    /// Step 1 for one group `g`.
+    fn group_region(&mut self, g: &[usize], round: &mut Round) -> Result<(), String> {
+        let mut region = self.region_to_cut(g, round);
+        let shapes: Vec<Shape> = g.iter().map(|&j| round.shape_of(j)).collect();
+        self.cut_by_members(g, &shapes, &mut region, round);
+        if region.is_empty() {
+            return Err(format!(
+                "landmark of detections {g:?}: their shapes (ranges and bearings around their positions) have no common point"
+            ));
+        }
+        self.branch_members(g, &shapes, &region, round)?;
+        self.regions[g[0]] = Some(region);
         Ok(())
     }
 

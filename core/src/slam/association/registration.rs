@@ -22,15 +22,16 @@ use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::shapes::chain_sums::ChainSums;
 use crate::shapes::region::Paving;
-use crate::shapes::registration::{register, LocalGroup};
+use crate::shapes::registration::{register_on, CoarseWitnesses, LocalGroup};
 
 /// What a round's registrations read (the tuning, the distinct graph, the
-/// witness boxes), the cache of earlier answers by step, and what they
+/// coarsened witness regions), the cache of earlier answers by step, and what they
 /// gather: per group root, the mask of the witnesses it may see.
 struct Registrations<'a> {
     options: &'a ShapesOptions,
     graph: Vec<Vec<u32>>,
-    witness_boxes: Vec<Vec<IntervalBox>>,
+    /// The witness regions, coarsened once for the round's registrations.
+    witnesses: CoarseWitnesses,
     cache: &'a mut Vec<(usize, RegKey, Vec<u64>)>,
     reach: Vec<u64>,
 }
@@ -131,9 +132,9 @@ impl Registrations<'_> {
         let graph = &self.graph;
         let distinct =
             |g: usize, h: usize| graph[roots[g]].binary_search(&(roots[h] as u32)).is_ok();
-        let reg = register(
+        let reg = register_on(
             &p,
-            &self.witness_boxes,
+            &self.witnesses,
             &groups,
             &distinct,
             &self.options.register,
@@ -182,7 +183,14 @@ impl ShapesState {
         let mut regs = Registrations {
             options: &self.options,
             graph: self.distinct.graph(&mut round.uf)?,
-            witness_boxes: w.regions.iter().map(|r| r.boxes().to_vec()).collect(),
+            witnesses: CoarseWitnesses::new(
+                &w.regions
+                    .iter()
+                    .map(|r| r.boxes().to_vec())
+                    .collect::<Vec<_>>(),
+                round.dom.dim,
+                self.options.register.coarse,
+            ),
             cache: &mut self.registered,
             reach: vec![u64::MAX; round.mission.detections.len()],
         };

@@ -7,6 +7,7 @@
 
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use crate::shapes::chain_sums::StoredSums;
 use crate::shapes::distinct::Distinct;
 use crate::shapes::frames::{FrameOptions, Frames};
 use crate::shapes::region::Paving;
@@ -149,6 +150,23 @@ pub struct ShapesState {
     /// What each registration step last read, and the candidates it gave.
     /// By step, in step order.
     pub(super) registered: Vec<(usize, RegKey, Vec<u64>)>,
+    /// The displacement boxes D(i) stay the same over the propagation
+    /// (the caller's promise: every model but odometry2d, whose D(i)
+    /// follow the headings): the chain sums are then built once
+    /// ([`ShapesState::stored_sums`]) instead of each round.
+    pub fixed_displacements: bool,
+    /// The chain sums of the last round, with `fixed_displacements`.
+    pub(super) stored_sums: Option<StoredSums>,
+    /// Every step runs in every round over every group (the schedule
+    /// before issue 18; kept as the reference the tests compare with):
+    /// no group skipped for not having moved, the distinct pairs of the
+    /// detection shapes computed even when the operator named every
+    /// detection's landmark.
+    pub full_work: bool,
+    /// Per group (at its first member): the bits of what its step 1 read
+    /// when it last ran ([`ShapesState::group_signature`]); the step is
+    /// skipped for the group while they stay the same.
+    pub(super) group_seen: Vec<Option<Vec<u64>>>,
 }
 
 /// The inputs of one registration (see [`RegKey::close`]).
@@ -214,6 +232,10 @@ impl ShapesState {
             frames: Frames::default(),
             relative_done: false,
             registered: Vec::new(),
+            fixed_displacements: false,
+            stored_sums: None,
+            full_work: false,
+            group_seen: vec![None; k],
         }
     }
 
