@@ -49,6 +49,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         4,
         "the odometry2d pieces (angle, chain, sensor, sector)",
     ),
+    (
+        "odometry::relative",
+        4,
+        "relative poses from the odometry alone",
+    ),
     ("outline", 5, "outlines of shapes and regions for drawing"),
     ("slam::mission", 5, "the typed, validated mission"),
     ("tdoa::problem", 5, "the typed, validated TDOA problem"),
@@ -65,6 +70,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "slam::association",
         8,
         "the shapes part of the association step",
+    ),
+    (
+        "slam::association::tracks",
+        8,
+        "tracks from the relative evidence",
     ),
     ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),
     ("slam::rounds", 9, "the physics-guided rounds"),

@@ -22,5 +22,6 @@
 
 pub mod angle;
 pub mod chain;
+pub mod relative;
 pub mod sector;
 pub mod sensor;

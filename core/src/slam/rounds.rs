@@ -62,6 +62,7 @@
 //! trajectory and landmarks stay inside.
 
 use super::association::separation::separation_unions;
+use super::association::tracks::{track_unions, TrackOptions};
 use super::association::{Chain, Domains, ShapesState};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
@@ -195,6 +196,7 @@ impl<'a> Propagation<'a> {
     /// Dead reckoning, then rounds to the fixpoint.
     fn run(&mut self) -> Result<(), Halt> {
         self.dead_reckoning()?;
+        self.tracks();
         let d0 = self.model.max_trajectory_diameter();
         self.report.initial_max_trajectory_diameter = d0;
         self.report.max_trajectory_diameter = d0;
@@ -214,6 +216,26 @@ impl<'a> Propagation<'a> {
                 return Ok(());
             }
         }
+    }
+
+    /// odometry2d with a minimum separation: the detections the relative
+    /// evidence proves to see one landmark ([`track_unions`]) share one
+    /// variable from the first pass on. Not for `none` (the basic model
+    /// uses the operator's fields only) nor with false detections.
+    fn tracks(&mut self) {
+        let Some(chain) = &self.model.odometry else {
+            return;
+        };
+        if self.options.association == Association::None || self.mission.max_outliers > 0 {
+            return;
+        }
+        let u = track_unions(
+            self.mission,
+            chain,
+            &mut self.matching,
+            TrackOptions::default(),
+        );
+        self.contractions += u.len() as u64;
     }
 
     /// p(0..=N) from the initial position forward, and back from the final
@@ -401,9 +423,21 @@ impl<'a> Propagation<'a> {
         let mut moved_position = false;
         for x in self.starts[s]..self.starts[s + 1] {
             let j = self.order[x];
+            let root = self.matching.find(j);
             let m = &mut self.model;
-            let before = (m.pos[2 * t], m.pos[2 * t + 1], m.heading.get(t).copied());
             let d_before = [m.det[j][0], m.det[j][1]];
+            if root != j {
+                // A sequential filter: the group's landmark box so far
+                // (held at its root) bounds this member's before it is read.
+                let (lo, hi) = m.det.split_at_mut(j.max(root));
+                let (a, b) = if root < j {
+                    (&lo[root], &mut hi[0])
+                } else {
+                    (&hi[0], &mut lo[j])
+                };
+                b.intersect_with(a);
+            }
+            let before = (m.pos[2 * t], m.pos[2 * t + 1], m.heading.get(t).copied());
             let ok = m.contract_offset_detection(self.mission, j);
             self.contractions += 1;
             if !ok || m.det[j].is_empty() {
@@ -420,6 +454,21 @@ impl<'a> Propagation<'a> {
             }
             let d_moved =
                 shrinkage(d_before[0], m.det[j][0]).max(shrinkage(d_before[1], m.det[j][1]));
+            if root != j {
+                let r_before = [m.det[root][0], m.det[root][1]];
+                let dj = m.det[j].clone();
+                m.det[root].intersect_with(&dj);
+                if m.det[root].is_empty() {
+                    return Err(Halt::Infeasible(format!(
+                        "landmark of detection {j} (step {t}) and its group (detection {root}): their boxes have no common point"
+                    )));
+                }
+                let r_moved = shrinkage(r_before[0], m.det[root][0])
+                    .max(shrinkage(r_before[1], m.det[root][1]));
+                if r_moved > self.tol {
+                    self.moving[root] = true;
+                }
+            }
             if p_moved > self.tol {
                 moved_position = true;
             }
