@@ -50,6 +50,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "the odometry2d pieces (angle, chain, sensor, sector)",
     ),
     (
+        "odometry::pair_heading",
+        4,
+        "the heading from two detections of one step",
+    ),
+    (
         "odometry::relative",
         4,
         "relative poses from the odometry alone",

@@ -73,6 +73,7 @@ use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward,
 use crate::interval::Interval;
 use crate::nvector::{atmost_nvector, Contractor, Status};
 use crate::odometry::chain::OdometryChain;
+use crate::odometry::pair_heading::{contract_pair_heading, Seen};
 use crate::union_find::Uf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -419,6 +420,54 @@ impl<'a> Propagation<'a> {
     /// th(step) and d(j). Returns whether p(step) or th(step) moved by more
     /// than the tolerance (both are swept along the chain).
     fn contract_offset_detections(&mut self, s: usize) -> Result<bool, Halt> {
+        let moved = self.offset_detections_once(s)?;
+        if !self.pair_headings(s)? {
+            return Ok(moved);
+        }
+        self.offset_detections_once(s)?;
+        Ok(true)
+    }
+
+    /// odometry2d: th(step) contracted by every pair of the step's
+    /// detections ([`contract_pair_heading`]); whether it moved by more
+    /// than the tolerance. O(c²) for c detections at the step.
+    fn pair_headings(&mut self, s: usize) -> Result<bool, Halt> {
+        let t = self.steps[s];
+        let range = self.starts[s]..self.starts[s + 1];
+        if self.model.odometry.is_none() || range.len() < 2 {
+            return Ok(false);
+        }
+        let seen: Vec<Seen> = self.order[range]
+            .iter()
+            .map(|&j| {
+                let d = &self.mission.detections[j];
+                Seen {
+                    landmark: [self.model.det[j][0], self.model.det[j][1]],
+                    range: d.range,
+                    bearing: d.bearing,
+                }
+            })
+            .collect();
+        let before = self.model.heading[t];
+        let mut h = before;
+        for (x, a) in seen.iter().enumerate() {
+            for b in &seen[x + 1..] {
+                h = contract_pair_heading(h, a, b);
+            }
+        }
+        self.contractions += (seen.len() * (seen.len() - 1) / 2) as u64;
+        if h.is_empty() {
+            return Err(Halt::Infeasible(format!(
+                "heading of step {t}: no heading turns the constellation of its detections onto their landmark boxes"
+            )));
+        }
+        self.model.heading[t] = h;
+        Ok(shrinkage(before, h) > self.tol)
+    }
+
+    /// One contraction of each detection at the `s`-th distinct step
+    /// (see [`Propagation::contract_offset_detections`]).
+    fn offset_detections_once(&mut self, s: usize) -> Result<bool, Halt> {
         let t = self.steps[s];
         let mut moved_position = false;
         for x in self.starts[s]..self.starts[s + 1] {
