@@ -128,7 +128,7 @@ mod tests {
                         land[1].hull(Interval::centered(l[1], 1e-12 * scale)),
                     ],
                     range: Interval::centered(r, re),
-                    bearing: (rng.bits() % 10 != 0)
+                    bearing: (!rng.bits().is_multiple_of(10))
                         .then(|| Interval::centered(b, 1e-9 + unit(rng) * 0.05)),
                 }
             };

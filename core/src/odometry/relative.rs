@@ -233,15 +233,20 @@ mod tests {
             let (dx, dy) = (p[j][0] - p[i][0], p[j][1] - p[i][1]);
             let tp = [c * dx + s * dy, -s * dx + c * dy];
             let slack = 1e-9 * scale.max(1.0) * (1.0 + dx.abs() + dy.abs());
-            for a in 0..2 {
+            for (a, (&t, b)) in tp.iter().zip(&pose.p).enumerate() {
                 assert!(
-                    pose.p[a].lo() - slack <= tp[a] && tp[a] <= pose.p[a].hi() + slack,
-                    "case {case}: axis {a}: {} not in {}",
-                    tp[a],
-                    pose.p[a]
+                    b.lo() - slack <= t && t <= b.hi() + slack,
+                    "case {case}: axis {a}: {t} not in {b}"
                 );
             }
-            assert!(pose.h.contains(th[j] - th[i]) || (th[j] - th[i] - pose.h.mid()).abs() < 1e-9);
+            // The truth's headings are sums rounded to nearest (|th| up to
+            // about 100 plus the turns): a slack of 1e-9.
+            let dh = th[j] - th[i];
+            assert!(
+                pose.h.lo() - 1e-9 <= dh && dh <= pose.h.hi() + 1e-9,
+                "case {case}: {dh} not in {}",
+                pose.h
+            );
             // Two detections of one landmark, or of two.
             let o = [
                 (unit(&mut rng) - 0.5) * scale,
