@@ -50,6 +50,16 @@ const LAYERS: &[(&str, u32, &str)] = &[
         4,
         "the odometry2d pieces (angle, chain, sensor, sector)",
     ),
+    (
+        "odometry::pair_heading",
+        4,
+        "the heading from two detections of one step",
+    ),
+    (
+        "odometry::relative",
+        4,
+        "relative poses from the odometry alone",
+    ),
     ("outline", 5, "outlines of shapes and regions for drawing"),
     ("slam::mission", 5, "the typed, validated mission"),
     ("tdoa::problem", 5, "the typed, validated TDOA problem"),
@@ -71,6 +81,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "slam::association",
         8,
         "the shapes part of the association step",
+    ),
+    (
+        "slam::association::tracks",
+        8,
+        "tracks from the relative evidence",
     ),
     ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),
     ("slam::rounds", 9, "the physics-guided rounds"),

@@ -123,6 +123,16 @@ impl OdometryChain {
         self.step.len()
     }
 
+    /// `dt·v(i)`, the signed distance run in step i (before its error).
+    pub fn step_length(&self, i: usize) -> Interval {
+        self.step[i]
+    }
+
+    /// `[-e(i), e(i)]`, the per-axis error of step i's displacement.
+    pub fn motion_error(&self, i: usize) -> Interval {
+        self.error[i]
+    }
+
     /// `Δθ(i) = dt·ω(i) + [-f(i), f(i)]`.
     pub fn heading_increment(&self, i: usize) -> Interval {
         self.turn[i]

@@ -22,5 +22,7 @@
 
 pub mod angle;
 pub mod chain;
+pub mod pair_heading;
+pub mod relative;
 pub mod sector;
 pub mod sensor;

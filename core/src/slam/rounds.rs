@@ -62,6 +62,7 @@
 //! trajectory and landmarks stay inside.
 
 use super::association::separation::separation_unions;
+use super::association::tracks::{track_unions, TrackOptions};
 use super::association::{Chain, Domains, ShapesState};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
@@ -72,6 +73,7 @@ use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward,
 use crate::interval::Interval;
 use crate::nvector::{atmost_nvector, Contractor, Status};
 use crate::odometry::chain::OdometryChain;
+use crate::odometry::pair_heading::{contract_pair_heading, Seen};
 use crate::union_find::Uf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -203,6 +205,7 @@ impl<'a> Propagation<'a> {
     /// Dead reckoning, then rounds to the fixpoint.
     fn run(&mut self) -> Result<(), Halt> {
         self.dead_reckoning()?;
+        self.tracks();
         let d0 = self.model.max_trajectory_diameter();
         self.report.initial_max_trajectory_diameter = d0;
         self.report.max_trajectory_diameter = d0;
@@ -222,6 +225,26 @@ impl<'a> Propagation<'a> {
                 return Ok(());
             }
         }
+    }
+
+    /// odometry2d with a minimum separation: the detections the relative
+    /// evidence proves to see one landmark ([`track_unions`]) share one
+    /// variable from the first pass on. Not for `none` (the basic model
+    /// uses the operator's fields only) nor with false detections.
+    fn tracks(&mut self) {
+        let Some(chain) = &self.model.odometry else {
+            return;
+        };
+        if self.options.association == Association::None || self.mission.max_outliers > 0 {
+            return;
+        }
+        let u = track_unions(
+            self.mission,
+            chain,
+            &mut self.matching,
+            TrackOptions::default(),
+        );
+        self.contractions += u.len() as u64;
     }
 
     /// p(0..=N) from the initial position forward, and back from the final
@@ -405,13 +428,73 @@ impl<'a> Propagation<'a> {
     /// th(step) and d(j). Returns whether p(step) or th(step) moved by more
     /// than the tolerance (both are swept along the chain).
     fn contract_offset_detections(&mut self, s: usize) -> Result<bool, Halt> {
+        let moved = self.offset_detections_once(s)?;
+        if !self.pair_headings(s)? {
+            return Ok(moved);
+        }
+        self.offset_detections_once(s)?;
+        Ok(true)
+    }
+
+    /// odometry2d: th(step) contracted by every pair of the step's
+    /// detections ([`contract_pair_heading`]); whether it moved by more
+    /// than the tolerance. O(c²) for c detections at the step.
+    fn pair_headings(&mut self, s: usize) -> Result<bool, Halt> {
+        let t = self.steps[s];
+        let range = self.starts[s]..self.starts[s + 1];
+        if self.model.odometry.is_none() || range.len() < 2 {
+            return Ok(false);
+        }
+        let seen: Vec<Seen> = self.order[range]
+            .iter()
+            .map(|&j| {
+                let d = &self.mission.detections[j];
+                Seen {
+                    landmark: [self.model.det[j][0], self.model.det[j][1]],
+                    range: d.range,
+                    bearing: d.bearing,
+                }
+            })
+            .collect();
+        let before = self.model.heading[t];
+        let mut h = before;
+        for (x, a) in seen.iter().enumerate() {
+            for b in &seen[x + 1..] {
+                h = contract_pair_heading(h, a, b);
+            }
+        }
+        self.contractions += (seen.len() * (seen.len() - 1) / 2) as u64;
+        if h.is_empty() {
+            return Err(Halt::Infeasible(format!(
+                "heading of step {t}: no heading turns the constellation of its detections onto their landmark boxes"
+            )));
+        }
+        self.model.heading[t] = h;
+        Ok(shrinkage(before, h) > self.tol)
+    }
+
+    /// One contraction of each detection at the `s`-th distinct step
+    /// (see [`Propagation::contract_offset_detections`]).
+    fn offset_detections_once(&mut self, s: usize) -> Result<bool, Halt> {
         let t = self.steps[s];
         let mut moved_position = false;
         for x in self.starts[s]..self.starts[s + 1] {
             let j = self.order[x];
+            let root = self.matching.find(j);
             let m = &mut self.model;
-            let before = (m.pos[2 * t], m.pos[2 * t + 1], m.heading.get(t).copied());
             let d_before = [m.det[j][0], m.det[j][1]];
+            if root != j {
+                // A sequential filter: the group's landmark box so far
+                // (held at its root) bounds this member's before it is read.
+                let (lo, hi) = m.det.split_at_mut(j.max(root));
+                let (a, b) = if root < j {
+                    (&lo[root], &mut hi[0])
+                } else {
+                    (&hi[0], &mut lo[j])
+                };
+                b.intersect_with(a);
+            }
+            let before = (m.pos[2 * t], m.pos[2 * t + 1], m.heading.get(t).copied());
             let ok = m.contract_offset_detection(self.mission, j);
             self.contractions += 1;
             if !ok || m.det[j].is_empty() {
@@ -428,6 +511,21 @@ impl<'a> Propagation<'a> {
             }
             let d_moved =
                 shrinkage(d_before[0], m.det[j][0]).max(shrinkage(d_before[1], m.det[j][1]));
+            if root != j {
+                let r_before = [m.det[root][0], m.det[root][1]];
+                let dj = m.det[j].clone();
+                m.det[root].intersect_with(&dj);
+                if m.det[root].is_empty() {
+                    return Err(Halt::Infeasible(format!(
+                        "landmark of detection {j} (step {t}) and its group (detection {root}): their boxes have no common point"
+                    )));
+                }
+                let r_moved = shrinkage(r_before[0], m.det[root][0])
+                    .max(shrinkage(r_before[1], m.det[root][1]));
+                if r_moved > self.tol {
+                    self.moving[root] = true;
+                }
+            }
             if p_moved > self.tol {
                 moved_position = true;
             }

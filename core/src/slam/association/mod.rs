@@ -85,6 +85,7 @@ mod registration;
 mod round;
 pub mod separation;
 mod state;
+pub mod tracks;
 mod witness_step;
 
 pub use round::sightings;
