@@ -39,6 +39,8 @@ macro_rules! object_only {
 pub mod contract;
 pub mod leaf;
 pub mod mission;
+#[cfg(feature = "openapi")]
+pub mod openapi;
 pub mod tdoa;
 
 use crate::error::InputError;
