@@ -297,6 +297,28 @@ pub struct TruthDoc {
     pub headings: Option<List<Option<Finite>>>,
 }
 
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for ChannelDoc {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        super::openapi::channel()
+    }
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for ChannelDoc {
+    fn name() -> std::borrow::Cow<'static, str> {
+        std::borrow::Cow::Borrowed("Channel")
+    }
+    fn schemas(
+        schemas: &mut Vec<(
+            String,
+            utoipa::openapi::RefOr<utoipa::openapi::schema::Schema>,
+        )>,
+    ) {
+        super::openapi::channel_schemas(schemas);
+    }
+}
+
 object_only!(MissionDoc);
 object_only!(InputsDoc);
 object_only!(ChannelDoc);

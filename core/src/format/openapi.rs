@@ -15,7 +15,6 @@
 //! the service.
 
 use super::leaf::{Bound, BoxIn, IntervalIn, PerStep};
-use super::mission::ChannelDoc;
 use std::borrow::Cow;
 use utoipa::openapi::schema::{
     AdditionalProperties, ArrayBuilder, KnownFormat, ObjectBuilder, OneOfBuilder, Ref, Schema,
@@ -142,65 +141,60 @@ impl PartialSchema for PerStep {
 
 impl ToSchema for PerStep {}
 
-/// The channel's two shapes (the validation refuses any other mix of its
-/// four fields, naming them).
-impl PartialSchema for ChannelDoc {
-    fn schema() -> RefOr<Schema> {
-        let value = ObjectBuilder::new()
-            .title(Some("ValueChannel"))
-            .description(Some(
-                "An input channel given as measured values and a symmetric error bound: \
+/// The schema of `mission::ChannelDoc` (named `Channel`): the channel's
+/// two shapes (the validation refuses any other mix of its four fields,
+/// naming them).
+pub fn channel() -> RefOr<Schema> {
+    let value = ObjectBuilder::new()
+        .title(Some("ValueChannel"))
+        .description(Some(
+            "An input channel given as measured values and a symmetric error bound: \
                  `{\"value\": [...], \"error\": e}`.",
-            ))
-            .property(
-                "value",
-                doubles().description(Some("One measured value per step. Rule: `steps` entries.")),
-            )
-            .required("value")
-            .property(
-                "error",
-                described(
-                    PerStep::name(),
-                    "The error bound: a number >= 0, or one per step.",
-                ),
-            )
-            .required("error")
-            .additional_properties(Some(AdditionalProperties::<Schema>::FreeForm(false)));
-        let bounds = ObjectBuilder::new()
-            .title(Some("BoundsChannel"))
-            .description(Some(
-                "An input channel given as explicit bounds: `{\"lo\": [...], \"hi\": [...]}`.",
-            ))
-            .property(
-                "lo",
-                doubles().description(Some(
-                    "Lower bounds, one per step. Rules: `steps` entries, `lo[i] <= hi[i]`.",
-                )),
-            )
-            .required("lo")
-            .property(
-                "hi",
-                doubles().description(Some("Upper bounds, one per step. Rule: `steps` entries.")),
-            )
-            .required("hi")
-            .additional_properties(Some(AdditionalProperties::<Schema>::FreeForm(false)));
-        OneOfBuilder::new()
-            .description(Some(
-                "An input channel: values with an error bound, or explicit bounds.",
-            ))
-            .item(value)
-            .item(bounds)
-            .into()
-    }
+        ))
+        .property(
+            "value",
+            doubles().description(Some("One measured value per step. Rule: `steps` entries.")),
+        )
+        .required("value")
+        .property(
+            "error",
+            described(
+                PerStep::name(),
+                "The error bound: a number >= 0, or one per step.",
+            ),
+        )
+        .required("error")
+        .additional_properties(Some(AdditionalProperties::<Schema>::FreeForm(false)));
+    let bounds = ObjectBuilder::new()
+        .title(Some("BoundsChannel"))
+        .description(Some(
+            "An input channel given as explicit bounds: `{\"lo\": [...], \"hi\": [...]}`.",
+        ))
+        .property(
+            "lo",
+            doubles().description(Some(
+                "Lower bounds, one per step. Rules: `steps` entries, `lo[i] <= hi[i]`.",
+            )),
+        )
+        .required("lo")
+        .property(
+            "hi",
+            doubles().description(Some("Upper bounds, one per step. Rule: `steps` entries.")),
+        )
+        .required("hi")
+        .additional_properties(Some(AdditionalProperties::<Schema>::FreeForm(false)));
+    OneOfBuilder::new()
+        .description(Some(
+            "An input channel: values with an error bound, or explicit bounds.",
+        ))
+        .item(value)
+        .item(bounds)
+        .into()
 }
 
-impl ToSchema for ChannelDoc {
-    fn name() -> Cow<'static, str> {
-        Cow::Borrowed("Channel")
-    }
-    fn schemas(schemas: &mut Vec<(String, RefOr<Schema>)>) {
-        schemas.push((PerStep::name().into(), PerStep::schema()));
-    }
+/// The schemas [`channel`] refers to.
+pub fn channel_schemas(schemas: &mut Vec<(String, RefOr<Schema>)>) {
+    schemas.push((PerStep::name().into(), PerStep::schema()));
 }
 
 /// A box of a mission's position space.

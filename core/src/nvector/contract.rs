@@ -226,6 +226,7 @@ pub fn contract_json_with(
 mod tests {
     use super::*;
     use crate::nvector::hitting_set::WorkLimit;
+    use serde_json::json;
 
     #[test]
     fn spec_example_round_trip() {
