@@ -412,7 +412,7 @@ impl utoipa::PartialSchema for ResultView<'_> {
                     .minimum(Some(0)),
             ),
         );
-        ObjectBuilder::new()
+        let o = ObjectBuilder::new()
             .description(Some("The result of a SLAM job (`nvector-result/1`)."))
             .property(
                 "format",
@@ -438,34 +438,8 @@ impl utoipa::PartialSchema for ResultView<'_> {
             .property("options", described(Options::name(), "The options."))
             .required("options")
             .property("trajectory", output::boxes("N+1 boxes of p(0..=N)."))
-            .required("trajectory")
-            .property(
-                "headings",
-                ArrayBuilder::new()
-                    .description(Some("odometry2d only: N+1 intervals of th(0..=N)."))
-                    .items(utoipa::openapi::schema::Ref::from_schema_name(
-                        "OutputInterval",
-                    )),
-            )
-            .property(
-                "detections",
-                output::boxes("One box per input detection: the detected landmark's position."),
-            )
-            .required("detections")
-            .property(
-                "landmarks",
-                output::boxes("One box per group of `matching`."),
-            )
-            .required("landmarks")
-            .property(
-                "landmark_regions",
-                ArrayBuilder::new()
-                    .description(Some(
-                        "With the shapes contractor: per group of `matching`, the boxes of its \
-                         landmark region (cut to the group's landmark box).",
-                    ))
-                    .items(output::boxes("A paving.")),
-            )
+            .required("trajectory");
+        result_boxes(o)
             .property(
                 "matching",
                 indices.description(Some(
@@ -484,6 +458,41 @@ impl utoipa::PartialSchema for ResultView<'_> {
             )
             .into()
     }
+}
+
+/// The result's boxes other than the trajectory, each with its
+/// description (a part of [`ResultView`]'s schema).
+#[cfg(feature = "openapi")]
+fn result_boxes(
+    o: utoipa::openapi::schema::ObjectBuilder,
+) -> utoipa::openapi::schema::ObjectBuilder {
+    use crate::format::openapi::output;
+    use utoipa::openapi::schema::{ArrayBuilder, Ref};
+    o.property(
+        "headings",
+        ArrayBuilder::new()
+            .description(Some("odometry2d only: N+1 intervals of th(0..=N)."))
+            .items(Ref::from_schema_name("OutputInterval")),
+    )
+    .property(
+        "detections",
+        output::boxes("One box per input detection: the detected landmark's position."),
+    )
+    .required("detections")
+    .property(
+        "landmarks",
+        output::boxes("One box per group of `matching`."),
+    )
+    .required("landmarks")
+    .property(
+        "landmark_regions",
+        ArrayBuilder::new()
+            .description(Some(
+                "With the shapes contractor: per group of `matching`, the boxes of its \
+                         landmark region (cut to the group's landmark box).",
+            ))
+            .items(output::boxes("A paving.")),
+    )
 }
 
 #[cfg(feature = "openapi")]
