@@ -387,3 +387,30 @@ pub mod output {
         schemas.push(("OutputInterval".into(), interval()));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// The leaf schemas serialize to what their descriptions say, and a
+    /// box brings the schemas it refers to (moved from the server's former
+    /// `formats.rs`).
+    #[test]
+    fn leaf_schemas_are_unions() {
+        let b = serde_json::to_value(Bound::schema()).unwrap();
+        assert_eq!(b["oneOf"][0]["type"], "number");
+        assert_eq!(b["oneOf"][1]["enum"], json!(["-inf", "inf", "+inf"]));
+        let i = serde_json::to_value(IntervalIn::schema()).unwrap();
+        assert_eq!(i["oneOf"][1]["items"]["$ref"], "#/components/schemas/Bound");
+        assert_eq!(i["oneOf"][1]["minItems"], 2);
+        let mut deps = Vec::new();
+        <BoxIn as ToSchema>::schemas(&mut deps);
+        let names: Vec<&str> = deps.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["Interval", "Bound"]);
+        let c = serde_json::to_value(channel()).unwrap();
+        assert_eq!(c["oneOf"][0]["required"], json!(["value", "error"]));
+        assert_eq!(c["oneOf"][1]["required"], json!(["lo", "hi"]));
+        assert_eq!(c["oneOf"][1]["additionalProperties"], false);
+    }
+}
