@@ -5,9 +5,8 @@
 //! derive could say (a bound is a number or `"inf"`, an interval a pair or
 //! a bare number), hence these small hand-written schemas next to them.
 
-use super::leaf::{BoxIn, Finite, Integer, IntervalIn};
-use std::borrow::Cow;
-use utoipa::openapi::schema::{ArrayBuilder, ObjectBuilder, OneOfBuilder, Schema, Type};
+use super::leaf::{Finite, Integer};
+use utoipa::openapi::schema::{ObjectBuilder, Schema, Type};
 use utoipa::openapi::RefOr;
 use utoipa::{PartialSchema, ToSchema};
 
@@ -15,14 +14,8 @@ fn number() -> ObjectBuilder {
     ObjectBuilder::new().schema_type(Type::Number)
 }
 
-/// A bound: a number or one of the infinities' spellings.
-fn bound() -> OneOfBuilder {
-    OneOfBuilder::new().item(number()).item(
-        ObjectBuilder::new()
-            .schema_type(Type::String)
-            .enum_values(Some(["-inf", "inf", "+inf"])),
-    )
-}
+// `IntervalIn` and `BoxIn`: in `openapi.rs`, with the bound and the
+// narrower forms of the mission's fields.
 
 impl PartialSchema for Finite {
     fn schema() -> RefOr<Schema> {
@@ -41,44 +34,3 @@ impl PartialSchema for Integer {
     }
 }
 impl ToSchema for Integer {}
-
-impl PartialSchema for IntervalIn {
-    fn schema() -> RefOr<Schema> {
-        OneOfBuilder::new()
-            .description(Some(
-                "An interval [lo, hi] (a bound: a number, or \"-inf\" / \"inf\"), or a \
-                 number x meaning [x, x]. Rules: lo <= hi, and the interval holds a real \
-                 number.",
-            ))
-            .item(number())
-            .item(
-                ArrayBuilder::new()
-                    .items(bound())
-                    .min_items(Some(2))
-                    .max_items(Some(2)),
-            )
-            .into()
-    }
-}
-impl ToSchema for IntervalIn {
-    fn name() -> Cow<'static, str> {
-        Cow::Borrowed("IntervalIn")
-    }
-}
-
-impl PartialSchema for BoxIn {
-    fn schema() -> RefOr<Schema> {
-        ArrayBuilder::new()
-            .items(IntervalIn::schema())
-            .min_items(Some(1))
-            .description(Some(
-                "A box: one interval per axis. Rules: as many axes as the format asks.",
-            ))
-            .into()
-    }
-}
-impl ToSchema for BoxIn {
-    fn name() -> Cow<'static, str> {
-        Cow::Borrowed("BoxIn")
-    }
-}

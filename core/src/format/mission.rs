@@ -6,86 +6,171 @@
 //! the field, except inside `meta`.
 
 use super::leaf::{BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, PointsIn};
+#[cfg(feature = "openapi")]
+use super::openapi::mission as oa;
 use super::present;
 use serde::Deserialize;
 use serde_json::Value;
 
-/// A mission document.
+/// A mission (`nvector-mission/1`), the input of a SLAM job.
+///
+/// Rules beyond the schema (core refuses each with 422 naming the JSON
+/// path): boxes and points have the model's dimension; `inputs` holds
+/// exactly the model's channels; every per-step array has `steps` entries;
+/// intervals have lo <= hi; `detections[i].step <= steps`; `depth` only
+/// for auv3d; `landmark < landmark_count`; the truth's sizes (see
+/// `Truth`). Numbers are JSON numbers; integers are written without a
+/// fraction or exponent.
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = Mission, example = json!({
+    "format": "nvector-mission/1",
+    "name": "two-steps",
+    "model": "unicycle2d",
+    "dt": 0.5,
+    "steps": 2,
+    "initial_position": [[0, 0], [0, 0]],
+    "inputs": {
+        "speed": {"value": [1.0, 2.0], "error": 0.1},
+        "heading": {"lo": [0.0, 0.1], "hi": [0.0, 0.2]}
+    },
+    "detections": [{"step": 1, "range": [2, 3], "landmark": 0}],
+    "landmark_count": 1
+})))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 pub struct MissionDoc {
     /// `"nvector-mission/1"` (any JSON, checked by the validation).
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::format, required = true))]
     pub format: Option<Value>,
-    /// Name (default `"mission"`).
+    /// A name (default `"mission"`).
     pub name: Option<String>,
     /// Motion model name (any JSON, checked by the validation).
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::model, required = true))]
     pub model: Option<Value>,
-    /// Time step.
+    /// The time step (s).
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = f64, exclusive_minimum = 0, required = true)
+    )]
     pub dt: Option<Finite>,
-    /// N.
+    /// N: there are N+1 positions and N input samples per channel.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = u64, minimum = 1, maximum = 2000000, required = true)
+    )]
     pub steps: Option<Integer>,
-    /// Box of p(0).
+    /// The box of p(0).
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(schema_with = oa::initial_position, required = true)
+    )]
     pub initial_position: Option<BoxIn>,
-    /// Box of p(N).
+    /// The box of p(N), when known.
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::final_position))]
     pub final_position: Option<BoxIn>,
     /// odometry2d: interval of th(0).
+    // Not in the OpenAPI document yet, with the other odometry2d fields:
+    // its fuzzer's rules (scripts/fuzz/hooks.py) know unicycle2d and auv3d.
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub initial_heading: Option<IntervalIn>,
     /// odometry2d: interval of th(N).
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub final_heading: Option<IntervalIn>,
-    /// Input channels.
+    /// The input channels.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(value_type = InputsDoc, required = true))]
     pub inputs: Option<InputsDoc>,
-    /// Per-step motion error.
+    /// The bound on the per-step integration error, per axis (default 0).
     pub motion_error: Option<PerStep>,
     /// odometry2d: per-step heading error.
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub heading_error: Option<PerStep>,
     /// Where the sensor sits in the body frame (2-D models).
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub sensor_offset: Option<List<Finite>>,
-    /// Detections.
+    /// The detections, in any order.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Vec<DetectionDoc>, max_items = 100000, required = true)
+    )]
     pub detections: Option<List<DetectionDoc>>,
-    /// n.
+    /// n, the known number of landmarks (enables atmost_nvector).
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Option<u32>, minimum = 1, maximum = 4294967295u32)
+    )]
     pub landmark_count: Option<Integer>,
-    /// Box of every landmark.
+    /// A box that holds every landmark.
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::landmark_region))]
     pub landmark_region: Option<BoxIn>,
     /// Distinct landmarks are at least this far apart.
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub landmark_min_separation: Option<Finite>,
-    /// q.
+    /// At most this many detections may be false (default 0).
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Option<u32>, minimum = 0, maximum = 4294967295u32)
+    )]
     pub max_outliers: Option<Integer>,
     /// Free-form metadata (an object, checked by the validation).
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::meta))]
     pub meta: Option<Value>,
-    /// Ground truth.
+    /// Ground truth (never read by the solver).
     pub truth: Option<TruthDoc>,
 }
 
-/// The `inputs` object: every channel of every model (the validation
-/// refuses those of another model, naming them).
+/// The input channels of the model, N samples each.
+///
+/// Rule: exactly the model's channels: `speed` and `heading` for
+/// unicycle2d; `roll`, `pitch`, `yaw`, `vx`, `vy`, `vz` for auv3d.
+// Read: every channel of every model (the validation refuses those of
+// another model, naming them).
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = Inputs))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
-#[allow(missing_docs)]
 pub struct InputsDoc {
+    /// Speed (m/s), unicycle2d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub speed: Option<ChannelDoc>,
+    /// Heading (rad), unicycle2d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub heading: Option<ChannelDoc>,
+    /// Turn rate (rad/s), odometry2d (not in the OpenAPI document yet).
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub turn_rate: Option<ChannelDoc>,
+    /// Roll (rad), auv3d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub roll: Option<ChannelDoc>,
+    /// Pitch (rad), auv3d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub pitch: Option<ChannelDoc>,
+    /// Yaw (rad), auv3d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub yaw: Option<ChannelDoc>,
+    /// Body-frame velocity x (m/s), auv3d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub vx: Option<ChannelDoc>,
+    /// Body-frame velocity y (m/s), auv3d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub vy: Option<ChannelDoc>,
+    /// Body-frame velocity z (m/s), auv3d.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub vz: Option<ChannelDoc>,
 }
 
@@ -127,7 +212,8 @@ impl InputsDoc {
 }
 
 /// An input channel: `{"value", "error"}` or `{"lo", "hi"}` (the
-/// validation says which fields go together).
+/// validation says which fields go together; its OpenAPI schema, the two
+/// shapes, is written by hand in `format::openapi`).
 #[derive(Debug, Default, Deserialize)]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 #[allow(missing_docs)]
@@ -142,37 +228,95 @@ pub struct ChannelDoc {
     pub hi: Option<Numbers>,
 }
 
-/// One detection.
+/// One landmark detection.
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = Detection))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
-#[allow(missing_docs)]
 pub struct DetectionDoc {
+    /// The step of the robot's position p(step). Rule: `step <= steps`.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = u64, minimum = 0, maximum = 18446744073709551615u64, required = true)
+    )]
     pub step: Option<Integer>,
+    /// The measured range to the landmark.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::range, required = true))]
     pub range: Option<IntervalIn>,
+    /// The angle of the landmark relative to the heading (unicycle2d) or
+    /// the yaw (auv3d), counter-clockwise, radians.
     pub bearing: Option<IntervalIn>,
+    /// A box known to hold the landmark.
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::region))]
     pub region: Option<BoxIn>,
+    /// The landmark's z. Rule: auv3d only.
     pub depth: Option<IntervalIn>,
+    /// The operator's matching: a 0-based landmark id. Rule: below
+    /// `landmark_count` when that is given.
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Option<u32>, minimum = 0, maximum = 4294967295u32)
+    )]
     pub landmark: Option<Integer>,
+    /// The scan's index (detections of one scan see distinct landmarks;
+    /// not in the OpenAPI document yet).
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub scan: Option<Integer>,
 }
 
-/// The `truth` object.
+/// Ground truth of a simulated mission (scoring and drawing only).
+///
+/// Rules: `positions` has `steps + 1` points, `matching` one entry per
+/// detection, each `null` (a false detection) or below the number of
+/// `landmarks`.
 #[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = Truth))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
-#[allow(missing_docs)]
 pub struct TruthDoc {
     /// N+1 points, `null` where unknown.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::positions, required = true))]
     pub positions: Option<PointsIn>,
+    /// The true landmark positions.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(feature = "openapi", schema(schema_with = oa::landmarks, required = true))]
     pub landmarks: Option<PointsIn>,
-    /// One landmark id (or `null`, a false detection) per detection.
+    /// For each detection, its true landmark, or `null` for a false one.
     #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Vec<Option<u32>>, required = true)
+    )]
     pub matching: Option<List<Option<Integer>>>,
-    /// odometry2d: N+1 headings, `null` where unknown.
+    /// odometry2d: N+1 headings, `null` where unknown (not in the OpenAPI
+    /// document yet).
+    #[cfg_attr(feature = "openapi", schema(ignore))]
     pub headings: Option<List<Option<Finite>>>,
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for ChannelDoc {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        super::openapi::channel()
+    }
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for ChannelDoc {
+    fn name() -> std::borrow::Cow<'static, str> {
+        std::borrow::Cow::Borrowed("Channel")
+    }
+    fn schemas(
+        schemas: &mut Vec<(
+            String,
+            utoipa::openapi::RefOr<utoipa::openapi::schema::Schema>,
+        )>,
+    ) {
+        super::openapi::channel_schemas(schemas);
+    }
 }
 
 object_only!(MissionDoc);

@@ -41,6 +41,8 @@ pub mod leaf;
 #[cfg(feature = "openapi")]
 mod leaf_schema;
 pub mod mission;
+#[cfg(feature = "openapi")]
+pub mod openapi;
 pub mod tdoa;
 
 use crate::error::InputError;

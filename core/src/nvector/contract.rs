@@ -9,7 +9,8 @@ use crate::error::InputError;
 use crate::format::{self, contract::ContractDoc, leaf::List};
 use crate::ibox::IntervalBox;
 use crate::json;
-use serde_json::{json, Map, Value};
+use serde::Serialize;
+use serde_json::Value;
 
 /// Format tag of a request.
 pub const REQUEST_FORMAT: &str = "nvector-contract/1";
@@ -88,38 +89,112 @@ impl ContractRequest {
     }
 }
 
-/// The response JSON for a contraction outcome (`elapsed_us` = 0: core has
-/// no clock; callers overwrite `stats.elapsed_us`). `stats.stopped` is
-/// present, `true`, only when the fixpoint stopped at its round cap
-/// ([`super::MAX_ROUNDS`]) with work pending: the boxes are sound, another
-/// request on them may contract further.
+/// The status of a contraction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = ContractStatus))]
+#[serde(rename_all = "lowercase")]
+pub enum ResponseStatus {
+    /// Some box shrank.
+    Contracted,
+    /// Nothing changed.
+    Unchanged,
+    /// The constraint is unsatisfiable; every box is `"empty"`.
+    Infeasible,
+}
+
+/// Bounds on the minimum number of distinct vectors.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct MinDistinct {
+    /// A proved lower bound.
+    pub lower: u64,
+    /// The size of a hitting set that was found.
+    pub upper: u64,
+}
+
+/// Counters of a contraction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct ContractStats {
+    /// Rounds to the fixpoint.
+    pub rounds: u64,
+    /// Wall time (µs).
+    pub elapsed_us: u64,
+    /// Present (true) when the fixpoint's round cap stopped it with work
+    /// pending: the boxes are sound, another contraction may shrink them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
+    pub stopped: Option<bool>,
+}
+
+/// The answer of a contraction (`nvector-contract-result/1`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct ContractResponse {
+    /// Always `"nvector-contract-result/1"`.
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = String, pattern = "^nvector-contract-result/1$")
+    )]
+    pub format: &'static str,
+    /// What happened.
+    pub status: ResponseStatus,
+    /// Why it is infeasible (with `infeasible`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
+    pub reason: Option<String>,
+    /// The contracted boxes, in the request's order (`json::box_to_json`).
+    #[cfg_attr(feature = "openapi", schema(schema_with = response_boxes))]
+    pub boxes: Vec<Value>,
+    /// A partition of the box indices into groups proved equal.
+    #[cfg_attr(feature = "openapi", schema(value_type = Vec<Vec<u64>>))]
+    pub groups: Vec<Vec<usize>>,
+    /// Bounds on the minimum number of distinct vectors.
+    pub min_distinct: MinDistinct,
+    /// Counters.
+    pub stats: ContractStats,
+}
+
+#[cfg(feature = "openapi")]
+fn response_boxes() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+    format::openapi::output::boxes("The contracted boxes, in the request's order.")
+}
+
+impl ContractResponse {
+    /// The response for a contraction outcome (`elapsed_us` = 0: core has
+    /// no clock; callers overwrite `stats.elapsed_us`). `stats.stopped` is
+    /// present, `true`, only when the fixpoint stopped at its round cap
+    /// ([`super::MAX_ROUNDS`]) with work pending: the boxes are sound,
+    /// another request on them may contract further.
+    pub fn new(boxes: &[IntervalBox], outcome: &Outcome) -> ContractResponse {
+        let (status, reason) = match &outcome.status {
+            Status::Contracted => (ResponseStatus::Contracted, None),
+            Status::Unchanged => (ResponseStatus::Unchanged, None),
+            Status::Infeasible { reason } => (ResponseStatus::Infeasible, Some(reason.clone())),
+        };
+        ContractResponse {
+            format: RESPONSE_FORMAT,
+            status,
+            reason,
+            boxes: boxes.iter().map(json::box_to_json).collect(),
+            groups: outcome.groups.clone(),
+            min_distinct: MinDistinct {
+                lower: outcome.min_distinct_lower as u64,
+                upper: outcome.min_distinct_upper as u64,
+            },
+            stats: ContractStats {
+                rounds: u64::from(outcome.rounds),
+                elapsed_us: 0,
+                stopped: outcome.stopped_early.then_some(true),
+            },
+        }
+    }
+}
+
+/// The response JSON for a contraction outcome ([`ContractResponse::new`]).
 pub fn response_json(boxes: &[IntervalBox], outcome: &Outcome) -> Value {
-    let mut out = Map::new();
-    out.insert("format".into(), Value::from(RESPONSE_FORMAT));
-    let status = match &outcome.status {
-        Status::Contracted => "contracted",
-        Status::Unchanged => "unchanged",
-        Status::Infeasible { .. } => "infeasible",
-    };
-    out.insert("status".into(), Value::from(status));
-    if let Status::Infeasible { reason } = &outcome.status {
-        out.insert("reason".into(), Value::from(reason.as_str()));
-    }
-    out.insert(
-        "boxes".into(),
-        Value::Array(boxes.iter().map(json::box_to_json).collect()),
-    );
-    out.insert("groups".into(), json!(outcome.groups));
-    out.insert(
-        "min_distinct".into(),
-        json!({"lower": outcome.min_distinct_lower, "upper": outcome.min_distinct_upper}),
-    );
-    let mut stats = json!({"rounds": outcome.rounds, "elapsed_us": 0});
-    if outcome.stopped_early {
-        stats["stopped"] = Value::Bool(true);
-    }
-    out.insert("stats".into(), stats);
-    Value::Object(out)
+    serde_json::to_value(ContractResponse::new(boxes, outcome)).unwrap_or(Value::Null)
 }
 
 /// Runs one contraction request (JSON value) and returns the response.
@@ -151,6 +226,7 @@ pub fn contract_json_with(
 mod tests {
     use super::*;
     use crate::nvector::hitting_set::WorkLimit;
+    use serde_json::json;
 
     #[test]
     fn spec_example_round_trip() {

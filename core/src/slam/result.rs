@@ -129,8 +129,8 @@ pub fn write_result<W: std::io::Write>(
 
 /// `nvector-result/1` of a solution, serialized field by field (keys in
 /// sorted order, as a serde_json map iterates, so both ways give the same
-/// bytes).
-struct ResultView<'a> {
+/// bytes). Its OpenAPI schema (`openapi` feature) is [`SlamResult`]'s.
+pub struct ResultView<'a> {
     mission: &'a Mission,
     options: &'a SolveOptions,
     s: &'a Solution,
@@ -195,6 +195,16 @@ impl Serialize for IntervalView {
 
 /// A diameter: a number, or `"inf"` when unbounded.
 struct Diameter(f64);
+
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for Diameter {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        crate::format::openapi::output::diameter()
+    }
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for Diameter {}
 
 impl Serialize for Diameter {
     fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
@@ -318,35 +328,191 @@ impl<I: Iterator<Item = T> + Clone, T: Serialize> Serialize for Seq<I> {
     }
 }
 
-/// `metrics`, fields in sorted order.
+/// Figures of a SLAM result.
+// `metrics`, fields in sorted order.
 #[derive(Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = SlamMetrics))]
 struct Metrics {
+    /// Contractor calls.
     contractions: u64,
+    /// Wall time (ms).
     elapsed_ms: f64,
+    /// Detections in a proved group.
+    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
     matched_detections: usize,
+    /// Largest detection box diameter.
     max_detection_diameter: Diameter,
     /// odometry2d only: the widest heading interval.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     max_heading_width: Option<Diameter>,
+    /// Largest trajectory box diameter.
     max_trajectory_diameter: Diameter,
+    /// Mean trajectory box diameter.
     mean_trajectory_diameter: Diameter,
+    /// Propagation rounds.
+    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
     rounds: u32,
 }
 
-/// `options`, fields in sorted order.
+/// The options a SLAM job ran with.
+// `options`, fields in sorted order.
 #[derive(Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = SlamOptions))]
 struct Options {
+    /// The association mode.
+    #[cfg_attr(feature = "openapi", schema(value_type = String))]
     contractor: &'static str,
+    /// The round cap.
+    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
     max_rounds: u32,
+    /// The change below which a bound counts as fixed.
     tolerance: f64,
 }
 
-/// `score`, fields in sorted order.
+/// A result against the mission's truth.
+// `score`, fields in sorted order.
 #[derive(Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = SlamScore))]
 struct Score {
+    /// Pairs grouped that truth says differ.
+    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
     matching_errors: usize,
+    /// The fraction of detections in a group of size >= 2.
     matching_recall: f64,
+    /// Every true position and landmark lies in its box.
     truth_inside: bool,
+}
+
+/// The result of a SLAM job (`nvector-result/1`) as the OpenAPI document
+/// names it: the schema of [`ResultView`]'s output.
+pub type SlamResult = ResultView<'static>;
+
+/// The schema of what [`ResultView::serialize`] writes (a map written
+/// entry by entry, which no derive sees).
+#[cfg(feature = "openapi")]
+impl utoipa::PartialSchema for ResultView<'_> {
+    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+        use crate::format::openapi::{described, output};
+        use utoipa::openapi::schema::{ArrayBuilder, ObjectBuilder, Type};
+        use utoipa::ToSchema;
+        let string = |d: &str| {
+            ObjectBuilder::new()
+                .schema_type(Type::String)
+                .description(Some(d))
+        };
+        let indices = ArrayBuilder::new().items(
+            ArrayBuilder::new().items(
+                ObjectBuilder::new()
+                    .schema_type(Type::Integer)
+                    .format(Some(utoipa::openapi::SchemaFormat::Custom("uint64".into())))
+                    .minimum(Some(0)),
+            ),
+        );
+        let o = ObjectBuilder::new()
+            .description(Some("The result of a SLAM job (`nvector-result/1`)."))
+            .property(
+                "format",
+                string("Always `\"nvector-result/1\"`.").pattern(Some("^nvector-result/1$")),
+            )
+            .required("format")
+            .property("mission", string("The mission's name."))
+            .required("mission")
+            .property(
+                "status",
+                string(
+                    "What happened: consistent (a fixpoint with no empty domain), infeasible \
+                     (a domain became empty: the data are contradictory, `reason`) or stopped \
+                     (before the fixpoint: round cap or time limit; boxes sound).",
+                )
+                .enum_values(Some(["consistent", "infeasible", "stopped"])),
+            )
+            .required("status")
+            .property(
+                "reason",
+                string("Why it is infeasible (with `infeasible`)."),
+            )
+            .property("options", described(Options::name(), "The options."))
+            .required("options")
+            .property("trajectory", output::boxes("N+1 boxes of p(0..=N)."))
+            .required("trajectory");
+        result_boxes(o)
+            .property(
+                "matching",
+                indices.description(Some(
+                    "Groups of detection indices proved to be one landmark.",
+                )),
+            )
+            .required("matching")
+            .property("metrics", described(Metrics::name(), "Figures."))
+            .required("metrics")
+            .property(
+                "score",
+                described(
+                    Score::name(),
+                    "Against the truth, when the mission has one.",
+                ),
+            )
+            .into()
+    }
+}
+
+/// The result's boxes other than the trajectory, each with its
+/// description (a part of [`ResultView`]'s schema).
+#[cfg(feature = "openapi")]
+fn result_boxes(
+    o: utoipa::openapi::schema::ObjectBuilder,
+) -> utoipa::openapi::schema::ObjectBuilder {
+    use crate::format::openapi::output;
+    use utoipa::openapi::schema::{ArrayBuilder, Ref};
+    o.property(
+        "headings",
+        ArrayBuilder::new()
+            .description(Some("odometry2d only: N+1 intervals of th(0..=N)."))
+            .items(Ref::from_schema_name("OutputInterval")),
+    )
+    .property(
+        "detections",
+        output::boxes("One box per input detection: the detected landmark's position."),
+    )
+    .required("detections")
+    .property(
+        "landmarks",
+        output::boxes("One box per group of `matching`."),
+    )
+    .required("landmarks")
+    .property(
+        "landmark_regions",
+        ArrayBuilder::new()
+            .description(Some(
+                "With the shapes contractor: per group of `matching`, the boxes of its \
+                         landmark region (cut to the group's landmark box).",
+            ))
+            .items(output::boxes("A paving.")),
+    )
+}
+
+#[cfg(feature = "openapi")]
+impl utoipa::ToSchema for ResultView<'_> {
+    fn name() -> std::borrow::Cow<'static, str> {
+        std::borrow::Cow::Borrowed("SlamResult")
+    }
+    fn schemas(
+        schemas: &mut Vec<(
+            String,
+            utoipa::openapi::RefOr<utoipa::openapi::schema::Schema>,
+        )>,
+    ) {
+        use utoipa::{PartialSchema, ToSchema};
+        schemas.push((Options::name().into(), Options::schema()));
+        schemas.push((Metrics::name().into(), Metrics::schema()));
+        <Metrics as ToSchema>::schemas(schemas);
+        schemas.push((Score::name().into(), Score::schema()));
+        crate::format::openapi::output::schemas(schemas);
+    }
 }
 
 #[cfg(test)]

@@ -96,26 +96,33 @@ fn layout(rng: &mut Rng, n: usize, hx: f64, hy: f64) -> Vec<[f64; 2]> {
     out
 }
 
-/// The woods mission with truth, as `nvector-mission/1` JSON (model
-/// `odometry2d`).
-pub fn simulate_woods(o: &WoodsOptions) -> Value {
-    let mut rng = Rng::new(o.seed ^ 0x574F_4F44_5331);
-    let n = o.steps.unwrap_or(3000).clamp(1, MAX_STEPS);
-    let count = o.landmarks.unwrap_or(17).clamp(1, MAX_LANDMARKS);
-    let root = libm::sqrt(count as f64);
-    let (hx, hy) = (1.3 * root, 0.65 * root);
-    let landmarks = layout(&mut rng, count, hx, hy);
+/// The smallest distance between two landmarks (infinite for fewer than
+/// two).
+fn min_separation(landmarks: &[[f64; 2]]) -> f64 {
     let mut separation = f64::INFINITY;
-    for a in 0..count {
-        for b in a + 1..count {
-            let d = libm::hypot(
-                landmarks[a][0] - landmarks[b][0],
-                landmarks[a][1] - landmarks[b][1],
-            );
-            separation = separation.min(d);
+    for (a, la) in landmarks.iter().enumerate() {
+        for lb in &landmarks[a + 1..] {
+            separation = separation.min(libm::hypot(la[0] - lb[0], la[1] - lb[1]));
         }
     }
-    // The drive.
+    separation
+}
+
+/// The true drive: N+1 poses and the N odometry samples.
+struct Drive {
+    /// True positions p(0..=N).
+    p: Vec<[f64; 2]>,
+    /// True headings th(0..=N) (never wrapped).
+    th: Vec<f64>,
+    /// Measured speeds (true speed + noise), one per step.
+    speed: Vec<f64>,
+    /// Turn rates (exact), one per step.
+    turn: Vec<f64>,
+}
+
+/// The robot's drive of `n` steps between random waypoints of
+/// [-hx, hx] × [-hy, hy] (see the module comment).
+fn drive(rng: &mut Rng, n: usize, hx: f64, hy: f64) -> Drive {
     let mut p = vec![[0.0f64; 2]; n + 1];
     let mut th = vec![0.0f64; n + 1];
     th[0] = rng.sym(std::f64::consts::PI);
@@ -150,43 +157,73 @@ pub fn simulate_woods(o: &WoodsOptions) -> Value {
         speed.push(v + rng.sym(SPEED_NOISE));
         turn.push(w);
     }
-    // The scans.
-    let mut detections = Vec::new();
-    let mut matching = Vec::new();
+    Drive { p, th, speed, turn }
+}
+
+/// The laser's detections along a drive, and their true landmarks.
+struct Scans {
+    /// The mission's `detections`.
+    detections: Vec<Value>,
+    /// The true landmark of each detection (`truth.matching`).
+    matching: Vec<usize>,
+}
+
+/// A scan every `SCAN_EVERY` steps: each landmark in range and field of
+/// view detected once (see the module comment); `operator` writes the true
+/// landmark as the detection's `landmark`.
+fn scans(rng: &mut Rng, d: &Drive, landmarks: &[[f64; 2]], operator: bool) -> Scans {
+    let mut out = Scans {
+        detections: Vec::new(),
+        matching: Vec::new(),
+    };
+    let n = d.p.len() - 1;
     let mut scan = 0usize;
     for i in (0..=n).step_by(SCAN_EVERY) {
-        let s = [
-            p[i][0] + OFFSET * libm::cos(th[i]),
-            p[i][1] + OFFSET * libm::sin(th[i]),
-        ];
+        let (p, th) = (d.p[i], d.th[i]);
+        let s = [p[0] + OFFSET * libm::cos(th), p[1] + OFFSET * libm::sin(th)];
         let mut any = false;
         for (j, l) in landmarks.iter().enumerate() {
             let (dx, dy) = (l[0] - s[0], l[1] - s[1]);
             let r = libm::hypot(dx, dy);
-            let beta = wrap(libm::atan2(dy, dx) - th[i]);
+            let beta = wrap(libm::atan2(dy, dx) - th);
             if r > MAX_RANGE || beta.abs() > FIELD_OF_VIEW {
                 continue;
             }
             let rm = r + rng.sym(RANGE_NOISE);
             let bm = wrap(beta + rng.sym(BEARING_NOISE));
             let (er, eb) = (RANGE_NOISE + MARGIN, BEARING_NOISE + MARGIN);
-            let mut d = json!({
+            let mut det = json!({
                 "step": i,
                 "range": [(rm - er).max(0.0), rm + er],
                 "bearing": [bm - eb, bm + eb],
                 "scan": scan,
             });
-            if o.operator {
-                d["landmark"] = json!(j);
+            if operator {
+                det["landmark"] = json!(j);
             }
-            detections.push(d);
-            matching.push(j);
+            out.detections.push(det);
+            out.matching.push(j);
             any = true;
         }
         if any {
             scan += 1;
         }
     }
+    out
+}
+
+/// The woods mission with truth, as `nvector-mission/1` JSON (model
+/// `odometry2d`).
+pub fn simulate_woods(o: &WoodsOptions) -> Value {
+    let mut rng = Rng::new(o.seed ^ 0x574F_4F44_5331);
+    let n = o.steps.unwrap_or(3000).clamp(1, MAX_STEPS);
+    let count = o.landmarks.unwrap_or(17).clamp(1, MAX_LANDMARKS);
+    let root = libm::sqrt(count as f64);
+    let (hx, hy) = (1.3 * root, 0.65 * root);
+    let landmarks = layout(&mut rng, count, hx, hy);
+    let separation = min_separation(&landmarks);
+    let d = drive(&mut rng, n, hx, hy);
+    let s = scans(&mut rng, &d, &landmarks, o.operator);
     let mut m = json!({
         "format": "nvector-mission/1",
         "name": format!("woods-{}", o.seed),
@@ -195,15 +232,15 @@ pub fn simulate_woods(o: &WoodsOptions) -> Value {
         "steps": n,
         "initial_position": [[-INITIAL_ERROR, INITIAL_ERROR], [-INITIAL_ERROR, INITIAL_ERROR]],
         "final_position": null,
-        "initial_heading": [th[0] - INITIAL_ERROR, th[0] + INITIAL_ERROR],
+        "initial_heading": [d.th[0] - INITIAL_ERROR, d.th[0] + INITIAL_ERROR],
         "inputs": {
-            "speed": {"value": speed, "error": SPEED_NOISE + MARGIN},
-            "turn_rate": {"value": turn, "error": 0.0},
+            "speed": {"value": d.speed, "error": SPEED_NOISE + MARGIN},
+            "turn_rate": {"value": d.turn, "error": 0.0},
         },
         "heading_error": HEADING_NOISE + MARGIN,
         "motion_error": MOTION_NOISE + MARGIN,
         "sensor_offset": [OFFSET, 0.0],
-        "detections": detections,
+        "detections": s.detections,
         "landmark_count": count,
         "meta": {
             "scenario": "woods",
@@ -213,10 +250,10 @@ pub fn simulate_woods(o: &WoodsOptions) -> Value {
             "field_of_view": FIELD_OF_VIEW,
         },
         "truth": {
-            "positions": p,
-            "headings": th,
+            "positions": d.p,
+            "headings": d.th,
             "landmarks": landmarks,
-            "matching": matching,
+            "matching": s.matching,
         },
     });
     if separation.is_finite() {

@@ -5,13 +5,15 @@
 //! flag, which is also set when the client goes away. Either limit answers
 //! 422 with code `work_limit`.
 
+use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
-use super::formats::{ContractRequest, ContractResponse, ErrorBody};
 use super::state::{AppState, Owner};
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::http::StatusCode;
 use axum::Json;
+use nvector_core::format::contract::ContractDoc as ContractRequest;
+use nvector_core::nvector::contract::ContractResponse;
 use nvector_core::nvector::contract::{contract_json_with, ContractError};
 use nvector_core::nvector::hitting_set::{Limits, WorkLimit};
 use serde_json::{json, Value};

@@ -8,7 +8,9 @@ use axum::extract::{FromRequest, Request};
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use serde_json::{json, Value};
+use serde::Serialize;
+use serde_json::Value;
+use utoipa::ToSchema;
 
 /// A client or service error, as the spec's JSON error body.
 #[derive(Debug)]
@@ -64,10 +66,35 @@ impl From<store::StoreError> for AppError {
     }
 }
 
+/// The error body of every 4xx and 5xx answer (docs/api.md).
+#[derive(Serialize, ToSchema)]
+#[schema(example = json!({"error": {"code": "invalid_mission", "message": "lower bound 5 is above upper bound 4", "path": "detections[3].range"}}))]
+pub struct ErrorBody {
+    /// What went wrong.
+    pub error: ErrorDetail,
+}
+
+/// The error itself.
+#[derive(Serialize, ToSchema)]
+pub struct ErrorDetail {
+    /// A stable, machine-readable code (`invalid_json`, `invalid_mission`,
+    /// `not_found`, `queue_full`, `work_limit`, ...).
+    pub code: &'static str,
+    /// What is wrong, for a person.
+    pub message: String,
+    /// The JSON path (or query parameter) of the bad value; "" when none.
+    pub path: String,
+}
+
 impl IntoResponse for AppError {
     fn into_response(self) -> Response {
-        let body =
-            json!({"error": {"code": self.code, "message": self.message, "path": self.path}});
+        let body = ErrorBody {
+            error: ErrorDetail {
+                code: self.code,
+                message: self.message,
+                path: self.path,
+            },
+        };
         let mut r = (self.status, Json(body)).into_response();
         if let Some(s) = self.retry_after {
             r.headers_mut()

@@ -3,8 +3,8 @@
 //! progress as Server-Sent Events, `/result` returns its result (JSON, CSV
 //! or SVG). The workers that run jobs are in `worker.rs`.
 
+use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError, Body, RequestBody};
-use super::formats::{ErrorBody, SlamResult};
 use super::job_runner::JobKind;
 use super::state::{AppState, Owner};
 use super::store::{JobRow, JobState, QueuePolicy, Queued};
@@ -16,6 +16,7 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use futures_util::stream::{self, Stream};
 use nvector_core::format::leaf::{Finite, Integer};
+use nvector_core::slam::result::SlamResult;
 use nvector_core::slam::types::Association;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};

@@ -3,7 +3,7 @@
 //! middleware that counts and times requests.
 
 use super::error::ApiResult;
-use super::formats::ErrorBody;
+use super::error::ErrorBody;
 use super::meters::{RequestLabels, StateLabel};
 use super::state::AppState;
 use super::store::JobState;

@@ -1,11 +1,11 @@
 //! Missions: `POST /api/v1/missions` (JSON body or multipart `file`),
 //! `GET /api/v1/missions` (paged), `GET` and `DELETE /api/v1/missions/{id}`.
 //! The mission itself is read and validated by core (`Mission::from_value`);
-//! its document schema is `formats::Mission`.
+//! its document schema is core's `format::mission::MissionDoc` (named `Mission`).
 
 use super::config::Config;
+use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
-use super::formats::{self, ErrorBody};
 use super::state::{AppState, Owner};
 use super::store;
 use super::worker::now_ms;
@@ -14,6 +14,7 @@ use axum::extract::{FromRequest, Multipart, Path, Query, Request, State};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use nvector_core::format::mission::MissionDoc;
 use nvector_core::slam::mission::Mission;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -152,7 +153,7 @@ pub struct MissionList {
 #[allow(dead_code)] // Described, not built.
 pub struct MissionUpload {
     /// The mission JSON.
-    #[schema(value_type = formats::Mission)]
+    #[schema(value_type = MissionDoc)]
     pub file: Value,
 }
 
@@ -194,7 +195,7 @@ pub(super) async fn store_mission(
     request_body(
         description = "The mission (docs/formats.md), as JSON or as the `file` field of a form",
         content(
-            (formats::Mission = "application/json"),
+            (MissionDoc = "application/json"),
             (MissionUpload = "multipart/form-data")
         )
     ),
@@ -298,7 +299,7 @@ pub(super) async fn list_missions(
     tag = "missions",
     params(("id" = String, Path, description = "The mission's id")),
     responses(
-        (status = 200, description = "The mission, as uploaded", body = formats::Mission),
+        (status = 200, description = "The mission, as uploaded", body = MissionDoc),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 404, description = "No such mission", body = ErrorBody),
         (status = 503, description = "Storage unavailable", body = ErrorBody),

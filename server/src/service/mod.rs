@@ -8,14 +8,12 @@
 //! `contract`, `simulate`, `tdoa` (TDOA jobs); `error` (the one `AppError`), `config`
 //! (`Config`, sizes), `state` (`AppState`, API keys), `metrics` (health,
 //! readiness, the `/metrics` endpoint) and `meters` (the metric families),
-//! `formats` (the spec's JSON formats as types for the document), `openapi`
-//! (the document), `store` (storage).
+//! `openapi` (the document, from the handlers and from core's format types), `store` (storage).
 
 pub mod config;
 mod contract;
 mod docs_page;
 mod error;
-mod formats;
 pub mod job_runner;
 mod jobs;
 mod meters;

@@ -5,13 +5,14 @@
 //! for the paper scenario only (with `auv` only their defaults pass), as in
 //! `nvector simulate`.
 
+use super::error::ErrorBody;
 use super::error::{ApiResult, AppError, Body, RequestBody};
-use super::formats::{ErrorBody, Mission};
 use super::missions::{mission_summary, store_mission, MissionSummary};
 use super::state::{AppState, Owner};
 use axum::extract::State;
 use axum::http::StatusCode;
 use axum::Json;
+use nvector_core::format::mission::MissionDoc as Mission;
 use nvector_core::slam::simulate::{simulate, SimulateOptions};
 use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest as Options};
 use serde::{Deserialize, Serialize};
