@@ -59,6 +59,11 @@ fn http(port: u16, method: &str, path: &str, body: Option<&Value>) -> Value {
             }
         }
     }
+    assert!(
+        buf.windows(4).any(|w| w == b"\r\n\r\n"),
+        "chromedriver: no complete answer to {method} {path} {body} within 120 s ({} bytes)",
+        buf.len()
+    );
     let (_, _, b) = parse_response(&buf);
     serde_json::from_slice(&b).unwrap_or(Value::Null)
 }
@@ -557,6 +562,9 @@ fn the_page_in_headless_chromium() {
     );
     assert_eq!(shown, "best", "the older job of the list is the best run");
 
+    // The radar demo (its own wasm module, loaded with its tab only).
+    radar_demo(&d, &base);
+
     // A narrow window (a phone held upright): every view fits its width,
     // nothing scrolls sideways.
     d.cmd(
@@ -958,11 +966,7 @@ fn box_holds(b: &Value, p: &Value) -> bool {
 /// groups match the problem's truth (checked here, not by the page): one
 /// true emitter per group, whose position the group's box holds, and every
 /// pulse's box holds its true position.
-#[test]
-fn the_radar_demo_in_headless_chromium() {
-    let Some(d) = Driver::start() else { return };
-    let s = page_server();
-    let base = format!("http://{}", s.addr);
+fn radar_demo(d: &Driver, base: &str) {
     d.goto(&format!("{base}/"));
     d.wait(
         "return document.getElementById('wasm-status').dataset.ready === 'true'",
