@@ -985,7 +985,7 @@ fn radar_demo(d: &Driver, base: &str) {
         "the radar module was not fetched"
     );
     legend_and_axes(
-        &d,
+        d,
         "rd-canvas",
         &[
             "receivers",
@@ -997,7 +997,7 @@ fn radar_demo(d: &Driver, base: &str) {
     );
     d.screenshot("radar");
     // The wheel zooms in: the axes' step shrinks.
-    let step = canvas_data(&d, "rd-canvas", "axes.split(',')[2]");
+    let step = canvas_data(d, "rd-canvas", "axes.split(',')[2]");
     d.js("const c = document.getElementById('rd-canvas'); for (let i = 0; i < 8; i++) c.dispatchEvent(new WheelEvent('wheel', {deltaY: -100, clientX: c.getBoundingClientRect().left + 200, clientY: c.getBoundingClientRect().top + 200, cancelable: true})); return 1;");
     d.wait(
         &format!("return Number(document.getElementById('rd-canvas').dataset.axes.split(',')[2]) < {step}"),
