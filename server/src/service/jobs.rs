@@ -739,3 +739,20 @@ pub fn trajectory_csv(result: &Value) -> String {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The word a job's `error_code` serializes to is the word the workers
+    /// store, and every stored word reads back as its code (a code whose
+    /// serde name and stored word differed would vanish from jobs).
+    #[test]
+    fn error_codes_round_trip() {
+        for c in JobErrorCode::ALL {
+            assert_eq!(serde_json::to_value(c).unwrap(), json!(c.as_str()));
+            assert_eq!(JobErrorCode::parse(c.as_str()), Some(c));
+        }
+        assert_eq!(JobErrorCode::parse("killed"), None);
+    }
+}
