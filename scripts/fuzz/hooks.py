@@ -31,9 +31,10 @@ import sys
 import schemathesis
 
 INF = math.inf
-DIMENSIONS = {"unicycle2d": 2, "auv3d": 3}
+DIMENSIONS = {"unicycle2d": 2, "auv3d": 3, "odometry2d": 2}
 CHANNELS = {
     "unicycle2d": ["speed", "heading"],
+    "odometry2d": ["speed", "turn_rate"],
     "auv3d": ["roll", "pitch", "yaw", "vx", "vy", "vz"],
 }
 STATS = {"valid": 0, "rule_broken": 0, "work_limit": 0}
@@ -126,6 +127,7 @@ def mission_rules(m):
         channel(inputs[name], f"inputs.{name}", steps)
     if not absent(m, "motion_error"):
         per_step(m["motion_error"], "motion_error", steps)
+    heading_rules(m, model, steps)
     n = m.get("landmark_count")
     for i, d in enumerate(m["detections"]):
         p = f"detections[{i}]"
@@ -146,15 +148,43 @@ def mission_rules(m):
     if truth is not None:
         if len(truth["positions"]) != steps + 1:
             raise Broken("truth.positions: not steps + 1 points")
+        # An entry of truth.positions may be null (not known at that step).
         for key in ("positions", "landmarks"):
             for i, point in enumerate(truth[key]):
-                if len(point) != dim:
+                if point is None and key == "positions":
+                    continue
+                if point is None or len(point) != dim:
                     raise Broken(f"truth.{key}[{i}]: dimension")
         if len(truth["matching"]) != len(m["detections"]):
             raise Broken("truth.matching: not one per detection")
         for i, x in enumerate(truth["matching"]):
             if x is not None and x >= len(truth["landmarks"]):
                 raise Broken(f"truth.matching[{i}]: no such landmark")
+        if not absent(truth, "headings"):
+            if model != "odometry2d":
+                raise Broken("truth.headings: odometry2d only")
+            if len(truth["headings"]) != steps + 1:
+                raise Broken("truth.headings: not steps + 1 entries")
+
+
+def heading_rules(m, model, steps):
+    """odometry2d's headings (initial_heading required, final_heading and
+    heading_error optional, refused for the other models) and
+    sensor_offset (2-D models only)."""
+    odometry = model == "odometry2d"
+    if odometry and absent(m, "initial_heading"):
+        raise Broken("initial_heading: missing (odometry2d)")
+    for key in ("initial_heading", "final_heading"):
+        if not absent(m, key):
+            if not odometry:
+                raise Broken(f"{key}: odometry2d only")
+            interval(m[key], key)
+    if not absent(m, "heading_error"):
+        if not odometry:
+            raise Broken("heading_error: odometry2d only")
+        per_step(m["heading_error"], "heading_error", steps)
+    if not absent(m, "sensor_offset") and DIMENSIONS[model] != 2:
+        raise Broken("sensor_offset: 2-D models only")
 
 
 def contract_rules(r):

@@ -73,13 +73,10 @@ pub struct MissionDoc {
     /// The box of p(N), when known.
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::final_position))]
     pub final_position: Option<BoxIn>,
-    /// odometry2d: interval of th(0).
-    // Not in the OpenAPI document yet, with the other odometry2d fields:
-    // its fuzzer's rules (scripts/fuzz/hooks.py) know unicycle2d and auv3d.
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    /// odometry2d: interval of th(0). Rule: required for odometry2d, refused
+    /// for the other models.
     pub initial_heading: Option<IntervalIn>,
-    /// odometry2d: interval of th(N).
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    /// odometry2d: interval of th(N). Rule: odometry2d only.
     pub final_heading: Option<IntervalIn>,
     /// The input channels.
     #[serde(default, deserialize_with = "present")]
@@ -87,11 +84,15 @@ pub struct MissionDoc {
     pub inputs: Option<InputsDoc>,
     /// The bound on the per-step integration error, per axis (default 0).
     pub motion_error: Option<PerStep>,
-    /// odometry2d: per-step heading error.
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    /// odometry2d: per-step heading error (default 0). Rule: odometry2d
+    /// only.
     pub heading_error: Option<PerStep>,
-    /// Where the sensor sits in the body frame (2-D models).
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    /// Where the sensor sits in the body frame, `[forward, left]` metres
+    /// (default `[0, 0]`). Rule: 2-D models only.
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Option<Vec<f64>>, min_items = 2, max_items = 2)
+    )]
     pub sensor_offset: Option<List<Finite>>,
     /// The detections, in any order.
     #[serde(default, deserialize_with = "present")]
@@ -109,8 +110,8 @@ pub struct MissionDoc {
     /// A box that holds every landmark.
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::landmark_region))]
     pub landmark_region: Option<BoxIn>,
-    /// Distinct landmarks are at least this far apart.
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    /// Distinct landmarks are at least this far apart (metres, default 0).
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
     pub landmark_min_separation: Option<Finite>,
     /// At most this many detections may be false (default 0).
     #[cfg_attr(
@@ -144,9 +145,9 @@ pub struct InputsDoc {
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub heading: Option<ChannelDoc>,
-    /// Turn rate (rad/s), odometry2d (not in the OpenAPI document yet).
+    /// Turn rate (rad/s), odometry2d.
     #[serde(default, deserialize_with = "present")]
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    #[cfg_attr(feature = "openapi", schema(nullable = false))]
     pub turn_rate: Option<ChannelDoc>,
     /// Roll (rad), auv3d.
     #[serde(default, deserialize_with = "present")]
@@ -260,9 +261,11 @@ pub struct DetectionDoc {
         schema(value_type = Option<u32>, minimum = 0, maximum = 4294967295u32)
     )]
     pub landmark: Option<Integer>,
-    /// The scan's index (detections of one scan see distinct landmarks;
-    /// not in the OpenAPI document yet).
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    /// The scan's index (detections of one scan see distinct landmarks).
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Option<u64>, minimum = 0, maximum = 18446744073709551615u64)
+    )]
     pub scan: Option<Integer>,
 }
 
@@ -291,9 +294,9 @@ pub struct TruthDoc {
         schema(value_type = Vec<Option<u32>>, required = true)
     )]
     pub matching: Option<List<Option<Integer>>>,
-    /// odometry2d: N+1 headings, `null` where unknown (not in the OpenAPI
-    /// document yet).
-    #[cfg_attr(feature = "openapi", schema(ignore))]
+    /// odometry2d: N+1 headings, `null` where unknown. Rule: odometry2d
+    /// only, `steps + 1` entries.
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<Option<f64>>>))]
     pub headings: Option<List<Option<Finite>>>,
 }
 

@@ -202,7 +202,7 @@ fn position_box(description: &str) -> ArrayBuilder {
     ArrayBuilder::new()
         .description(Some(format!(
             "{description} A box of the model's position space. \
-             Rule: 2 intervals for unicycle2d, 3 for auv3d."
+             Rule: 2 intervals for unicycle2d and odometry2d, 3 for auv3d."
         )))
         .items(Ref::from_schema_name(IntervalIn::name()))
         .min_items(Some(2))
@@ -213,7 +213,7 @@ fn position_box(description: &str) -> ArrayBuilder {
 fn point() -> ArrayBuilder {
     ArrayBuilder::new()
         .description(Some(
-            "A point. Rule: 2 coordinates for unicycle2d, 3 for auv3d.",
+            "A point. Rule: 2 coordinates for unicycle2d and odometry2d, 3 for auv3d.",
         ))
         .items(number())
         .min_items(Some(2))
@@ -232,11 +232,13 @@ pub mod mission {
 
     /// `model`.
     pub fn model() -> RefOr<Schema> {
-        strings(&["unicycle2d", "auv3d"])
+        strings(&["unicycle2d", "auv3d", "odometry2d"])
             .description(Some(
                 "The motion model: unicycle2d (planar unicycle: p = (x, y), inputs \
-                 `speed`, `heading`) or auv3d (3-D AUV: p = (x, y, z), z down, inputs \
-                 `roll`, `pitch`, `yaw`, `vx`, `vy`, `vz`, body frame).",
+                 `speed`, `heading`), auv3d (3-D AUV: p = (x, y, z), z down, inputs \
+                 `roll`, `pitch`, `yaw`, `vx`, `vy`, `vz`, body frame) or odometry2d \
+                 (p = (x, y) and an integrated heading th, inputs `speed`, `turn_rate`; \
+                 `initial_heading` required).",
             ))
             .into()
     }
@@ -299,8 +301,10 @@ pub mod mission {
     /// `truth.positions`.
     pub fn positions() -> RefOr<Schema> {
         ArrayBuilder::new()
-            .description(Some("The true positions p(0..=N)."))
-            .items(point())
+            .description(Some(
+                "The true positions p(0..=N), `null` where unknown (not scored).",
+            ))
+            .items(OneOfBuilder::new().item(point()).item(null()))
             .into()
     }
 

@@ -20,6 +20,7 @@
 //! prints `memory allocation of N bytes failed` and aborts, and the service
 //! reads that on the worker's standard error as `memory_limit`.
 
+use super::jobs::JobErrorCode;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::result::write_result;
 use nvector_core::slam::solve::solve_model;
@@ -163,7 +164,7 @@ pub fn run(memory_limit: Option<u64>) -> Result<(), String> {
             send(
                 &mut output,
                 &Report::Failed {
-                    code: "invalid_mission".into(),
+                    code: JobErrorCode::InvalidMission.as_str().into(),
                     message: "the mission is not UTF-8".into(),
                 },
             )?;
@@ -197,7 +198,7 @@ fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<()
             return send(
                 out,
                 &Report::Failed {
-                    code: "invalid_mission".into(),
+                    code: JobErrorCode::InvalidMission.as_str().into(),
                     message: e.to_string(),
                 },
             )
@@ -274,7 +275,7 @@ fn send_result(out: &mut impl Write, mission: Mission, run: Finished) -> Result<
         return send(
             out,
             &Report::Failed {
-                code: "internal".into(),
+                code: JobErrorCode::Internal.as_str().into(),
                 message: format!("writing the result: {e}"),
             },
         );
@@ -308,7 +309,7 @@ fn run_tdoa(order: &JobOrder, text: &str, out: &mut impl Write) -> Result<(), St
             return send(
                 out,
                 &Report::Failed {
-                    code: "invalid_mission".into(),
+                    code: JobErrorCode::InvalidMission.as_str().into(),
                     message: e.to_string(),
                 },
             )

@@ -228,7 +228,7 @@ pub struct Job {
     /// The same as a word a client can test, with `error`.
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(nullable = false, value_type = Option<JobErrorCode>)]
-    pub error_code: Option<String>,
+    pub error_code: Option<JobErrorCode>,
     /// Times a worker claimed it (1 unless re-queued).
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(nullable = false)]
@@ -244,10 +244,10 @@ pub struct Job {
     pub worker_crashes: Option<i64>,
 }
 
-/// Why a job failed or was cut short, as a word.
-#[derive(ToSchema)]
-#[allow(dead_code)] // Described: the code is the stored string.
-#[schema(rename_all = "snake_case")]
+/// Why a job failed or was cut short, as a word: the workers store
+/// [`JobErrorCode::as_str`], and a job's `error_code` is read back into it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
 pub enum JobErrorCode {
     /// The time limit stopped it: `done` with the partial, sound result, or
     /// `failed` when it did not stop within the grace period.
@@ -264,6 +264,35 @@ pub enum JobErrorCode {
     MissionDeleted,
     /// The service's own failure (storage, a bug).
     Internal,
+}
+
+impl JobErrorCode {
+    /// Every code.
+    pub const ALL: [JobErrorCode; 6] = [
+        JobErrorCode::TimeLimit,
+        JobErrorCode::MemoryLimit,
+        JobErrorCode::WorkerCrashed,
+        JobErrorCode::InvalidMission,
+        JobErrorCode::MissionDeleted,
+        JobErrorCode::Internal,
+    ];
+
+    /// The stored word.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            JobErrorCode::TimeLimit => "time_limit",
+            JobErrorCode::MemoryLimit => "memory_limit",
+            JobErrorCode::WorkerCrashed => "worker_crashed",
+            JobErrorCode::InvalidMission => "invalid_mission",
+            JobErrorCode::MissionDeleted => "mission_deleted",
+            JobErrorCode::Internal => "internal",
+        }
+    }
+
+    /// The code of a stored word (`None` for a word no version wrote).
+    pub fn parse(word: &str) -> Option<JobErrorCode> {
+        JobErrorCode::ALL.into_iter().find(|c| c.as_str() == word)
+    }
 }
 
 impl From<&JobRow> for Job {
@@ -287,7 +316,7 @@ impl From<&JobRow> for Job {
                 Some(c) if !e.starts_with(c.as_str()) => format!("{c}: {e}"),
                 _ => e.clone(),
             }),
-            error_code: j.error_code.clone(),
+            error_code: j.error_code.as_deref().and_then(JobErrorCode::parse),
             attempts: (j.attempts > 0).then_some(j.attempts),
             runner: j.runner.clone(),
             worker_crashes: (j.crashes > 0).then_some(j.crashes),
@@ -295,22 +324,30 @@ impl From<&JobRow> for Job {
     }
 }
 
-/// One Server-Sent Event of `GET /jobs/{id}/events`.
+/// One Server-Sent Event of `GET /jobs/{id}/events` (the stream sends
+/// these, converted to axum's `Event`).
 #[derive(ToSchema)]
-#[allow(dead_code)] // Described: the stream writes the events.
 pub struct JobEvent {
     /// `progress` while the job runs, `end` once, last.
-    #[schema(value_type = JobEventName)]
-    pub event: String,
+    pub event: JobEventName,
     /// A `Job` object as JSON (or `{"id", "state": "deleted"}` when the job
     /// was deleted meanwhile).
     #[schema(content_media_type = "application/json")]
     pub data: String,
 }
 
+impl From<JobEvent> for Event {
+    fn from(e: JobEvent) -> Event {
+        let name = match e.event {
+            JobEventName::Progress => "progress",
+            JobEventName::End => "end",
+        };
+        Event::default().event(name).data(e.data)
+    }
+}
+
 /// The names of a job's events.
 #[derive(ToSchema)]
-#[allow(dead_code)] // Described.
 #[schema(rename_all = "lowercase")]
 pub enum JobEventName {
     /// The job changed.
@@ -513,17 +550,23 @@ pub(super) async fn job_events(
                 let (o, i) = (owner.clone(), id.clone());
                 let job = state.db(move |st| st.job(&o, &i)).await.ok().flatten();
                 let Some(job) = job else {
-                    let ev = Event::default()
-                        .event("end")
-                        .data(json!({"id": id, "state": "deleted"}).to_string());
+                    let ev = Event::from(JobEvent {
+                        event: JobEventName::End,
+                        data: json!({"id": id, "state": "deleted"}).to_string(),
+                    });
                     return Some((Ok(ev), (state, owner, id, last, true, rx)));
                 };
                 let text = job_json(&job);
                 let terminal = job.state.is_terminal();
                 if text != last {
-                    let ev = Event::default()
-                        .event(if terminal { "end" } else { "progress" })
-                        .data(text.clone());
+                    let ev = Event::from(JobEvent {
+                        event: if terminal {
+                            JobEventName::End
+                        } else {
+                            JobEventName::Progress
+                        },
+                        data: text.clone(),
+                    });
                     return Some((Ok(ev), (state, owner, id, text, terminal, rx)));
                 }
                 let poll = tokio::time::sleep(Duration::from_millis(500));
@@ -695,4 +738,21 @@ pub fn trajectory_csv(result: &Value) -> String {
         out.push('\n');
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The word a job's `error_code` serializes to is the word the workers
+    /// store, and every stored word reads back as its code (a code whose
+    /// serde name and stored word differed would vanish from jobs).
+    #[test]
+    fn error_codes_round_trip() {
+        for c in JobErrorCode::ALL {
+            assert_eq!(serde_json::to_value(c).unwrap(), json!(c.as_str()));
+            assert_eq!(JobErrorCode::parse(c.as_str()), Some(c));
+        }
+        assert_eq!(JobErrorCode::parse("killed"), None);
+    }
 }

@@ -49,7 +49,10 @@ async fn mission_body(req: Request, state: &AppState) -> ApiResult<Vec<u8>> {
                 let bytes = field.bytes().await.map_err(|e| {
                     AppError::new(StatusCode::BAD_REQUEST, "invalid_multipart", e.body_text())
                 })?;
-                return Ok(bytes.to_vec());
+                let upload = MissionUpload {
+                    file: bytes.to_vec(),
+                };
+                return Ok(upload.file);
             }
         }
     }
@@ -148,13 +151,12 @@ pub struct MissionList {
     pub next: Option<String>,
 }
 
-/// A multipart upload of a mission.
+/// A multipart upload of a mission: the form's reading builds it.
 #[derive(ToSchema)]
-#[allow(dead_code)] // Described, not built.
 pub struct MissionUpload {
-    /// The mission JSON.
+    /// The mission JSON (the bytes of the form's `file` part).
     #[schema(value_type = MissionDoc)]
-    pub file: Value,
+    pub file: Vec<u8>,
 }
 
 pub(super) fn mission_summary(id: &str, m: &Mission) -> MissionSummary {

@@ -19,6 +19,7 @@
 //! for jobs queued by another process sharing the database).
 
 use super::job_runner::{JobKind, JobOrder};
+use super::jobs::JobErrorCode;
 use super::meters::{self, Meters, ReasonLabel};
 use super::store::{JobError, JobRow, JobState, Store};
 use super::worker_process::{Message, WorkerProcess};
@@ -251,7 +252,7 @@ fn run_job(
             return fail(
                 store,
                 job,
-                "mission_deleted",
+                JobErrorCode::MissionDeleted.as_str(),
                 "the mission was deleted".into(),
             )
         }
@@ -260,7 +261,7 @@ fn run_job(
             return fail(
                 store,
                 job,
-                "internal",
+                JobErrorCode::Internal.as_str(),
                 "storage error reading the mission".into(),
             );
         }
@@ -360,7 +361,12 @@ fn supervise(
         }
         if start.elapsed() > hard_limit {
             kill(process);
-            return fail(store, job, "time_limit", past_grace(job));
+            return fail(
+                store,
+                job,
+                JobErrorCode::TimeLimit.as_str(),
+                past_grace(job),
+            );
         }
     }
 }
@@ -368,7 +374,7 @@ fn supervise(
 /// Stores a job's result (cut short by its time limit when `timed_out`).
 fn store_result(store: &dyn Store, job: &JobRow, result: &str, timed_out: bool) {
     let error = timed_out.then(|| JobError {
-        code: "time_limit",
+        code: JobErrorCode::TimeLimit.as_str(),
         message: format!(
             "time limit of {} s reached (partial, sound result kept)",
             job.time_limit_s
@@ -410,13 +416,13 @@ fn crashed(
         .worker_deaths
         .get_or_create(&ReasonLabel { reason: error.code })
         .inc();
-    let max = if error.code == "memory_limit" {
+    let max = if error.code == JobErrorCode::MemoryLimit.as_str() {
         1
     } else {
         i64::from(config.attempts.max(1))
     };
     let attempt = job.crashes + 1;
-    if error.code != "memory_limit" {
+    if error.code != JobErrorCode::MemoryLimit.as_str() {
         error.message = format!(
             "{} (attempt {attempt} of at most {max}: --job-attempts)",
             error.message

@@ -8,6 +8,7 @@
 
 use super::config::format_size;
 use super::job_runner::{JobOrder, Report};
+use super::jobs::JobErrorCode;
 use super::store::JobError;
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -257,8 +258,8 @@ fn read_reports(mut out: impl BufRead, tx: &mpsc::Sender<Message>) {
 /// reads as `internal`).
 fn known_code(code: &str) -> &'static str {
     match code {
-        "invalid_mission" => "invalid_mission",
-        _ => "internal",
+        "invalid_mission" => JobErrorCode::InvalidMission.as_str(),
+        _ => JobErrorCode::Internal.as_str(),
     }
 }
 
@@ -285,7 +286,7 @@ pub fn explain_death(
             },
         );
         return JobError {
-            code: "memory_limit",
+            code: JobErrorCode::MemoryLimit.as_str(),
             message: format!(
                 "the job needs more memory than {limit}: an allocation of {bytes} bytes failed \
                  and its worker process stopped"
@@ -297,7 +298,7 @@ pub fn explain_death(
         Some(s) => describe_status(s),
     };
     JobError {
-        code: "worker_crashed",
+        code: JobErrorCode::WorkerCrashed.as_str(),
         message: format!("the worker process running the job died: {how}"),
     }
 }
