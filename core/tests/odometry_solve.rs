@@ -63,7 +63,6 @@ fn woods_seeds_keep_the_truth_for_every_contractor() {
                 operator,
             });
             let m = Mission::from_value(&v).unwrap();
-            m.unsupported().unwrap();
             // Dead reckoning alone: the same mission without detections.
             let mut blind = v.clone();
             blind["detections"] = json!([]);

@@ -380,9 +380,7 @@ fn run<'py>(
         let value = to_value(mission, "", 0).map_err(|e| input_error(py, &e))?;
         py.detach(|| Mission::from_value(&value))
     };
-    let mission = parsed
-        .and_then(|m| m.unsupported().map(|()| m))
-        .map_err(|e| input_error(py, &e))?;
+    let mission = parsed.map_err(|e| input_error(py, &e))?;
     if !(tolerance.is_finite() && tolerance >= 0.0) {
         return Err(input_error(
             py,

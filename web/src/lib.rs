@@ -65,7 +65,6 @@ pub fn run_mission(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Value, InputError> {
     let m = Mission::from_value(mission)?;
-    m.unsupported()?;
     let association = Association::parse(contractor).ok_or_else(|| {
         InputError::new("contractor", format!("unknown contractor \"{contractor}\""))
     })?;

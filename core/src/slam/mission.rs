@@ -478,16 +478,6 @@ impl Mission {
         Mission::from_doc(format::from_value(v)?)
     }
 
-    /// The first field this release's solver cannot use soundly, as an
-    /// error naming it ("not yet supported"): the front ends that solve
-    /// (`run`, jobs, the page, Python) refuse such a mission rather than
-    /// give a wrong answer. Parsing and validation accept them. Every
-    /// field of the format is supported now (odometry2d and
-    /// `sensor_offset` since issue 20); the check stays for the next one.
-    pub fn unsupported(&self) -> Result<(), InputError> {
-        Ok(())
-    }
-
     /// The mission with every detection restated as seen from p itself
     /// (`sensor_offset` folded in, then dropped): for the parts of the
     /// solver that know no offset (the shapes reasoning, the robust
@@ -1291,7 +1281,6 @@ mod tests {
         assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
         assert_eq!(m.to_value()["truth"]["positions"][1], Value::Null);
         assert_eq!(Mission::from_json(&odometry().to_string()).unwrap(), m);
-        assert!(m.unsupported().is_ok(), "odometry2d is solved");
         // heading_error absent: 0; final_heading given.
         let mut v = odometry();
         v.as_object_mut().unwrap().remove("heading_error");
@@ -1299,21 +1288,16 @@ mod tests {
         let m = Mission::from_value(&v).unwrap();
         assert_eq!(m.heading_error, vec![0.0, 0.0]);
         assert_eq!(m.final_heading, Some(Interval::point(0.5)));
-        // sensor_offset on unicycle2d: parsed, refused by the solver only
-        // when it is not [0, 0].
+        // sensor_offset on unicycle2d: parsed.
         let mut v = small();
         v["sensor_offset"] = json!([0.2, -0.1]);
         let m = Mission::from_value(&v).unwrap();
         assert_eq!(m.sensor_offset, Some([0.2, -0.1]));
-        assert!(m.unsupported().is_ok(), "an offset is solved");
-        v["sensor_offset"] = json!([0, 0]);
-        assert!(Mission::from_value(&v).unwrap().unsupported().is_ok());
         // scan and landmark_min_separation only add evidence: accepted.
         let mut v = small();
         v["detections"][0]["scan"] = json!(7);
         v["landmark_min_separation"] = json!(2);
         let m = Mission::from_value(&v).unwrap();
-        assert!(m.unsupported().is_ok());
         assert_eq!(
             (m.detections[0].scan, m.landmark_min_separation),
             (Some(7), 2.0)

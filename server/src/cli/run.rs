@@ -55,9 +55,6 @@ pub fn read_mission(path: &PathBuf) -> Result<Mission, CliError> {
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
     let mission = read_mission(&a.mission)?;
-    mission
-        .unsupported()
-        .map_err(|e| CliError(format!("{}: {e}", a.mission.display())))?;
     if !(a.tolerance.is_finite() && a.tolerance >= 0.0) {
         return Err(CliError(format!(
             "--tolerance must be a finite number >= 0, found {}",

@@ -187,9 +187,7 @@ fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<()
     if order.kind == JobKind::Tdoa {
         return run_tdoa(order, &mission, out);
     }
-    // A mission this release's solver cannot use soundly (odometry2d,
-    // sensor_offset) fails naming the field rather than get a wrong answer.
-    let mission = match Mission::from_json(&mission).and_then(|m| m.unsupported().map(|()| m)) {
+    let mission = match Mission::from_json(&mission) {
         Ok(m) => {
             drop(mission);
             m
