@@ -449,6 +449,68 @@ fn issue_13_nulls_whole_floats_and_unknown_fields_agree() {
     agree("Mission", "/api/v1/missions", m, 422);
 }
 
+/// Issue 20 point 8 / issue 17 point 2: the woods scenario through
+/// `POST /simulate`, read by core's one request type and described by
+/// its schema: a small woods mission is accepted and is core's woods
+/// mission; what the document refuses (noise, a paper layout) the service
+/// refuses naming the field; a request whose mission could hold more
+/// detections than the service's limit is schema-valid and refused with
+/// 413 before anything is simulated.
+#[test]
+fn woods_through_post_simulate() {
+    let s = Server::start(&["--workers", "1", "--max-detections", "20000"]);
+    let (_, doc) = s.get("/api/v1/openapi.json");
+    let schema = json!({"$ref": "#/components/schemas/SimulateRequest"});
+    let post = |body: Value| {
+        let valid = validate(&doc, &schema, &body).is_empty();
+        let (st, v) = s.post("/api/v1/simulate", &body);
+        (valid, st, v)
+    };
+    let (valid, st, v) =
+        post(json!({"scenario": "woods", "seed": 4, "steps": 200, "landmarks": 9}));
+    assert!(valid && st == 201, "{st} {v}");
+    let m = &v["mission"];
+    assert_eq!(m["model"], "odometry2d");
+    assert_eq!(m["truth"]["landmarks"].as_array().unwrap().len(), 9);
+    assert!(m["detections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|d| d["scan"].is_u64()));
+    assert!(m["landmark_min_separation"].as_f64().unwrap() > 0.0);
+    for (body, field) in [
+        (json!({"scenario": "woods", "noise": 2}), "noise"),
+        (json!({"scenario": "woods", "layout": "ring"}), "layout"),
+        (
+            json!({"scenario": "woods", "false_detections": 3}),
+            "false_detections",
+        ),
+    ] {
+        let (valid, st, v) = post(body.clone());
+        assert!(!valid, "the document allows {body}");
+        assert_eq!(
+            (st, v["error"]["path"].as_str()),
+            (422, Some(field)),
+            "{body}: {v}"
+        );
+    }
+    // (20,000 / 2 + 1) x 17 = 170,017 > 20,000: refused, unsimulated.
+    let (valid, st, v) = post(json!({"scenario": "woods", "steps": 20000}));
+    assert!(
+        valid,
+        "the document refuses a woods request of 20,000 steps"
+    );
+    assert_eq!(
+        (st, v["error"]["path"].as_str()),
+        (413, Some("steps")),
+        "{v}"
+    );
+    assert!(
+        v["error"]["message"].as_str().unwrap().contains("170017"),
+        "{v}"
+    );
+}
+
 /// Issue 11: the `shapes` contractor is a job contractor, in the document
 /// and in the service, and the refusal of an unknown one lists it.
 #[test]

@@ -17,6 +17,7 @@ pub mod nvector;
 pub mod odometry;
 pub mod outline;
 pub mod radix;
+pub mod rng;
 pub mod shapes;
 pub mod slam;
 pub mod sort;

@@ -3,8 +3,8 @@
 //! A thin layer over nvector-core's public functions, the same ones the
 //! `nvector` binary calls, so that the answers agree bit for bit:
 //! - `contract` -> `nvector::contract::contract_json` (as `nvector contract`);
-//! - `simulate` -> `slam::simulate::simulate`, or `slam::woods::simulate_woods`
-//!   for `"woods"` (as `nvector simulate`);
+//! - `simulate` -> `slam::simulate::simulate` (paper, auv, woods: as
+//!   `nvector simulate`);
 //! - `run` -> `slam::mission::Mission` + `slam::solve::solve` (as
 //!   `nvector run`).
 //!
@@ -20,10 +20,9 @@ use nvector_core::json::{bound, field_path, index_path};
 use nvector_core::nvector::contract::contract_json;
 use nvector_core::slam::mission::{Mission, MAX_STEPS};
 use nvector_core::slam::simulate::simulate as simulate_mission;
-use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest, MAX_LANDMARKS};
+use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
 use nvector_core::slam::solve::solve;
 use nvector_core::slam::types::{Association, Progress, SolveOptions};
-use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
 use nvector_core::InputError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -276,19 +275,6 @@ fn simulate<'py>(
     range_only: bool,
     false_detections: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
-    if scenario == "woods" {
-        return simulate_woods_py(
-            py,
-            seed,
-            steps,
-            landmarks,
-            operator,
-            noise,
-            layout,
-            range_only,
-            false_detections,
-        );
-    }
     // Core's one simulation request type, its checks and limits (as the
     // CLI, the service and the page).
     let request = SimulateRequest {
@@ -306,52 +292,6 @@ fn simulate<'py>(
         .options(SimulateLimits::CORE)
         .map_err(|e| input_error(py, &e))?;
     let mission = py.detach(|| simulate_mission(&options));
-    to_py(py, &mission)
-}
-
-/// The woods scenario (an odometry2d robot among identical landmarks, with
-/// scans and a minimum separation), with the CLI's checks of its options;
-/// the paper-only options must keep their defaults.
-#[allow(clippy::too_many_arguments)]
-fn simulate_woods_py<'py>(
-    py: Python<'py>,
-    seed: u64,
-    steps: Option<usize>,
-    landmarks: Option<usize>,
-    operator: bool,
-    noise: f64,
-    layout: &str,
-    range_only: bool,
-    false_detections: usize,
-) -> PyResult<Bound<'py, PyAny>> {
-    let refuse =
-        |path: &str, message: String| Err(input_error(py, &InputError::new(path, message)));
-    if steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
-        return refuse("steps", format!("steps must be between 1 and {MAX_STEPS}"));
-    }
-    if landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
-        return refuse(
-            "landmarks",
-            format!("landmarks must be at most {MAX_LANDMARKS}"),
-        );
-    }
-    for (path, default) in [
-        ("layout", layout == "line"),
-        ("range_only", !range_only),
-        ("false_detections", false_detections == 0),
-        ("noise", noise == 1.0),
-    ] {
-        if !default {
-            return refuse(path, format!("{path} applies to the paper scenario only"));
-        }
-    }
-    let options = WoodsOptions {
-        seed,
-        steps,
-        landmarks,
-        operator,
-    };
-    let mission = py.detach(|| simulate_woods(&options));
     to_py(py, &mission)
 }
 

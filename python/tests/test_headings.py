@@ -34,7 +34,7 @@ def test_woods_agrees_with_the_cli_and_has_the_new_fields(cli: Cli) -> None:
 
 
 def test_woods_refuses_the_paper_only_options() -> None:
-    for kwargs, path in [({"layout": "ring"}, "layout"), ({"range_only": True}, "range_only"), ({"noise": 2.0}, "noise"), ({"steps": 0}, "steps")]:
+    for kwargs, path in [({"layout": "ring"}, "layout"), ({"range_only": True}, "range_only"), ({"noise": 2.0}, "noise"), ({"steps": 2_000_001}, "steps")]:
         with pytest.raises(nvector.InputError) as info:
             nvector.simulate("woods", **kwargs)
         assert info.value.path == path

@@ -9,11 +9,10 @@ use nvector_core::nvector::nvalue::{atmost_nvalue, NValue, NValueScratch};
 use nvector_core::nvector::{atmost_nvector, Contractor};
 use nvector_core::outline::{shape_outline, union_boundary};
 use nvector_core::shapes::shape::{Shape, MAX_DIM};
-use nvector_core::slam::mission::{Mission, MAX_STEPS};
-use nvector_core::slam::simulate::{simulate, SimulateLimits, SimulateRequest, MAX_LANDMARKS};
+use nvector_core::slam::mission::Mission;
+use nvector_core::slam::simulate::{simulate, SimulateLimits, SimulateRequest};
 use nvector_core::slam::solve::solve;
 use nvector_core::slam::types::{Association, Progress, SolveOptions};
-use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
 use nvector_core::{InputError, Interval, IntervalBox};
 use serde_json::{json, Value};
 use std::cmp::Ordering;
@@ -80,47 +79,10 @@ pub fn run_mission(
 /// "false_detections"}`, read and checked by core as every front end does
 /// (core's limits; an option out of range is an error naming it).
 /// `"scenario": "woods"` is core's woods generator (an odometry2d robot
-/// among identical landmarks, with scans), with `seed`, `steps`,
-/// `landmarks` and `operator` only.
+/// among identical landmarks, with scans).
 pub fn simulate_json(options: &Value) -> Result<Value, InputError> {
-    if options["scenario"] == "woods" {
-        return simulate_woods_json(options);
-    }
     let Object(request) = format::from_value::<Object<SimulateRequest>>(options)?;
     Ok(simulate(&request.options(SimulateLimits::CORE)?))
-}
-
-/// The woods scenario's options, checked as the CLI checks them.
-fn simulate_woods_json(options: &Value) -> Result<Value, InputError> {
-    let fields = options.as_object().into_iter().flatten();
-    if let Some((k, _)) = fields.filter(|(_, v)| !v.is_null()).find(|(k, _)| {
-        !["scenario", "seed", "steps", "landmarks", "operator"].contains(&k.as_str())
-    }) {
-        return Err(InputError::new(k, "not an option of the woods scenario"));
-    }
-    let count = |key: &str, max: usize| -> Result<Option<usize>, InputError> {
-        match &options[key] {
-            Value::Null => Ok(None),
-            v => match v.as_u64() {
-                Some(n) if n as usize <= max && n >= 1 => Ok(Some(n as usize)),
-                _ => Err(InputError::new(
-                    key,
-                    format!("expected an integer in 1..={max}"),
-                )),
-            },
-        }
-    };
-    Ok(simulate_woods(&WoodsOptions {
-        seed: match &options["seed"] {
-            Value::Null => 1,
-            v => v
-                .as_u64()
-                .ok_or_else(|| InputError::new("seed", "expected an integer >= 0"))?,
-        },
-        steps: count("steps", MAX_STEPS)?,
-        landmarks: count("landmarks", MAX_LANDMARKS)?,
-        operator: options["operator"].as_bool().unwrap_or(false),
-    }))
 }
 
 /// Reads the flat numbers of an outline request, naming the place of a bad

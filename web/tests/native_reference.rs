@@ -33,7 +33,8 @@ fn woods_through_the_facade() {
     assert_eq!(m["truth"]["headings"].as_array().unwrap().len(), 121);
     for (bad, field) in [
         (json!({"scenario": "woods", "layout": "ring"}), "layout"),
-        (json!({"scenario": "woods", "steps": 0}), "steps"),
+        (json!({"scenario": "woods", "noise": 2}), "noise"),
+        (json!({"scenario": "woods", "steps": -1}), "steps"),
         (json!({"scenario": "woods", "steps": 1e12}), "steps"),
         (json!({"scenario": "woods", "landmarks": 1000}), "landmarks"),
         (json!({"scenario": "woods", "seed": -1}), "seed"),

@@ -17,6 +17,10 @@ pub const FORMAT: &str = "nvector-mission/1";
 /// Most steps accepted.
 pub const MAX_STEPS: usize = 2_000_000;
 
+/// Most landmarks a simulation takes (every front end refuses more, naming
+/// the option): the paper scenario's work grows with steps × landmarks.
+pub const MAX_LANDMARKS: usize = 64;
+
 /// The motion model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Model {

@@ -26,6 +26,8 @@ pub mod result;
 pub mod robust_regions;
 pub mod rounds;
 pub mod simulate;
+#[cfg(feature = "openapi")]
+mod simulate_schema;
 pub mod solve;
 pub mod types;
 pub mod woods;

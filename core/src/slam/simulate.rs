@@ -16,10 +16,13 @@
 //! drawn (by a margin that also covers the f64 rounding of the simulation
 //! itself), so the truth satisfies every constraint of the mission.
 
+pub use super::mission::MAX_LANDMARKS;
 use super::mission::MAX_STEPS;
+use super::woods::{simulate_woods, WoodsOptions, WOODS_STEPS};
 use crate::error::InputError;
 use crate::format::leaf::{Finite, Integer};
 use crate::json::{box_to_json, interval_to_json};
+pub use crate::rng::Rng;
 use crate::{Interval, IntervalBox};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -31,15 +34,28 @@ pub enum Scenario {
     Paper,
     /// Redermor-scale AUV survey.
     Auv,
+    /// An odometry2d robot among identical landmarks, with scans
+    /// ([`super::woods`]).
+    Woods,
 }
 
 impl Scenario {
-    /// Parses `paper` / `auv`.
+    /// Parses `paper` / `auv` / `woods`.
     pub fn parse(s: &str) -> Option<Scenario> {
         match s {
             "paper" => Some(Scenario::Paper),
             "auv" => Some(Scenario::Auv),
+            "woods" => Some(Scenario::Woods),
             _ => None,
+        }
+    }
+
+    /// The name `parse` reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scenario::Paper => "paper",
+            Scenario::Auv => "auv",
+            Scenario::Woods => "woods",
         }
     }
 }
@@ -78,10 +94,6 @@ impl Layout {
     }
 }
 
-/// Most landmarks a simulation takes (every front end refuses more, naming
-/// the option): the paper scenario's work grows with steps × landmarks.
-pub const MAX_LANDMARKS: usize = 64;
-
 /// Most false detections a simulation adds (every front end refuses more,
 /// naming the option; each costs up to 1000 draws).
 pub const MAX_FALSE_DETECTIONS: usize = 100_000;
@@ -99,13 +111,16 @@ pub struct SimulateOptions {
     pub scenario: Scenario,
     /// Seed.
     pub seed: u64,
-    /// Steps (None: the scenario's default: 10,000 for paper, 60,000 for auv).
+    /// Steps (None: the scenario's default: 10,000 for paper, 60,000 for
+    /// auv, 3,000 for woods).
     pub steps: Option<usize>,
-    /// Landmarks (None: 4 for paper; auv always uses the 6 seamarks).
+    /// Landmarks (None: 4 for paper, 17 for woods; auv always uses the 6
+    /// seamarks).
     pub landmarks: Option<usize>,
     /// Write the true matching as operator `landmark` fields.
     pub operator: bool,
-    /// Scale of the sensor noise bounds (1 = the scenario's defaults).
+    /// Scale of the sensor noise bounds (1 = the scenario's defaults;
+    /// paper and auv only).
     pub noise: f64,
     /// Landmark layout (paper only; default `Line`).
     pub layout: Layout,
@@ -130,47 +145,6 @@ impl SimulateOptions {
             range_only: false,
             false_detections: 0,
         }
-    }
-}
-
-/// splitmix64: small, fast, and the same everywhere.
-#[derive(Debug, Clone)]
-pub struct Rng(u64);
-
-impl Rng {
-    /// A generator from a seed.
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed ^ 0x6E76_6563_746F_7221)
-    }
-
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// A generator whose state is `state` itself (no seed mixing): the
-    /// benchmark instances of `nvector bench` are drawn from it.
-    pub fn from_state(state: u64) -> Rng {
-        Rng(state)
-    }
-
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// Uniform in [-a, a).
-    pub fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.unit() - 1.0)
     }
 }
 
@@ -209,6 +183,12 @@ pub fn simulate(options: &SimulateOptions) -> Value {
     match o.scenario {
         Scenario::Paper => paper(&o),
         Scenario::Auv => auv(&o),
+        Scenario::Woods => simulate_woods(&WoodsOptions {
+            seed: o.seed,
+            steps: o.steps,
+            landmarks: o.landmarks,
+            operator: o.operator,
+        }),
     }
 }
 
@@ -820,7 +800,8 @@ impl SimulateLimits {
 #[derive(Debug, Default, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimulateRequest {
-    /// `"paper"` or `"auv"` (any JSON, checked by the validation).
+    /// `"paper"`, `"auv"` or `"woods"` (any JSON, checked by the
+    /// validation).
     pub scenario: Option<Value>,
     /// Seed (default 1).
     pub seed: Option<Integer>,
@@ -852,12 +833,18 @@ impl SimulateRequest {
             None | Some(Value::Null) => Some(Scenario::Paper),
             Some(v) => v.as_str().and_then(Scenario::parse),
         }
-        .ok_or_else(|| bad("scenario", "scenario must be \"paper\" or \"auv\""))?;
+        .ok_or_else(|| {
+            bad(
+                "scenario",
+                "scenario must be \"paper\", \"auv\" or \"woods\"",
+            )
+        })?;
         let seed = self.seed.map_or(Ok(1), |s| s.at_most(u64::MAX, "seed"))?;
         let mut o = SimulateOptions::new(scenario, seed);
         let default_steps = match scenario {
             Scenario::Paper => PAPER_STEPS,
-            _ => AUV_STEPS,
+            Scenario::Auv => AUV_STEPS,
+            Scenario::Woods => WOODS_STEPS,
         } as u64;
         let steps = match self.steps {
             Some(s) => s.at_most(limits.max_steps, "steps")?,
@@ -889,18 +876,27 @@ impl SimulateRequest {
         o.false_detections =
             self.false_detections
                 .map_or(Ok(0), |k| k.at_most(max_false, "false_detections"))? as usize;
-        if scenario != Scenario::Paper {
-            let paper_only = [
-                ("layout", o.layout != Layout::Line),
-                ("range_only", o.range_only),
-                ("false_detections", o.false_detections > 0),
-            ];
-            if let Some((field, _)) = paper_only.iter().find(|(_, set)| *set) {
-                return Err(bad(
-                    field,
-                    format!("{field} applies to the paper scenario only"),
-                ));
-            }
+        // Options of other scenarios pass only at their defaults.
+        let only = [
+            ("layout", o.layout != Layout::Line, "the paper scenario"),
+            ("range_only", o.range_only, "the paper scenario"),
+            (
+                "false_detections",
+                o.false_detections > 0,
+                "the paper scenario",
+            ),
+            ("noise", o.noise != 1.0, "the paper and auv scenarios"),
+        ];
+        let foreign = |(field, set, owner): &(&str, bool, &str)| {
+            let theirs = match scenario {
+                Scenario::Paper => true,
+                Scenario::Auv => field == &"noise",
+                Scenario::Woods => false,
+            };
+            (*set && !theirs).then(|| bad(field, format!("{field} applies to {owner} only")))
+        };
+        if let Some(e) = only.iter().find_map(foreign) {
+            return Err(e);
         }
         Ok(o)
     }

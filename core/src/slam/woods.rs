@@ -26,8 +26,8 @@
 //! strictly exceeds the noise drawn by a margin (1e-9) that covers the f64
 //! rounding of the simulation, so the truth satisfies every constraint.
 
-use crate::slam::mission::MAX_STEPS;
-use crate::slam::simulate::{Rng, MAX_LANDMARKS};
+use crate::rng::Rng;
+use crate::slam::mission::{MAX_LANDMARKS, MAX_STEPS};
 use serde_json::{json, Value};
 
 /// Options of the woods scenario.
@@ -43,6 +43,22 @@ pub struct WoodsOptions {
     pub operator: bool,
 }
 
+/// Steps of the woods scenario by default.
+pub const WOODS_STEPS: usize = 3000;
+
+/// Landmarks of the woods scenario by default (as many as Lost in the
+/// Woods' tubes).
+pub const WOODS_LANDMARKS: usize = 17;
+
+/// A scan every this many steps.
+pub const SCAN_EVERY: usize = 2;
+/// Most detections a woods mission of `steps` steps and `landmarks`
+/// landmarks can hold (each scan sees each landmark at most once): what a
+/// front end with a limit on detections checks before it simulates.
+pub fn max_detections(steps: usize, landmarks: usize) -> usize {
+    (steps / SCAN_EVERY + 1).saturating_mul(landmarks)
+}
+
 const MARGIN: f64 = 1e-9;
 const DT: f64 = 0.1;
 const SPEED_NOISE: f64 = 0.02;
@@ -52,7 +68,6 @@ const RANGE_NOISE: f64 = 0.05;
 const BEARING_NOISE: f64 = 0.05;
 const MAX_RANGE: f64 = 5.0;
 const FIELD_OF_VIEW: f64 = 2.1;
-const SCAN_EVERY: usize = 2;
 const OFFSET: f64 = 0.2;
 const MAX_TURN: f64 = 0.5;
 const INITIAL_ERROR: f64 = 0.01;
@@ -216,8 +231,11 @@ fn scans(rng: &mut Rng, d: &Drive, landmarks: &[[f64; 2]], operator: bool) -> Sc
 /// `odometry2d`).
 pub fn simulate_woods(o: &WoodsOptions) -> Value {
     let mut rng = Rng::new(o.seed ^ 0x574F_4F44_5331);
-    let n = o.steps.unwrap_or(3000).clamp(1, MAX_STEPS);
-    let count = o.landmarks.unwrap_or(17).clamp(1, MAX_LANDMARKS);
+    let n = o.steps.unwrap_or(WOODS_STEPS).clamp(1, MAX_STEPS);
+    let count = o
+        .landmarks
+        .unwrap_or(WOODS_LANDMARKS)
+        .clamp(1, MAX_LANDMARKS);
     let root = libm::sqrt(count as f64);
     let (hx, hy) = (1.3 * root, 0.65 * root);
     let landmarks = layout(&mut rng, count, hx, hy);

@@ -2,10 +2,8 @@
 
 use crate::CliError;
 use nvector_core::format::leaf::{Finite, Integer};
-use nvector_core::slam::mission::MAX_STEPS;
-use nvector_core::slam::simulate::{simulate, Layout, Scenario, MAX_LANDMARKS};
+use nvector_core::slam::simulate::{simulate, Layout, Scenario};
 use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest};
-use nvector_core::slam::woods::WoodsOptions;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -64,18 +62,16 @@ pub struct Args {
     false_arrivals: usize,
 }
 
-/// A scenario of core's `slam::simulate`, or `woods`
-/// (core/src/odometry/simulate.rs).
+/// A scenario of core's `slam::simulate` (paper, auv, woods), or the
+/// radar scenario of `tdoa::simulate`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Which {
     Slam(Scenario),
-    Woods,
     Radar,
 }
 
 fn parse_scenario(s: &str) -> Result<Which, String> {
     match s {
-        "woods" => Ok(Which::Woods),
         "radar" => Ok(Which::Radar),
         _ => Scenario::parse(s)
             .map(Which::Slam)
@@ -89,56 +85,14 @@ fn parse_layout(s: &str) -> Result<Layout, String> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
-    if a.scenario == Which::Radar {
-        let d = nvector_core::tdoa::simulate::RadarOptions::default();
-        let o = nvector_core::tdoa::simulate::RadarOptions {
-            seed: a.seed,
-            emitters: a.emitters.unwrap_or(d.emitters),
-            receivers: a.receivers.unwrap_or(d.receivers),
-            pulses: a.pulses.unwrap_or(d.pulses),
-            missing: a.missing.unwrap_or(d.missing),
-            false_arrivals: a.false_arrivals,
-            operator: a.operator,
-        };
-        return write_mission(&crate::cli::tdoa::simulate(&o)?, a.out);
-    }
-    let Which::Slam(scenario) = a.scenario else {
-        // Woods: its own generator and options (core/src/odometry), with
-        // the checks main had for it.
-        if a.steps.is_some_and(|s| s == 0 || s > MAX_STEPS) {
-            return Err(CliError(format!(
-                "--steps must be between 1 and {MAX_STEPS}"
-            )));
-        }
-        if a.landmarks.is_some_and(|n| n > MAX_LANDMARKS) {
-            return Err(CliError(format!(
-                "--landmarks must be at most {MAX_LANDMARKS}"
-            )));
-        }
-        if a.layout != Layout::Line || a.range_only || a.false_detections > 0 {
-            return Err(CliError(
-                "--layout, --range-only and --false-detections apply to --scenario paper only"
-                    .into(),
-            ));
-        }
-        let mission = nvector_core::slam::woods::simulate_woods(&WoodsOptions {
-            seed: a.seed,
-            steps: a.steps,
-            landmarks: a.landmarks,
-            operator: a.operator,
-        });
-        return write_mission(&mission, a.out);
+    let scenario = match a.scenario {
+        Which::Slam(scenario) => scenario,
+        Which::Radar => return radar(a),
     };
     // The options go through core's one simulation request type and its
     // checks, with core's limits, as the service, the page and Python do.
     let request = SimulateRequest {
-        scenario: Some(
-            match scenario {
-                Scenario::Paper => "paper",
-                Scenario::Auv => "auv",
-            }
-            .into(),
-        ),
+        scenario: Some(scenario.name().into()),
         seed: Some(Integer::Value(a.seed)),
         steps: a.steps.map(|s| Integer::Value(s as u64)),
         landmarks: a.landmarks.map(|n| Integer::Value(n as u64)),
@@ -153,6 +107,21 @@ pub fn run(a: Args) -> Result<(), CliError> {
         .map_err(|e| CliError(format!("--{}: {}", e.path.replace('_', "-"), e.message)))?;
     let mission = simulate(&options);
     write_mission(&mission, a.out)
+}
+
+/// The radar scenario (core's `tdoa::simulate`).
+fn radar(a: Args) -> Result<(), CliError> {
+    let d = nvector_core::tdoa::simulate::RadarOptions::default();
+    let o = nvector_core::tdoa::simulate::RadarOptions {
+        seed: a.seed,
+        emitters: a.emitters.unwrap_or(d.emitters),
+        receivers: a.receivers.unwrap_or(d.receivers),
+        pulses: a.pulses.unwrap_or(d.pulses),
+        missing: a.missing.unwrap_or(d.missing),
+        false_arrivals: a.false_arrivals,
+        operator: a.operator,
+    };
+    write_mission(&crate::cli::tdoa::simulate(&o)?, a.out)
 }
 
 /// Writes the mission to `out` (standard output when `None`).

@@ -17,6 +17,7 @@
 use super::config::Config;
 use axum::{Extension, Json};
 use nvector_core::slam::mission::MAX_STEPS;
+use nvector_core::slam::simulate::MAX_FALSE_DETECTIONS;
 use serde_json::{json, Value};
 use std::sync::Arc;
 use utoipa::OpenApi;
@@ -168,7 +169,7 @@ fn tdoa_result(doc: &mut Value) {
 }
 
 /// This service's limits: steps, detections, false detections, the job
-/// time limit; and auv's `range_only`, which may only be its default.
+/// time limit.
 fn fit_limits(doc: &mut Value, config: &Config) {
     let max_steps = config.max_steps.min(MAX_STEPS) as u64;
     set(doc, "Mission", "steps", "maximum", json!(max_steps));
@@ -179,15 +180,18 @@ fn fit_limits(doc: &mut Value, config: &Config) {
         "maxItems",
         json!(config.max_detections),
     );
-    set(
-        doc,
-        "PaperSimulation",
-        "false_detections",
-        "maximum",
-        json!(config.max_detections.min(100_000)),
-    );
-    for s in ["PaperSimulation", "AuvSimulation"] {
-        set(doc, s, "steps", "maximum", json!(max_steps));
+    // The simulation request: one object per scenario (core's schema).
+    let variants = doc
+        .pointer_mut("/components/schemas/SimulateRequest/oneOf")
+        .and_then(Value::as_array_mut);
+    for v in variants.into_iter().flatten() {
+        let max_false = config.max_detections.min(MAX_FALSE_DETECTIONS) as u64;
+        let fields = &mut v["properties"];
+        fields["steps"]["oneOf"][1]["maximum"] = json!(max_steps);
+        let false_detections = &mut fields["false_detections"]["oneOf"][1]["maximum"];
+        if false_detections.as_u64() > Some(0) {
+            *false_detections = json!(max_false);
+        }
     }
     set(
         doc,
@@ -205,14 +209,6 @@ fn fit_limits(doc: &mut Value, config: &Config) {
             p["schema"]["maximum"] = json!(config.job_time_limit_s);
         }
     }
-    // With auv, range_only may only be its default.
-    set(
-        doc,
-        "AuvSimulation",
-        "range_only",
-        "enum",
-        json!([false, null]),
-    );
 }
 
 /// What the generator cannot say of the bodies' encodings: a form's part

@@ -2,8 +2,10 @@
 //!
 //! Every field but `scenario` is optional, and `null` means absent (as in
 //! the mission format). `layout`, `range_only` and `false_detections` are
-//! for the paper scenario only (with `auv` only their defaults pass), as in
-//! `nvector simulate`.
+//! for the paper scenario only (with `auv` and `woods` only their defaults
+//! pass), `noise` for paper and auv, as in `nvector simulate`. A woods
+//! request whose mission could hold more detections than this service's
+//! limit is refused before it is simulated (413).
 
 use super::error::ErrorBody;
 use super::error::{ApiResult, AppError, Body, RequestBody};
@@ -13,146 +15,12 @@ use axum::extract::State;
 use axum::http::StatusCode;
 use axum::Json;
 use nvector_core::format::mission::MissionDoc as Mission;
-use nvector_core::slam::simulate::{simulate, SimulateOptions};
+use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest as Options};
-use serde::{Deserialize, Serialize};
+use nvector_core::slam::woods;
+use serde::Serialize;
 use serde_json::Value;
 use utoipa::ToSchema;
-
-/// The landmark layouts of the paper scenario.
-#[derive(Deserialize, ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum LayoutName {
-    /// 10 m apart along x (the paper's Figure 9; the default).
-    Line,
-    /// Evenly on a circle around the start.
-    Ring,
-    /// Uniformly in a square, at least 8 m apart.
-    Random,
-}
-
-/// The only layout of the auv scenario.
-#[derive(Deserialize, ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum LineLayout {
-    /// The default.
-    Line,
-}
-
-/// A simulation of the paper's experiment.
-#[derive(Deserialize, ToSchema)]
-#[allow(dead_code)] // Described, not built: core's parser reads the body.
-#[serde(deny_unknown_fields)]
-pub struct PaperSimulation {
-    /// `"paper"`.
-    #[schema(inline)]
-    pub scenario: PaperName,
-    /// The seed (default 1).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 18446744073709551615u64)]
-    pub seed: Option<u64>,
-    /// Steps (default 10,000, at most this service's limit; below 2 reads
-    /// as 2).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 2000000)]
-    pub steps: Option<u64>,
-    /// Landmarks (default 4; 0 reads as 1).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 64)]
-    pub landmarks: Option<u64>,
-    /// Write the true matching as operator `landmark` fields (default
-    /// false).
-    #[serde(default)]
-    pub operator: Option<bool>,
-    /// Scale of the sensor noise bounds (default 1).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 100)]
-    pub noise: Option<f64>,
-    /// Landmark layout (default `line`).
-    #[serde(default)]
-    pub layout: Option<LayoutName>,
-    /// Range-only detections with a rough landmark region instead of a
-    /// bearing (the paper's P''; default false).
-    #[serde(default)]
-    pub range_only: Option<bool>,
-    /// Extra detections of no landmark (`null` in truth.matching,
-    /// `max_outliers` set; default 0; at most this service's limit on
-    /// detections). Fewer are drawn when the mission would hold more
-    /// detections in all than that limit: the mission's `max_outliers` says
-    /// how many.
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 100000)]
-    pub false_detections: Option<u64>,
-}
-
-/// `"paper"`.
-#[derive(Deserialize, ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum PaperName {
-    /// The paper scenario.
-    Paper,
-}
-
-/// `"auv"`.
-#[derive(Deserialize, ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum AuvName {
-    /// The AUV scenario.
-    Auv,
-}
-
-/// A simulated AUV survey (the paper-only options at their defaults).
-#[derive(Deserialize, ToSchema)]
-#[allow(dead_code)] // Described, not built: core's parser reads the body.
-#[serde(deny_unknown_fields)]
-pub struct AuvSimulation {
-    /// `"auv"`.
-    #[schema(inline)]
-    pub scenario: AuvName,
-    /// The seed (default 1).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 18446744073709551615u64)]
-    pub seed: Option<u64>,
-    /// Steps (default 60,000, at most this service's limit; below 2 reads
-    /// as 2).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 2000000)]
-    pub steps: Option<u64>,
-    /// Ignored: the survey always has its 6 seamarks (0..=64 accepted).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 64)]
-    pub landmarks: Option<u64>,
-    /// Write the true matching as operator `landmark` fields.
-    #[serde(default)]
-    pub operator: Option<bool>,
-    /// Scale of the sensor noise bounds (default 1).
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 100)]
-    pub noise: Option<f64>,
-    /// Only the default, `line`.
-    #[serde(default)]
-    #[schema(inline)]
-    pub layout: Option<LineLayout>,
-    /// Only the default, false.
-    #[serde(default)]
-    pub range_only: Option<bool>,
-    /// Only the default, 0.
-    #[serde(default)]
-    #[schema(minimum = 0, maximum = 0)]
-    pub false_detections: Option<u64>,
-}
-
-/// A simulation request: the paper's experiment or an AUV survey.
-#[derive(Deserialize, ToSchema)]
-#[allow(dead_code)] // Described, not built: core's parser reads the body.
-#[serde(untagged)]
-#[schema(example = json!({"scenario": "paper", "seed": 3, "steps": 2000, "operator": true}))]
-pub enum SimulateRequest {
-    /// `"scenario": "paper"`.
-    Paper(PaperSimulation),
-    /// `"scenario": "auv"`.
-    Auv(AuvSimulation),
-}
 
 /// The stored simulated mission.
 #[derive(Serialize, ToSchema)]
@@ -165,8 +33,8 @@ pub struct Simulated {
     pub mission: Value,
 }
 
-// The body is read as core's one simulation request type; the schema
-// above describes it for the document.
+// The body is read as core's one simulation request type, whose schema
+// (core/src/slam/simulate_schema.rs) the document gives.
 impl RequestBody for Options {
     const CODE: &'static str = "invalid_request";
 }
@@ -177,7 +45,7 @@ impl RequestBody for Options {
     path = "/simulate",
     operation_id = "simulate",
     tag = "missions",
-    request_body = SimulateRequest,
+    request_body = Options,
     responses(
         (status = 201, description = "The mission, stored (with its truth)", body = Simulated,
             links(
@@ -214,6 +82,7 @@ pub(super) async fn post_simulate(
         .options(limits)
         .map_err(|e| AppError::bad("invalid_request", e))?;
     let max_detections = state.config.max_detections;
+    woods_fits(&o, max_detections)?;
     let mission = tokio::task::spawn_blocking(move || {
         let mission = simulate(&o);
         let count = mission["detections"].as_array().map_or(0, Vec::len);
@@ -256,6 +125,31 @@ pub(super) async fn post_simulate(
             mission,
         }),
     ))
+}
+
+/// A woods request whose mission could hold more detections than the
+/// service's limit is refused before the simulation allocates anything of
+/// that size (each scan sees each landmark at most once).
+fn woods_fits(o: &SimulateOptions, max_detections: usize) -> ApiResult<()> {
+    if o.scenario != Scenario::Woods {
+        return Ok(());
+    }
+    let (steps, landmarks) = (
+        o.steps.unwrap_or(woods::WOODS_STEPS),
+        o.landmarks.unwrap_or(woods::WOODS_LANDMARKS),
+    );
+    let bound = woods::max_detections(steps, landmarks);
+    if bound <= max_detections {
+        return Ok(());
+    }
+    Err(AppError::new(
+        StatusCode::PAYLOAD_TOO_LARGE,
+        "too_large",
+        format!(
+            "a woods mission of {steps} steps among {landmarks} landmarks may hold {bound} detections, above this service's limit of {max_detections}: ask for fewer steps or landmarks"
+        ),
+    )
+    .at("steps"))
 }
 
 #[cfg(test)]
