@@ -24,7 +24,7 @@ fn count(max: u64, description: &str) -> RefOr<Schema> {
         ObjectBuilder::new()
             .schema_type(Type::Integer)
             .minimum(Some(0))
-            .maximum(Some(max as f64)),
+            .maximum(Some(max)),
         description,
     )
 }
