@@ -263,6 +263,11 @@ fn result_without_time(mut v: Value) -> Value {
     v
 }
 
+/// A script counting the page's fetches of a module's files (`pkg-slam`...).
+fn fetched(module: &str) -> String {
+    format!("return performance.getEntriesByType('resource').filter((e) => e.name.includes('/{module}/')).length")
+}
+
 #[test]
 fn the_page_in_headless_chromium() {
     let Some(d) = Driver::start() else { return };
@@ -276,6 +281,16 @@ fn the_page_in_headless_chromium() {
         "return document.getElementById('wasm-status').dataset.ready === 'true'",
         Duration::from_secs(30),
     );
+    // The playground's module alone: the figures module (the outlines) and
+    // the SLAM module (the solver, the simulators) are fetched when a tab
+    // needs them (web/www/wasm.js).
+    for module in ["pkg-figures", "pkg-slam"] {
+        assert_eq!(
+            d.js(&fetched(module)),
+            0,
+            "{module} loaded with the playground"
+        );
+    }
     d.js("const m = document.getElementById('pg-mode'); m.value = 'nvalue'; m.dispatchEvent(new Event('change')); return 1;");
     let groups = d.wait(
         "return document.getElementById('pg-summary').dataset.groups",
@@ -363,6 +378,12 @@ fn the_page_in_headless_chromium() {
         "return document.getElementById('sl-summary').dataset.nvectorDiameter",
         Duration::from_secs(120),
     );
+    for module in ["pkg-figures", "pkg-slam"] {
+        assert!(
+            d.js(&fetched(module)).as_u64().unwrap() >= 1,
+            "{module} was not fetched by the SLAM demo"
+        );
+    }
     let basic: f64 = d
         .js("return document.getElementById('sl-summary').dataset.basicDiameter")
         .as_str()
@@ -503,6 +524,17 @@ fn the_page_in_headless_chromium() {
         "drawn",
         "{}",
         d.js("return document.getElementById('ms-state').textContent")
+    );
+    // The missions tab draws with the figures module alone (the outlines),
+    // without the SLAM module's solver.
+    assert!(
+        d.js(&fetched("pkg-figures")).as_u64().unwrap() >= 1,
+        "the figures module was not fetched"
+    );
+    assert_eq!(
+        d.js(&fetched("pkg-slam")),
+        0,
+        "the missions tab fetched the SLAM module"
     );
     assert_eq!(
         d.js("return document.getElementById('rv-summary').dataset.trajectory"),

@@ -603,7 +603,8 @@ fn decompressed(tool: &str, body: &[u8]) -> Vec<u8> {
 }
 
 /// The page's files are sent precompressed by content negotiation (brotli,
-/// gzip, or as they are), the wasm in at most 180 KB (scripts/web.sh's budget), with validation
+/// gzip, or as they are), the page's first wasm (the playground's) in at most
+/// scripts/web.sh's budget, with validation
 /// headers: a client that has the file gets 304.
 #[test]
 fn the_page_is_served_precompressed_and_revalidated() {
@@ -646,7 +647,7 @@ fn the_page_is_served_precompressed_and_revalidated() {
         assert!(plain == wasm, "{accept}: the body is not the page's wasm");
         if encoding == Some("br") {
             assert!(
-                body.len() <= 188_000,
+                body.len() <= 82_300,
                 "{} bytes of wasm sent with brotli",
                 body.len()
             );

@@ -4,6 +4,7 @@
 import * as api from './api.js';
 import { $, el, scheduler } from './dom.js';
 import { View, areaOf, drawMessage, drawResult, layerToggles } from './draw.js';
+import { loadFigures } from './wasm.js';
 
 // Jobs submitted from this browser are remembered in localStorage (the API
 // lists missions, not jobs), so a reload still lists them and their results.
@@ -129,7 +130,8 @@ const metres = (d) => (Number.isFinite(Number(d)) ? `${Number(d).toFixed(Number(
 
 /** Shows a finished job's result in the left panel; the one shown before moves to the right. */
 async function showResult(jobId, missionId) {
-  const [result, mission] = await Promise.all([api.getResult(jobId), api.getMission(missionId)]);
+  // The outlines come from the figures module (wasm.js), fetched with the first result.
+  const [result, mission] = await Promise.all([api.getResult(jobId), api.getMission(missionId), loadFigures()]);
   const i = shown.findIndex((s) => s.jobId === jobId);
   if (i >= 0) shown.splice(i, 1);
   shown.unshift({ result, mission, jobId });

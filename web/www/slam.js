@@ -2,6 +2,7 @@
 // basic model beside atmost_nvector, each panel fitted to its own result.
 import { $, canvasPoint, scheduler } from './dom.js';
 import { View, areaOf, drawResult, layerToggles } from './draw.js';
+import { loadSlam } from './wasm.js';
 
 let nv = null;
 /** The last run: {mission, shown: [{id, result, view}]}, redrawn on legend changes (and read by the browser tests). */
@@ -23,7 +24,15 @@ const WOODS_STEPS = 400;
  * basic and nvector, draws both and writes the summary.
  */
 export function slamDemo(woods = false) {
-  if (!nv) return;
+  if (!nv) {
+    // The SLAM and figures modules are fetched the first time (wasm.js).
+    $('sl-summary').textContent = 'loading the SLAM WASM module…';
+    loadSlam().then((h) => { nv = h; slamDemo(woods); }, (e) => {
+      $('sl-summary').textContent = `SLAM WASM failed: ${e}`;
+      $('sl-summary').dataset.error = String(e);
+    });
+    return;
+  }
   const mode = $('sl-mode').value;
   const seed = Number($('sl-seed').value) | 0;
   const opts = woods === true ? { scenario: 'woods', seed, steps: WOODS_STEPS } : {
@@ -110,6 +119,3 @@ export function initSlam() {
   $('sl-preset-bearing').addEventListener('click', () => slamPreset(false));
   $('sl-preset-range').addEventListener('click', () => slamPreset(true));
 }
-
-/** The WASM handle is loaded. */
-export function slamReady(handle) { nv = handle; }
