@@ -175,3 +175,88 @@ impl DetectionShape for PulseShell<'_> {
         self.bounds.diameter()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::shape::disjoint_paved;
+    use crate::shapes::witnesses::Item;
+    use crate::tdoa::problem::{Arrival, Pulse, Receiver};
+
+    const C: f64 = 3e8;
+
+    /// Four receivers on a 10 km square, pulses sent at 0 from `emitters`,
+    /// time stamps ± 1 ns.
+    fn problem(emitters: &[[f64; 3]]) -> TdoaProblem {
+        let rx = [
+            [0.0, 0.0, 0.0],
+            [1e4, 0.0, 0.0],
+            [0.0, 1e4, 0.0],
+            [1e4, 1e4, 50.0],
+        ];
+        let pulses = emitters
+            .iter()
+            .map(|e| Pulse {
+                arrivals: rx
+                    .iter()
+                    .enumerate()
+                    .map(|(i, r)| {
+                        let d: f64 = (0..3).map(|a| (e[a] - r[a]).powi(2)).sum::<f64>().sqrt();
+                        let t = d / C;
+                        Arrival {
+                            receiver: i,
+                            time: Interval::new(t - 1e-9, t + 1e-9),
+                        }
+                    })
+                    .collect(),
+                altitude: Some(Interval::new(-1.0, 1.0)),
+                region: None,
+                emitter: None,
+                distance_from: None,
+            })
+            .collect();
+        TdoaProblem {
+            name: "shells".into(),
+            speed: Interval::point(C),
+            receivers: rx
+                .iter()
+                .map(|r| Receiver {
+                    position: IntervalBox::point(r),
+                    clock_bias: Interval::ZERO,
+                })
+                .collect(),
+            pulses,
+            emitter_count: Some(2),
+            emitter_region: None,
+            max_outliers: 0,
+            meta: serde_json::Value::Null,
+            truth: None,
+        }
+    }
+
+    /// Two emitters 600 m apart inside one common 10 km box: the boxes
+    /// meet, the shells do not (proved by bisection); two pulses of one
+    /// emitter are not called disjoint.
+    #[test]
+    fn shells_separate_what_boxes_cannot() {
+        let p = problem(&[[3e3, 4e3, 0.0], [3.6e3, 4e3, 0.0], [3e3, 4e3, 0.0]]);
+        let v = PulseVars {
+            x: [
+                Interval::new(0.0, 1e4),
+                Interval::new(0.0, 1e4),
+                Interval::new(-1.0, 1.0),
+            ],
+            tau: Interval::new(-1e-3, 1e-3),
+        };
+        let s: Vec<PulseShell> = (0..3).map(|k| PulseShell::new(&p, k, v, 0, 0)).collect();
+        assert!(!s[0].disjoint_quick(&s[1]));
+        assert!(disjoint_paved(&s[0], &s[1], 64));
+        assert!(Item::Shape(&s[0]).disjoint(&Item::Shape(&s[1])));
+        assert!(!Item::Shape(&s[0]).disjoint(&Item::Shape(&s[2])));
+        // The paving of one shell is small and holds its emitter.
+        let r = s[0].paving(0.0, 64);
+        assert!(r.contains(&[3e3, 4e3, 0.0]));
+        assert!(r.hull().diameter() < 100.0, "{:?}", r.hull());
+        assert!(!r.meets_shape(&s[1]) && r.meets_shape(&s[2]));
+    }
+}
