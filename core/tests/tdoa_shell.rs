@@ -80,11 +80,9 @@ fn world(seed: u64) -> World {
     let scale = [1e-3, 1.0, 1e4, 1e6, 1e150][g.below(5)];
     let pt = |g: &mut Rng| [0; 3].map(|_| g.range(-scale, scale));
     let x = pt(&mut g);
-    let c = if g.chance(0.2) {
-        1.0
-    } else {
-        g.range(1e-3, 1e9)
-    };
+    // c = 1 (a fifth of the worlds) or drawn.
+    let (unit_speed, drawn) = (g.chance(0.2), g.range(1e-3, 1e9));
+    let c = if unit_speed { 1.0 } else { drawn };
     let speed = if g.chance(0.3) {
         Interval::point(c)
     } else {
