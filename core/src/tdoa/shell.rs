@@ -201,7 +201,10 @@ mod tests {
                     .iter()
                     .enumerate()
                     .map(|(i, r)| {
-                        let d: f64 = (0..3).map(|a| (e[a] - r[a]).powi(2)).sum::<f64>().sqrt();
+                        let d: f64 = (0..3)
+                            .map(|a| (e[a] - r[a]) * (e[a] - r[a]))
+                            .sum::<f64>()
+                            .sqrt();
                         let t = d / C;
                         Arrival {
                             receiver: i,

@@ -144,20 +144,14 @@ impl ShellStep<'_> {
         if chosen.len() < n || n == 0 {
             return Ok(());
         }
-        let own: Vec<Paving> = chosen
+        let pavings: Vec<Paving> = chosen
             .iter()
-            .filter_map(|&i| i.checked_sub(regions.len()))
-            .map(|s| shells[singles[s]].paving(0.0, REGION_BOXES))
-            .collect();
-        let mut own_it = own.iter();
-        let refs: Vec<&Paving> = chosen
-            .iter()
-            .map(|&i| {
-                regions
-                    .get(i)
-                    .unwrap_or_else(|| own_it.next().expect("one per shell"))
+            .map(|&i| match i.checked_sub(regions.len()) {
+                None => regions[i].clone(),
+                Some(s) => shells[singles[s]].paving(0.0, REGION_BOXES),
             })
             .collect();
+        let refs: Vec<&Paving> = pavings.iter().collect();
         let reps: Vec<usize> = chosen.iter().map(|&i| name(i)).collect();
         self.branches(&shells, &refs, &reps)
     }
