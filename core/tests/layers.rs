@@ -82,6 +82,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "landmark regions under max_outliers",
     ),
     ("tdoa::readings", 7, "max_outliers over arrivals"),
+    (
+        "tdoa::shell",
+        7,
+        "a pulse's hyperbolic shells as a detection shape",
+    ),
     ("tdoa::simulate", 7, "the radar scenario writer"),
     (
         "slam::association",
@@ -93,6 +98,7 @@ const LAYERS: &[(&str, u32, &str)] = &[
         8,
         "tracks from the relative evidence",
     ),
+    ("tdoa::shell_step", 8, "the shapes step of the TDOA rounds"),
     ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),
     ("slam::rounds", 9, "the physics-guided rounds"),
     ("tdoa::result", 9, "the TDOA result format and score"),

@@ -13,7 +13,8 @@
 //!
 //! For each region i and each box B of R(i), the branch "d(j) ∈ B":
 //! copies of p(t) and B ∩ d(j) contracted by the detection's constraints
-//! ([`Shape::contract_piece`]). The new p(t) and d(j) are the hulls of the
+//! ([`Shape::contract_piece`]; any [`DetectionShape`]'s in
+//! [`branch_pieces`]). The new p(t) and d(j) are the hulls of the
 //! surviving pieces. A region none of whose boxes survives cannot hold
 //! d(j); when exactly one region survives, detection j sees its landmark.
 //!
@@ -29,7 +30,7 @@
 //! the shape meets (m_i boxes).
 
 use super::region::Paving;
-use super::shape::Shape;
+use super::shape::{DetectionShape, Shape};
 use crate::ibox::IntervalBox;
 
 /// What the branches left.
@@ -47,11 +48,31 @@ pub struct Branches {
 /// under "its landmark is in one of `regions`" (module doc).
 pub fn branch(shape: &Shape, regions: &[&Paving]) -> Branches {
     let dim = shape.dim();
-    let mut out = Branches {
-        p: IntervalBox::empty(dim),
-        d: IntervalBox::empty(dim),
-        surviving: Vec::new(),
-    };
+    let (hull, surviving) = branch_pieces(shape, regions);
+    match hull {
+        Some(piece) => Branches {
+            p: IntervalBox::new(&piece.p[..dim]),
+            d: IntervalBox::new(&piece.d[..dim]),
+            surviving,
+        },
+        None => Branches {
+            p: IntervalBox::empty(dim),
+            d: IntervalBox::empty(dim),
+            surviving,
+        },
+    }
+}
+
+/// The branch contraction of any [`DetectionShape`] under "its position
+/// is in one of `regions`" (module doc): the hull of the surviving pieces
+/// (`None` when none survives: the constraint is infeasible) and the
+/// indices of the regions that may hold the position.
+pub fn branch_pieces<S: DetectionShape>(
+    shape: &S,
+    regions: &[&Paving],
+) -> (Option<S::Piece>, Vec<usize>) {
+    let mut hull: Option<S::Piece> = None;
+    let mut surviving = Vec::new();
     for (i, r) in regions.iter().enumerate() {
         let h = r.hull_ref();
         if h.is_empty() || !shape.meets_box(h.axes()) {
@@ -61,23 +82,17 @@ pub fn branch(shape: &Shape, regions: &[&Paving]) -> Branches {
         for b in r.boxes() {
             if let Some(piece) = shape.contract_piece(b.axes()) {
                 hit = true;
-                let (p, d) = (&piece.p[..dim], &piece.d[..dim]);
-                if out.p.is_empty() {
-                    out.p = IntervalBox::new(p);
-                    out.d = IntervalBox::new(d);
-                } else {
-                    for a in 0..dim {
-                        out.p[a] = out.p[a].hull(p[a]);
-                        out.d[a] = out.d[a].hull(d[a]);
-                    }
-                }
+                hull = Some(match hull {
+                    None => piece,
+                    Some(acc) => S::hull_pieces(&acc, &piece),
+                });
             }
         }
         if hit {
-            out.surviving.push(i);
+            surviving.push(i);
         }
     }
-    out
+    (hull, surviving)
 }
 
 #[cfg(test)]

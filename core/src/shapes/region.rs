@@ -31,7 +31,7 @@
 //! A cut is O(m d) for m boxes; a refinement O(m_new · s · d) for s shapes.
 //! Both bounded by the box count limit.
 
-use super::shape::{bisect, Shape, MAX_DIM};
+use super::shape::{bisect, DetectionShape, MAX_DIM};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 
@@ -112,7 +112,7 @@ impl Paving {
 
     /// Cuts every box by the shape (module doc). Returns whether a box
     /// changed or was dropped. O(m d).
-    pub fn cut(&mut self, shape: &Shape) -> bool {
+    pub fn cut<S: DetectionShape>(&mut self, shape: &S) -> bool {
         let dim = self.dim;
         let mut changed = false;
         self.boxes
@@ -122,10 +122,11 @@ impl Paving {
                     false
                 }
                 Some(piece) => {
+                    let d = S::position(&piece);
                     for a in 0..dim {
-                        if piece.d[a] != b[a] {
+                        if d[a] != b[a] {
                             changed = true;
-                            b[a] = piece.d[a];
+                            b[a] = d[a];
                         }
                     }
                     true
@@ -177,7 +178,12 @@ impl Paving {
     /// stays within `max_boxes`; every half is cut by each of `shapes`
     /// (dropped when one excludes it). Returns whether anything changed.
     /// O(new boxes · shapes · d).
-    pub fn refine(&mut self, shapes: &[&Shape], resolution: f64, max_boxes: usize) -> bool {
+    pub fn refine<S: DetectionShape>(
+        &mut self,
+        shapes: &[&S],
+        resolution: f64,
+        max_boxes: usize,
+    ) -> bool {
         let changed = self.split(shapes, resolution, max_boxes);
         if changed {
             self.rehull();
@@ -185,7 +191,12 @@ impl Paving {
         changed
     }
 
-    fn split(&mut self, shapes: &[&Shape], resolution: f64, max_boxes: usize) -> bool {
+    fn split<S: DetectionShape>(
+        &mut self,
+        shapes: &[&S],
+        resolution: f64,
+        max_boxes: usize,
+    ) -> bool {
         let mut changed = false;
         // Each pass splits at least one box; passes are capped so that an
         // unbounded box (whose halves stay unbounded) cannot loop forever.
@@ -233,7 +244,7 @@ impl Paving {
 
     /// Whether the shape may meet the paving (`false` proves it misses
     /// every box). O(m d).
-    pub fn meets_shape(&self, shape: &Shape) -> bool {
+    pub fn meets_shape<S: DetectionShape>(&self, shape: &S) -> bool {
         let h = &self.hull;
         if h.is_empty() || !shape.meets_box(h.axes()) {
             return false;
@@ -259,13 +270,13 @@ impl Paving {
 }
 
 /// Cuts `b` by every shape; `false` when one excludes it.
-fn cut_all(b: &mut IntervalBox, shapes: &[&Shape]) -> bool {
+fn cut_all<S: DetectionShape>(b: &mut IntervalBox, shapes: &[&S]) -> bool {
     let dim = b.dim();
     for s in shapes {
         match s.contract_piece(b.axes()) {
             None => return false,
             Some(piece) => {
-                let axes: [Interval; MAX_DIM] = piece.d;
+                let axes: [Interval; MAX_DIM] = S::position(&piece);
                 b.axes_mut().copy_from_slice(&axes[..dim]);
             }
         }
@@ -276,6 +287,7 @@ fn cut_all(b: &mut IntervalBox, shapes: &[&Shape]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shapes::shape::Shape;
 
     fn annulus(cx: f64, cy: f64, r0: f64, r1: f64) -> Shape {
         Shape::new(

@@ -42,6 +42,17 @@
 //! from another: emptiness is a proof of infeasibility, reported where it
 //! arises, never a proof of distinct landmarks.
 //!
+//! # The trait
+//!
+//! [`DetectionShape`] is what the rest of the shapes machinery (witnesses,
+//! regions, branch contraction) needs of a shape: its bounds, the branch
+//! "position in box B" ([`DetectionShape::contract_piece`]) with its
+//! position part, and a quick disjointness test. [`Shape`] implements it,
+//! and so does a TDOA pulse's hyperbolic shell
+//! ([`crate::tdoa::shell::PulseShell`]); [`disjoint_paved`],
+//! [`super::region::Paving`], [`super::branch`] and [`super::witnesses`] are
+//! generic over it (monomorphized: no cost for the SLAM path).
+//!
 //! # Complexity
 //!
 //! O(d) per test, O(budget · d) for [`disjoint_paved`].
@@ -89,6 +100,149 @@ pub struct Piece {
     pub p: [Interval; MAX_DIM],
     /// Contracted copy of the box ∩ C.
     pub d: [Interval; MAX_DIM],
+}
+
+/// A set known to hold one position (a landmark's, an emitter's), with
+/// the sound tests the shapes machinery runs on it (module doc).
+pub trait DetectionShape {
+    /// One branch "position in box B": the position and the shape's own
+    /// hidden variables (a robot position, an emission time), contracted.
+    type Piece: Copy;
+
+    /// Number of axes of the position.
+    fn dim(&self) -> usize;
+
+    /// Whether the shape is proved empty (then it proves no disjointness).
+    fn is_empty(&self) -> bool;
+
+    /// A box known to hold the shape (where pavings of it start).
+    fn bounds(&self) -> &IntervalBox;
+
+    /// The branch "position in `b`"; `None` is a proof that no point of
+    /// the shape lies in `b`. Every solution with its position in `b` lies
+    /// in the returned piece.
+    fn contract_piece(&self, b: &[Interval]) -> Option<Self::Piece>;
+
+    /// The position part of a piece (the first [`DetectionShape::dim`]
+    /// axes).
+    fn position(piece: &Self::Piece) -> [Interval; MAX_DIM];
+
+    /// The hull of two pieces (the branch contraction keeps the hull of
+    /// its survivors).
+    fn hull_pieces(a: &Self::Piece, b: &Self::Piece) -> Self::Piece;
+
+    /// A quick proof that the two shapes share no point (`false`: not
+    /// proved).
+    fn disjoint_quick(&self, other: &Self) -> bool;
+
+    /// Whether [`disjoint_paved`] may prove what
+    /// [`DetectionShape::disjoint_quick`] does not (worth its cost).
+    fn worth_paving(&self, other: &Self) -> bool;
+
+    /// A rank key, smaller is thinner (says more).
+    fn thickness(&self) -> f64;
+
+    /// Whether the shape may meet `b` (`false` is a proof that it does
+    /// not).
+    fn meets_box(&self, b: &[Interval]) -> bool {
+        self.contract_piece(b).is_some()
+    }
+}
+
+impl DetectionShape for Shape {
+    type Piece = Piece;
+
+    fn dim(&self) -> usize {
+        Shape::dim(self)
+    }
+
+    fn is_empty(&self) -> bool {
+        Shape::is_empty(self)
+    }
+
+    fn bounds(&self) -> &IntervalBox {
+        &self.cut
+    }
+
+    fn contract_piece(&self, b: &[Interval]) -> Option<Piece> {
+        Shape::contract_piece(self, b)
+    }
+
+    fn position(piece: &Piece) -> [Interval; MAX_DIM] {
+        piece.d
+    }
+
+    fn hull_pieces(a: &Piece, b: &Piece) -> Piece {
+        let mut out = *a;
+        for i in 0..MAX_DIM {
+            out.p[i] = a.p[i].hull(b.p[i]);
+            out.d[i] = a.d[i].hull(b.d[i]);
+        }
+        out
+    }
+
+    fn disjoint_quick(&self, other: &Shape) -> bool {
+        Shape::disjoint(self, other)
+    }
+
+    /// Only a bearing's cone is missed by the annulus tests.
+    fn worth_paving(&self, other: &Shape) -> bool {
+        self.bearing.is_some() || other.bearing.is_some()
+    }
+
+    fn thickness(&self) -> f64 {
+        Shape::thickness(self)
+    }
+
+    fn meets_box(&self, b: &[Interval]) -> bool {
+        Shape::meets_box(self, b)
+    }
+}
+
+/// A reference to a shape is that shape (so that `&&Shape` from an
+/// iterator over `&Shape`s works where a shape is asked for).
+impl<T: DetectionShape> DetectionShape for &T {
+    type Piece = T::Piece;
+
+    fn dim(&self) -> usize {
+        T::dim(self)
+    }
+
+    fn is_empty(&self) -> bool {
+        T::is_empty(self)
+    }
+
+    fn bounds(&self) -> &IntervalBox {
+        T::bounds(self)
+    }
+
+    fn contract_piece(&self, b: &[Interval]) -> Option<T::Piece> {
+        T::contract_piece(self, b)
+    }
+
+    fn position(piece: &T::Piece) -> [Interval; MAX_DIM] {
+        T::position(piece)
+    }
+
+    fn hull_pieces(a: &T::Piece, b: &T::Piece) -> T::Piece {
+        T::hull_pieces(a, b)
+    }
+
+    fn disjoint_quick(&self, other: &Self) -> bool {
+        T::disjoint_quick(self, other)
+    }
+
+    fn worth_paving(&self, other: &Self) -> bool {
+        T::worth_paving(self, other)
+    }
+
+    fn thickness(&self) -> f64 {
+        T::thickness(self)
+    }
+
+    fn meets_box(&self, b: &[Interval]) -> bool {
+        T::meets_box(self, b)
+    }
 }
 
 /// The interval of distances between a point of `p` and a point of `q`
@@ -207,27 +361,28 @@ impl Shape {
 }
 
 /// A proof that shapes `a` and `b` are disjoint by bisection: the common
-/// hull is split (widest axis at its midpoint) and every piece must be
+/// bounds are split (widest axis at its midpoint) and every piece must be
 /// excluded by `a` or `b`. Gives up (returns `false`) after `budget`
 /// pieces. Sound: a common point would lie in a piece neither shape
 /// excludes. O(budget · d).
-pub fn disjoint_paved(a: &Shape, b: &Shape, budget: usize) -> bool {
+pub fn disjoint_paved<S: DetectionShape>(a: &S, b: &S, budget: usize) -> bool {
     if a.is_empty() || b.is_empty() {
         // Not a proof of disjointness (see [`Shape::disjoint`]).
         return false;
     }
-    if a.disjoint(b) {
+    if a.disjoint_quick(b) {
         return true;
     }
-    let start = a.cut.intersect(&b.cut);
+    let start = a.bounds().intersect(b.bounds());
     if start.is_empty() {
         return true;
     }
+    let dim = a.dim();
     let mut stack = vec![start];
     let mut seen = 0usize;
     while let Some(x) = stack.pop() {
         let (pa, pb) = match (a.contract_piece(x.axes()), b.contract_piece(x.axes())) {
-            (Some(pa), Some(pb)) => (pa, pb),
+            (Some(pa), Some(pb)) => (S::position(&pa), S::position(&pb)),
             _ => continue,
         };
         seen += 1;
@@ -235,10 +390,9 @@ pub fn disjoint_paved(a: &Shape, b: &Shape, budget: usize) -> bool {
             return false;
         }
         // Both shapes meet x: continue on the part both contractions keep.
-        let dim = a.dim();
         let mut axes = [Interval::ZERO; MAX_DIM];
         for (i, x) in axes.iter_mut().enumerate().take(dim) {
-            *x = pa.d[i].intersect(pb.d[i]);
+            *x = pa[i].intersect(pb[i]);
             if x.is_empty() {
                 break;
             }

@@ -30,13 +30,14 @@
 //! O(m m') for two regions.
 
 use super::region::Paving;
-use super::shape::{disjoint_paved, Shape};
+use super::shape::{disjoint_paved, DetectionShape, Shape};
 
-/// A set holding one landmark.
-#[derive(Debug, Clone, Copy)]
-pub enum Item<'a> {
+/// A set holding one landmark (or emitter): a shape of any
+/// [`DetectionShape`] type ([`Shape`] by default) or a region.
+#[derive(Debug)]
+pub enum Item<'a, S: DetectionShape = Shape> {
     /// A detection's shape.
-    Shape(&'a Shape),
+    Shape(&'a S),
     /// A proved group's region.
     Region(&'a Paving),
 }
@@ -44,10 +45,19 @@ pub enum Item<'a> {
 /// Most items in the exact search's pool (one u64 bit set per item).
 pub const POOL: usize = 64;
 
-/// Pieces allowed to [`disjoint_paved`] when a shape has a bearing.
+/// Pieces allowed to [`disjoint_paved`] when a pair is worth paving (a
+/// shape with a bearing, a pulse's shell).
 const PAVED_BUDGET: usize = 32;
 
-impl Item<'_> {
+impl<S: DetectionShape> Clone for Item<'_, S> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<S: DetectionShape> Copy for Item<'_, S> {}
+
+impl<S: DetectionShape> Item<'_, S> {
     /// Whether the item holds no point (then it is no witness of
     /// anything).
     pub fn is_empty(&self) -> bool {
@@ -69,18 +79,16 @@ impl Item<'_> {
 
     /// A proof that the two items share no point (`false`: not proved).
     /// An empty item proves nothing (see [`Shape::disjoint`]).
-    pub fn disjoint(&self, other: &Item) -> bool {
+    pub fn disjoint(&self, other: &Item<S>) -> bool {
         if self.is_empty() || other.is_empty() {
             return false;
         }
         match (self, other) {
             (Item::Shape(a), Item::Shape(b)) => {
-                a.disjoint(b)
-                    || ((a.bearing.is_some() || b.bearing.is_some())
-                        && disjoint_paved(a, b, PAVED_BUDGET))
+                a.disjoint_quick(b) || (a.worth_paving(b) && disjoint_paved(*a, *b, PAVED_BUDGET))
             }
             (Item::Shape(s), Item::Region(r)) | (Item::Region(r), Item::Shape(s)) => {
-                !r.meets_shape(s)
+                !r.meets_shape(*s)
             }
             (Item::Region(a), Item::Region(b)) => !a.meets(b),
         }

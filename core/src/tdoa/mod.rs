@@ -6,8 +6,9 @@
 //! One contractor per file: [`arrival`] (the arrival constraint with the
 //! emission time as a variable), [`cuts`] (altitude and region), [`pulse`]
 //! (the per-pulse fixpoint and paving), [`readings`] (`max_outliers` over
-//! arrivals), [`solve`] (rounds with the operator's matching and
-//! atmost_nvector); [`problem`] is the validated input, [`result`] the
+//! arrivals), [`shell`] (a pulse's hyperbolic shells as a detection shape),
+//! [`solve`] (rounds with the operator's matching, atmost_nvector and the
+//! shells); [`problem`] is the validated input, [`result`] the
 //! output, [`simulate`] the radar scenario.
 
 pub mod arrival;
@@ -16,6 +17,8 @@ pub mod problem;
 pub mod pulse;
 pub mod readings;
 pub mod result;
+pub mod shell;
+pub mod shell_step;
 pub mod simulate;
 pub mod solve;
 

@@ -93,6 +93,23 @@ pub fn least_drops(
     None
 }
 
+/// The kept-arrival lists of pulse `k`'s drop sets of size `lo..=hi`, or
+/// `None` when the pulse keeps no arrival evidence (past
+/// [`MAX_READINGS`] drop sets, or when at most one arrival would be kept:
+/// then only its cuts hold, module doc).
+pub fn reading_sets(p: &TdoaProblem, k: usize, lo: usize, hi: usize) -> Option<Vec<Vec<usize>>> {
+    let m = p.pulses[k].arrivals.len();
+    if m.saturating_sub(hi) <= 1 {
+        return None;
+    }
+    let mut sets = Vec::new();
+    for s in lo..=hi.min(m) {
+        let mut more = kept_sets(m, s, MAX_READINGS - sets.len().min(MAX_READINGS))?;
+        sets.append(&mut more);
+    }
+    Some(sets)
+}
+
 /// The hull over the drop sets of pulse `k` of size in `lo..=hi` of the
 /// paving of `v` (`None`: every one proved empty).
 pub fn hull(
@@ -104,22 +121,11 @@ pub fn hull(
     budget: usize,
 ) -> Option<PulseVars> {
     let pulse = &p.pulses[k];
-    let m = pulse.arrivals.len();
-    let cut_only = || {
+    let Some(sets) = reading_sets(p, k, lo, hi) else {
         let mut c = v;
         let regions = [pulse.region.as_ref(), p.emitter_region.as_ref()];
-        cut(&mut c.x, pulse.altitude, &regions).then_some(c)
+        return cut(&mut c.x, pulse.altitude, &regions).then_some(c);
     };
-    if m.saturating_sub(hi) <= 1 {
-        return cut_only();
-    }
-    let mut sets = Vec::new();
-    for s in lo..=hi.min(m) {
-        match kept_sets(m, s, MAX_READINGS - sets.len().min(MAX_READINGS)) {
-            Some(mut more) => sets.append(&mut more),
-            None => return cut_only(),
-        }
-    }
     let mut acc: Option<PulseVars> = None;
     for kept in &sets {
         let ctx = PulseCtx {

@@ -32,6 +32,7 @@
 use super::arrival::PulseVars;
 use super::problem::TdoaProblem;
 use super::readings::{hull, least_drops};
+use super::shell_step::ShellStep;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::nvector::{atmost_nvector, Contractor, Status};
@@ -77,6 +78,8 @@ struct Run<'a> {
     p: &'a TdoaProblem,
     o: TdoaOptions,
     vars: Vec<PulseVars>,
+    /// Per pulse, the range of its arrivals a sub-problem may drop.
+    drops: Vec<(usize, usize)>,
     uf: Uf,
 }
 
@@ -108,6 +111,7 @@ impl Run<'_> {
         }
         for (j, &d) in least.iter().enumerate() {
             let hi = q - (spent - d);
+            self.drops[j] = (d, hi);
             self.vars[j] = hull(self.p, j, self.vars[j], d, hi, self.o.budget)
                 .ok_or_else(|| format!("pulses[{j}]: its arrivals cannot hold together"))?;
         }
@@ -157,6 +161,24 @@ impl Run<'_> {
         }
         Ok(())
     }
+
+    /// Step 4 (`best`, `shapes`): the pulses' hyperbolic shells as
+    /// detection shapes (regions, witnesses, branch contraction).
+    fn shells(&mut self) -> Result<(), String> {
+        let (Some(Contractor::Best | Contractor::Shapes), Some(n)) =
+            (self.o.mode, self.p.emitter_count)
+        else {
+            return Ok(());
+        };
+        ShellStep {
+            problem: self.p,
+            emitter_count: n,
+            vars: &mut self.vars,
+            drops: &self.drops,
+            uf: &mut self.uf,
+        }
+        .run()
+    }
 }
 
 /// Solves `p`: boxes of every pulse's emitter and emission time, the
@@ -184,6 +206,7 @@ pub fn solve_tdoa_with(
         p,
         o: *o,
         vars: vec![start; k],
+        drops: vec![(0, 0); k],
         uf: Uf::new(k),
     };
     // The first pulse of each operator id (a map: ids go up to
@@ -209,6 +232,8 @@ pub fn solve_tdoa_with(
             .readings()
             .and_then(|_| run.share())
             .and_then(|_| run.nvector())
+            .and_then(|_| run.share())
+            .and_then(|_| run.shells())
             .and_then(|_| run.share());
         if let Err(e) = step {
             infeasible = Some(e);
