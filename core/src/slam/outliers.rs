@@ -86,6 +86,7 @@ use super::mission::Mission;
 use super::model::{operator_groups, Model};
 pub use super::robust_regions::relaxed_intersection;
 use super::robust_regions::{regions, Regions};
+use super::robust_subsets::{consensus, Consensus};
 use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
@@ -699,6 +700,9 @@ pub fn solve_robust(
         return infeasible(model, reason, 0, 0);
     }
     let mut r = Robust::new(mission, q, options, model);
+    if let Err(reason) = r.consensus(cancel) {
+        return r.infeasible(reason);
+    }
     let proof = loop {
         if r.round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
             return r.stopped();
@@ -796,6 +800,42 @@ impl<'a> Robust<'a> {
             initial_max_trajectory_diameter: model.trajectory_diameters().0,
             model,
         }
+    }
+
+    /// Consensus over subsets ([`super::robust_subsets`], small q): the
+    /// detections proved false and the positions' hull, before the rounds.
+    /// `Err`: no reading exists.
+    fn consensus(&mut self, cancel: &AtomicBool) -> Result<(), String> {
+        let (proved_false, positions, contractions) =
+            match consensus(self.mission, self.q, self.options, cancel) {
+                Consensus::Skipped => return Ok(()),
+                Consensus::Infeasible(reason) => return Err(reason),
+                Consensus::Proved {
+                    proved_false,
+                    positions,
+                    contractions,
+                    ..
+                } => (proved_false, positions, contractions),
+            };
+        self.contractions += contractions;
+        for (j, &f) in proved_false.iter().enumerate() {
+            if f {
+                self.ev.proved_false[j] = true;
+                self.model.det[j].set_empty();
+            }
+        }
+        let dim = self.model.dim;
+        for (i, (p, h)) in self.model.pos.iter_mut().zip(&positions).enumerate() {
+            *p = p.intersect(*h);
+            if p.is_empty() {
+                return Err(format!(
+                    "the position of step {} is empty: no choice of at most {} false detections is consistent",
+                    i / dim,
+                    self.q
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn infeasible(self, reason: String) -> Solution {
