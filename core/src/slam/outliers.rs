@@ -700,15 +700,24 @@ pub fn solve_robust(
         return infeasible(model, reason, 0, 0);
     }
     let mut r = Robust::new(mission, q, options, model);
-    if let Err(reason) = r.consensus(cancel) {
-        return r.infeasible(reason);
-    }
+    // Consensus over subsets runs once, at the first fixpoint that proves
+    // nothing kept (it costs ordinary propagations; the cheap rules and
+    // their reasons come first).
+    let mut consensus_done = false;
     let proof = loop {
         if r.round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
             return r.stopped();
         }
         match r.round_step(progress) {
             Ok(None) => {}
+            Ok(Some(Ok(None))) if !consensus_done => {
+                consensus_done = true;
+                match r.consensus(cancel) {
+                    Err(reason) => return r.infeasible(reason),
+                    Ok(true) => {}
+                    Ok(false) => break Ok(None),
+                }
+            }
             Ok(Some(proof)) => break proof,
             Err(reason) => return r.infeasible(reason),
         }
@@ -803,12 +812,13 @@ impl<'a> Robust<'a> {
     }
 
     /// Consensus over subsets ([`super::robust_subsets`], small q): the
-    /// detections proved false and the positions' hull, before the rounds.
-    /// `Err`: no reading exists.
-    fn consensus(&mut self, cancel: &AtomicBool) -> Result<(), String> {
+    /// detections proved false and the positions cut to the hull. `Ok(true)`
+    /// when something new is proved (more rounds follow); `Err`: no reading
+    /// exists.
+    fn consensus(&mut self, cancel: &AtomicBool) -> Result<bool, String> {
         let (proved_false, positions, contractions) =
             match consensus(self.mission, self.q, self.options, cancel) {
-                Consensus::Skipped => return Ok(()),
+                Consensus::Skipped => return Ok(false),
                 Consensus::Infeasible(reason) => return Err(reason),
                 Consensus::Proved {
                     proved_false,
@@ -818,15 +828,19 @@ impl<'a> Robust<'a> {
                 } => (proved_false, positions, contractions),
             };
         self.contractions += contractions;
+        let mut changed = false;
         for (j, &f) in proved_false.iter().enumerate() {
-            if f {
+            if f && !self.ev.proved_false[j] {
+                changed = true;
                 self.ev.proved_false[j] = true;
                 self.model.det[j].set_empty();
             }
         }
         let dim = self.model.dim;
         for (i, (p, h)) in self.model.pos.iter_mut().zip(&positions).enumerate() {
-            *p = p.intersect(*h);
+            let cut = p.intersect(*h);
+            changed |= cut != *p;
+            *p = cut;
             if p.is_empty() {
                 return Err(format!(
                     "the position of step {} is empty: no choice of at most {} false detections is consistent",
@@ -835,7 +849,7 @@ impl<'a> Robust<'a> {
                 ));
             }
         }
-        Ok(())
+        Ok(changed)
     }
 
     fn infeasible(self, reason: String) -> Solution {
