@@ -104,6 +104,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("tdoa::result", 9, "the TDOA result format and score"),
     ("slam::kept", 10, "what the robust propagation keeps"),
     ("slam::outliers", 11, "the robust propagation"),
+    (
+        "slam::robust_subsets",
+        11,
+        "consensus over subsets under max_outliers",
+    ),
     ("slam::fixpoint", 12, "which propagation runs"),
     (
         "slam::diagnose",

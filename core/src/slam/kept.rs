@@ -266,7 +266,7 @@ pub fn sure_groups(groups: &[Vec<usize>], sure: &[bool]) -> Vec<Vec<usize>> {
 
 /// The mission with the detections outside `sure` stripped of every
 /// constraint (same indices), without false detections or truth.
-fn stripped(mission: &Mission, sure: &[bool]) -> Mission {
+pub fn stripped(mission: &Mission, sure: &[bool]) -> Mission {
     let detections = mission
         .detections
         .iter()

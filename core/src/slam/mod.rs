@@ -24,6 +24,7 @@ pub mod model;
 pub mod outliers;
 pub mod result;
 pub mod robust_regions;
+pub mod robust_subsets;
 pub mod rounds;
 pub mod simulate;
 #[cfg(feature = "openapi")]

@@ -86,6 +86,7 @@ use super::mission::Mission;
 use super::model::{operator_groups, Model};
 pub use super::robust_regions::relaxed_intersection;
 use super::robust_regions::{regions, Regions};
+use super::robust_subsets::{consensus, Consensus};
 use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
@@ -703,7 +704,7 @@ pub fn solve_robust(
         if r.round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
             return r.stopped();
         }
-        match r.round_step(progress) {
+        match r.round_step(progress, cancel) {
             Ok(None) => {}
             Ok(Some(proof)) => break proof,
             Err(reason) => return r.infeasible(reason),
@@ -768,6 +769,8 @@ struct Robust<'a> {
     work: WorkEstimate,
     fraction: f64,
     initial_max_trajectory_diameter: f64,
+    /// Consensus over subsets has run (it runs at most once).
+    consensus_done: bool,
 }
 
 impl<'a> Robust<'a> {
@@ -794,8 +797,50 @@ impl<'a> Robust<'a> {
             work: WorkEstimate::new(k),
             fraction: 0.0,
             initial_max_trajectory_diameter: model.trajectory_diameters().0,
+            consensus_done: false,
             model,
         }
+    }
+
+    /// Consensus over subsets ([`super::robust_subsets`], small q): the
+    /// detections proved false and the positions cut to the hull. Returns
+    /// how many detections and positions it changed (more rounds follow
+    /// when any); `Err`: no reading exists.
+    fn consensus(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
+        let (proved_false, positions, contractions) =
+            match consensus(self.mission, self.q, self.options, cancel) {
+                Consensus::Skipped => return Ok(0),
+                Consensus::Infeasible(reason) => return Err(reason),
+                Consensus::Proved {
+                    proved_false,
+                    positions,
+                    contractions,
+                    ..
+                } => (proved_false, positions, contractions),
+            };
+        self.contractions += contractions;
+        let mut changed = 0;
+        for (j, &f) in proved_false.iter().enumerate() {
+            if f && !self.ev.proved_false[j] {
+                changed += 1;
+                self.ev.proved_false[j] = true;
+                self.model.det[j].set_empty();
+            }
+        }
+        let dim = self.model.dim;
+        for (i, (p, h)) in self.model.pos.iter_mut().zip(&positions).enumerate() {
+            let cut = p.intersect(*h);
+            changed += usize::from(cut != *p);
+            *p = cut;
+            if p.is_empty() {
+                return Err(format!(
+                    "the position of step {} is empty: no choice of at most {} false detections is consistent",
+                    i / dim,
+                    self.q
+                ));
+            }
+        }
+        Ok(changed)
     }
 
     fn infeasible(self, reason: String) -> Solution {
@@ -809,13 +854,7 @@ impl<'a> Robust<'a> {
     /// Stopped (`max_rounds` or cancelled): the boxes are sound, and so is
     /// what they prove.
     fn stopped(self) -> Solution {
-        match kept(
-            &self.model.det,
-            &self.ev.proved_false,
-            &self.groups,
-            self.q,
-            self.mission.landmark_count,
-        ) {
+        match self.kept_now() {
             Err(reason) => self.infeasible(reason),
             Ok(proof) => {
                 let matching = proof
@@ -826,12 +865,25 @@ impl<'a> Robust<'a> {
         }
     }
 
+    /// What the current boxes prove of the detections kept in every
+    /// reading ([`kept`]).
+    fn kept_now(&self) -> Result<Option<Kept>, String> {
+        kept(
+            &self.model.det,
+            &self.ev.proved_false,
+            &self.groups,
+            self.q,
+            self.mission.landmark_count,
+        )
+    }
+
     /// One robust round: the evidence gathered, a relaxed pass each way,
     /// the progress told. Ok(Some): the fixpoint, with what the boxes prove
     /// of the detections kept in every reading; Err: infeasible.
     fn round_step(
         &mut self,
         progress: &mut dyn FnMut(&Progress),
+        cancel: &AtomicBool,
     ) -> Result<Option<Result<Option<Kept>, String>>, String> {
         let k = self.mission.detections.len();
         let tol = self.options.tolerance.max(0.0);
@@ -867,20 +919,23 @@ impl<'a> Robust<'a> {
         } else {
             moving = 0;
         }
-        let (max_d, _) = self.model.trajectory_diameters();
-        self.fraction = self.fraction.max(self.work.end_round(moving));
         // At the fixpoint: what the boxes prove of the detections kept in
         // every reading, and whether the refinement on them follows (then
         // this is not the end of the work yet).
-        let proof = (moved <= tol).then(|| {
-            kept(
-                &self.model.det,
-                &self.ev.proved_false,
-                &self.groups,
-                self.q,
-                self.mission.landmark_count,
-            )
-        });
+        let mut proof = (moved <= tol).then(|| self.kept_now());
+        // Consensus over subsets runs once, at the first fixpoint that
+        // proves nothing kept (it costs ordinary propagations; the cheap
+        // rules and their reasons come first); what it changes is this
+        // round's move.
+        if matches!(proof, Some(Ok(None))) && !self.consensus_done {
+            self.consensus_done = true;
+            let changed = self.consensus(cancel)?;
+            if changed > 0 {
+                (moving, proof) = (changed, None);
+            }
+        }
+        let (max_d, _) = self.model.trajectory_diameters();
+        self.fraction = self.fraction.max(self.work.end_round(moving));
         let refines = matches!(proof, Some(Ok(Some(_)))) && self.round < self.options.max_rounds;
         progress(&Progress {
             round: self.round,

@@ -1,0 +1,272 @@
+//! Consensus over subsets: detections proved false, and the trajectory
+//! enclosed, by solving the ordinary (q = 0) propagation on subsets of the
+//! detections of which every reading keeps at least one whole
+//! (`max_outliers` = q > 0, small q; docs/outliers.md, "Consensus over
+//! subsets").
+//!
+//! # Constraint
+//!
+//! A *reading* drops at most q detections (docs/formats.md). A detection
+//! is *proved false* when no reading keeps it; every box must enclose
+//! every solution of every reading.
+//!
+//! # Math
+//!
+//! 1. *Relaxation.* For a set S of detections, the mission `stripped(S)`
+//!    whose detections outside S lose every constraint (range [0, +inf],
+//!    no bearing, region, label or scan; [`super::kept::stripped`]), with
+//!    q = 0, is a relaxation of every reading that keeps all of S: a
+//!    solution of such a reading is one of it (a stripped detection takes
+//!    the landmark of any kept one). So the ordinary propagator, with the
+//!    requested association, encloses every solution of every reading
+//!    keeping S, and when it proves `stripped(S)` infeasible, no reading
+//!    keeps all of S.
+//! 2. *A family that every reading keeps one of.* The detections are dealt
+//!    in time order into b blocks; the family is the C(b, q) sets S(E) =
+//!    every detection outside the blocks E, for every set E of q blocks. A
+//!    reading drops at most q detections, which lie in at most q blocks E:
+//!    it keeps S(E) whole. Hence every solution of every reading is a
+//!    solution of some feasible `stripped(S(E))` (step 1): the positions
+//!    lie in the hull of the feasible sets' position boxes, and when no
+//!    set is feasible, the mission has no reading at all.
+//! 3. *Proved false.* A detection j kept by a reading lies, with the whole
+//!    of some feasible S(E), in that reading; if j is in S(E), the solve
+//!    of step 1 already holds j. So j can only be proved false when every
+//!    feasible set leaves its block out; then j is proved false when, for
+//!    every feasible S(E), `stripped(S(E) ∪ {j})` is proved infeasible
+//!    (step 1: no reading keeps S(E) and j).
+//!
+//! The robust rounds ([`super::outliers`]) take the proved false
+//! detections (each lowers the budget of the others) and the positions;
+//! when the proved false detections account for q, every other detection
+//! is kept in every reading ([`super::kept`]) and the ordinary
+//! propagation on them gives the matching.
+//!
+//! b is the largest block count with C(b, q) <= [`MAX_SETS`] and b <= k;
+//! the rule runs only when the sets keep at least half of the detections
+//! ((b - q) / b >= 1/2: q <= 3 in practice); otherwise each set holds too
+//! few detections to prove anything and nothing is done.
+//!
+//! # Soundness
+//!
+//! Steps 1-3 follow from the semantics of `max_outliers` and from the
+//! soundness of the ordinary propagator (an infeasible verdict is a proof,
+//! a stopped one is treated as feasible); hulls of boxes are exact.
+//! Tested by planting up to q false detections of every kind
+//! (`core/tests/robust_subsets.rs`): no true detection is ever proved
+//! false, no true position is lost.
+//!
+//! # Complexity
+//!
+//! At most [`MAX_SETS`] + [`MAX_TESTS`] ordinary propagations of the
+//! mission (each costs what a run with q = 0 costs), O(C(b, q) · N · d)
+//! memory for nothing more than one hull at a time: O(N · d + k).
+
+use super::kept::stripped;
+use super::mission::Mission;
+use super::rounds::rounds;
+use super::types::{Progress, SolveOptions, SolveStatus};
+use crate::interval::Interval;
+use std::sync::atomic::AtomicBool;
+
+/// Most sets S(E) of the family (ordinary propagations of step 2).
+pub const MAX_SETS: u64 = 32;
+
+/// Most propagations of step 3 (detections tested against feasible sets).
+pub const MAX_TESTS: usize = 96;
+
+/// What [`consensus`] proves.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Consensus {
+    /// q too large for the family (or nothing to do): nothing is claimed.
+    Skipped,
+    /// No set of the family is feasible: no reading exists (the reason).
+    Infeasible(String),
+    /// The proof: per detection, proved false; the hull of the feasible
+    /// sets' position boxes ((N + 1) · d intervals); the propagations run
+    /// and their contractions.
+    Proved {
+        /// Per detection: no reading keeps it.
+        proved_false: Vec<bool>,
+        /// Encloses every position of every reading.
+        positions: Vec<Interval>,
+        /// Ordinary propagations run.
+        solves: usize,
+        /// Their contractions.
+        contractions: u64,
+    },
+}
+
+/// C(b, q), saturating above `MAX_SETS` (exact below it).
+fn binomial_capped(b: u64, q: u64) -> u64 {
+    let q = q.min(b - q.min(b));
+    let mut c: u64 = 1;
+    for i in 0..q {
+        // c · (b - i) / (i + 1) is exact (a binomial coefficient).
+        c = c.saturating_mul(b - i) / (i + 1);
+        if c > MAX_SETS {
+            return MAX_SETS + 1;
+        }
+    }
+    c
+}
+
+/// The block count b of the module doc, or `None` when the rule does not
+/// apply (q = 0, or the sets would keep less than half the detections).
+pub fn block_count(q: usize, k: usize) -> Option<usize> {
+    if q == 0 || k <= q {
+        return None;
+    }
+    // b grows from q + 1 while C(b, q) stays within the cap (C grows with
+    // b; for q = 1 the cap bounds b by MAX_SETS).
+    let mut b = q + 1;
+    while b < k && binomial_capped(b as u64 + 1, q as u64) <= MAX_SETS {
+        b += 1;
+    }
+    (binomial_capped(b as u64, q as u64) <= MAX_SETS && 2 * (b - q) >= b).then_some(b)
+}
+
+/// The next q-subset of 0..b in lexicographic order (`None` after the last).
+fn next_combination(c: &mut [usize], b: usize) -> Option<()> {
+    let q = c.len();
+    let i = (0..q).rev().find(|&i| c[i] < b - q + i)?;
+    c[i] += 1;
+    for t in i + 1..q {
+        c[t] = c[t - 1] + 1;
+    }
+    Some(())
+}
+
+/// The ordinary propagation of `stripped(keep)`.
+fn solve_kept(
+    mission: &Mission,
+    keep: &[bool],
+    options: &SolveOptions,
+    cancel: &AtomicBool,
+) -> (SolveStatus, Vec<Interval>, u64) {
+    let sub = stripped(mission, keep);
+    let s = rounds(&sub, options, &mut |_: &Progress| {}, cancel);
+    (s.status, s.model.pos, s.contractions)
+}
+
+/// Consensus over subsets (module doc) for a mission with `max_outliers`
+/// = q (at most k). `Skipped` when the rule does not apply.
+pub fn consensus(
+    mission: &Mission,
+    q: usize,
+    options: &SolveOptions,
+    cancel: &AtomicBool,
+) -> Consensus {
+    let k = mission.detections.len();
+    let Some(b) = block_count(q, k) else {
+        return Consensus::Skipped;
+    };
+    // Blocks dealt in time order (ties by index).
+    let mut order: Vec<usize> = (0..k).collect();
+    let dets = &mission.detections;
+    crate::sort::sort_indices_by(&mut order, |x, y| dets[x].step.cmp(&dets[y].step));
+    let mut block = vec![0usize; k];
+    for (rank, &j) in order.iter().enumerate() {
+        block[j] = rank % b;
+    }
+    let mut excluded: Vec<usize> = (0..q).collect();
+    let mut feasible: Vec<Vec<bool>> = Vec::new();
+    let mut positions: Option<Vec<Interval>> = None;
+    let (mut solves, mut contractions) = (0usize, 0u64);
+    loop {
+        let keep: Vec<bool> = block.iter().map(|bl| !excluded.contains(bl)).collect();
+        let (status, pos, c) = solve_kept(mission, &keep, options, cancel);
+        solves += 1;
+        contractions += c;
+        if !matches!(status, SolveStatus::Infeasible(_)) {
+            positions = Some(match positions {
+                None => pos,
+                Some(h) => h.iter().zip(&pos).map(|(a, p)| a.hull(*p)).collect(),
+            });
+            feasible.push(keep);
+        }
+        if next_combination(&mut excluded, b).is_none() {
+            break;
+        }
+    }
+    let Some(positions) = positions else {
+        return Consensus::Infeasible(format!(
+            "the detections dealt into {b} blocks in time order: the mission without any {q} of the blocks is infeasible, so no choice of at most {q} false detections is consistent"
+        ));
+    };
+    let proved_false = prove_false(
+        mission,
+        &feasible,
+        options,
+        cancel,
+        &mut solves,
+        &mut contractions,
+    );
+    Consensus::Proved {
+        proved_false,
+        positions,
+        solves,
+        contractions,
+    }
+}
+
+/// Step 3 of the module doc: the detections left out of every feasible
+/// set, each proved false when adding it to every feasible set is
+/// infeasible (at most [`MAX_TESTS`] propagations).
+fn prove_false(
+    mission: &Mission,
+    feasible: &[Vec<bool>],
+    options: &SolveOptions,
+    cancel: &AtomicBool,
+    solves: &mut usize,
+    contractions: &mut u64,
+) -> Vec<bool> {
+    let k = mission.detections.len();
+    let mut proved_false = vec![false; k];
+    let mut tests = 0usize;
+    for j in (0..k).filter(|&j| feasible.iter().all(|s| !s[j])) {
+        let mut refuted = true;
+        for set in feasible {
+            if tests == MAX_TESTS {
+                return proved_false;
+            }
+            tests += 1;
+            let mut keep = set.clone();
+            keep[j] = true;
+            let (status, _, c) = solve_kept(mission, &keep, options, cancel);
+            *solves += 1;
+            *contractions += c;
+            if !matches!(status, SolveStatus::Infeasible(_)) {
+                refuted = false;
+                break;
+            }
+        }
+        proved_false[j] = refuted;
+    }
+    proved_false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn block_counts_and_combinations() {
+        assert_eq!(block_count(0, 50), None);
+        assert_eq!(block_count(1, 50), Some(32));
+        assert_eq!(block_count(1, 5), Some(5));
+        assert_eq!(block_count(2, 50), Some(8));
+        assert_eq!(block_count(3, 50), Some(6));
+        assert_eq!(block_count(4, 50), None);
+        assert_eq!(block_count(3, 3), None);
+        assert_eq!(block_count(usize::MAX / 2, usize::MAX), None);
+        // Every q-subset of 0..b once, in order.
+        let mut c = vec![0, 1];
+        let mut seen = vec![c.clone()];
+        while next_combination(&mut c, 5).is_some() {
+            seen.push(c.clone());
+        }
+        assert_eq!(seen.len(), 10);
+        assert!(seen.windows(2).all(|w| w[0] < w[1]));
+    }
+}
