@@ -61,7 +61,7 @@ impl Default for TrackOptions {
     fn default() -> Self {
         TrackOptions {
             window: 50,
-            max_steps: 8,
+            max_steps: 25,
         }
     }
 }
