@@ -88,8 +88,8 @@ impl Default for TrackOptions {
         TrackOptions {
             window: 50,
             max_steps: 25,
-            bridge_window: 100,
-            bridge_steps: 40,
+            bridge_window: 300,
+            bridge_steps: 150,
         }
     }
 }
