@@ -45,10 +45,16 @@ fn bridges_only_join_detections_of_one_landmark() {
         };
         track_unions(&mission, chain, &mut alone, no_bridges);
         let without = groups(&mut alone);
-        assert!(with <= without, "seed {seed}: {with} groups with bridges, {without} without");
+        assert!(
+            with <= without,
+            "seed {seed}: {with} groups with bridges, {without} without"
+        );
         if with < without {
             fewer += 1;
         }
     }
-    assert!(fewer >= 6, "the bridges joined tracks on only {fewer} of 12 worlds");
+    assert!(
+        fewer >= 6,
+        "the bridges joined tracks on only {fewer} of 12 worlds"
+    );
 }
