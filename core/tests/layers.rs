@@ -98,6 +98,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         8,
         "tracks from the relative evidence",
     ),
+    (
+        "slam::association::sequential",
+        8,
+        "the minimum separation inside the passes",
+    ),
     ("tdoa::shell_step", 8, "the shapes step of the TDOA rounds"),
     ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),
     ("slam::rounds", 9, "the physics-guided rounds"),

@@ -62,6 +62,7 @@
 //! trajectory and landmarks stay inside.
 
 use super::association::separation::separation_unions;
+use super::association::sequential::SeparationGrid;
 use super::association::tracks::{track_unions, TrackOptions};
 use super::association::{Chain, Domains, ShapesState};
 use super::mission::Mission;
@@ -130,6 +131,9 @@ struct Propagation<'a> {
     /// p ([`Mission::seen_from_position`]), which the shapes reasoning reads
     /// (it knows no offset).
     shapes_mission: Option<Mission>,
+    /// The minimum separation inside the passes ([`SeparationGrid`]),
+    /// rebuilt at the start of each pass; None when the rule is off.
+    grid: Option<SeparationGrid>,
 }
 
 impl<'a> Propagation<'a> {
@@ -199,6 +203,7 @@ impl<'a> Propagation<'a> {
                 .sensor_offset
                 .is_some_and(|o| o != [0.0, 0.0])
                 .then(|| mission.seen_from_position()),
+            grid: None,
         }
     }
 
@@ -268,6 +273,7 @@ impl<'a> Propagation<'a> {
             Direction::Backward => (1, 0),
         };
         let stride = count.div_ceil(32).max(1);
+        self.grid = self.sequential_separation();
         // Where a change still propagates from, and the detection that
         // started it (named if the chain empties).
         let mut alive: Option<(usize, usize)> = None;
@@ -429,11 +435,55 @@ impl<'a> Propagation<'a> {
     /// than the tolerance (both are swept along the chain).
     fn contract_offset_detections(&mut self, s: usize) -> Result<bool, Halt> {
         let moved = self.offset_detections_once(s)?;
-        if !self.pair_headings(s)? {
+        let merged = self.separate_in_pass(s)?;
+        if !self.pair_headings(s)? && !merged {
             return Ok(moved);
         }
         self.offset_detections_once(s)?;
+        if merged {
+            self.pair_headings(s)?;
+            self.offset_detections_once(s)?;
+        }
         Ok(true)
+    }
+
+    /// The grid of [`SeparationGrid`] for a pass: odometry2d with a
+    /// minimum separation, an association contractor and no false
+    /// detections (the rounds' own condition); else None.
+    fn sequential_separation(&self) -> Option<SeparationGrid> {
+        if self.model.odometry.is_none()
+            || self.options.association == Association::None
+            || self.mission.max_outliers > 0
+        {
+            return None;
+        }
+        SeparationGrid::new(
+            self.mission.detections.len(),
+            self.mission.landmark_min_separation,
+        )
+    }
+
+    /// The detections at the `s`-th distinct step compared with the
+    /// groups' boxes so far ([`SeparationGrid::merge`]); whether a union
+    /// was made (its detections count as moving).
+    fn separate_in_pass(&mut self, s: usize) -> Result<bool, Halt> {
+        let Some(grid) = self.grid.as_mut() else {
+            return Ok(false);
+        };
+        let mut merged = false;
+        for x in self.starts[s]..self.starts[s + 1] {
+            let j = self.order[x];
+            let unions = grid
+                .merge(&mut self.model.det, &mut self.matching, j)
+                .map_err(Halt::Infeasible)?;
+            self.contractions += 1;
+            for (a, b) in unions {
+                self.moving[a] = true;
+                self.moving[b] = true;
+                merged = true;
+            }
+        }
+        Ok(merged)
     }
 
     /// odometry2d: th(step) contracted by every pair of the step's

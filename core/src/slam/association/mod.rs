@@ -84,6 +84,7 @@ mod regions;
 mod registration;
 mod round;
 pub mod separation;
+pub mod sequential;
 mod state;
 pub mod tracks;
 mod witness_step;

@@ -45,7 +45,7 @@ pub const MAX_ACTIVE: usize = 256;
 
 /// An upper bound of the Euclidean diameter of `b` (infinity when
 /// unbounded; `b` not empty).
-fn diameter_above(b: &IntervalBox) -> f64 {
+pub(crate) fn diameter_above(b: &IntervalBox) -> f64 {
     let mut acc = Interval::ZERO;
     for x in b.axes() {
         if !x.is_bounded() {

@@ -22,6 +22,19 @@
 //! and the headings through the propagation (a group's landmark box is the
 //! intersection of its members' boxes; bearings contract the heading).
 //!
+//! **Bridges** (a track broken for longer than the odometry can bridge):
+//! when two groups A and B (proved, each one landmark) are both seen at
+//! steps i and j (detections a_i, a_j, b_i, b_j), the constellation fixes
+//! the relative pose without the odometry's heading: `l(A) - l(B)` is
+//! `m(a_i) - m(b_i)` in the frame of i and `R(H)(m(a_j) - m(b_j))` seen
+//! from j, so H lies in the pair heading of the two
+//! ([`contract_pair_heading`], with the frame-i points as the landmark
+//! boxes), and `P = (o + m(a_i)) - R(H)(o + m(a_j))` for each common group;
+//! both are intersected with the odometry's relative pose. The gap test
+//! above then runs between the detections of i and j with that pose. Each
+//! step is bridged to the next `bridge_steps` detection steps within
+//! `bridge_window` steps, after the track unions (which make the groups).
+//!
 //! Each step i is compared with the detection steps after it while they
 //! lie within `window` steps and the relative pose stays narrower than s
 //! (beyond that no pair can be proved), at most `max_steps` of them.
@@ -30,7 +43,13 @@
 //!
 //! The gap box holds the true `l(a) - l(b)` ([`gap`]), and its norm's upper
 //! bound is rounded up, so "below s" is proved, and with it `l(a) = l(b)`
-//! when both detections are real. A false detection sees no landmark, so
+//! when both detections are real. A bridge's pose holds the true relative
+//! pose: the true landmarks of A and B are in the body boxes (frame i) and
+//! the true (r, β) of a_j, b_j in their intervals, so the true H satisfies
+//! the pair equation and the true P each group's equation (A and B seeing
+//! one landmark, whatever it is, need not be distinct: equal landmarks give
+//! a box holding the origin, from which the pair heading learns nothing).
+//! A false detection sees no landmark, so
 //! with `max_outliers` > 0 the rule proves nothing and is not run (the
 //! caller returns no union; no q-relaxed form is attempted). Looking at
 //! fewer pairs only finds fewer unions. s <= 0, NaN, or a mission that is
@@ -40,10 +59,13 @@
 //!
 //! O(S · W) relative-pose steps (S detection steps, W the window in
 //! steps) and O(k · c · M) gap tests (c detections per step, M =
-//! `max_steps`); memory O(k).
+//! `max_steps`); the bridges O(S · W') pose steps and O(S · M' · c²) pair
+//! headings and gap tests (W' = `bridge_window`, M' = `bridge_steps`);
+//! memory O(k).
 
 use crate::interval::Interval;
 use crate::odometry::chain::OdometryChain;
+use crate::odometry::pair_heading::{contract_pair_heading, Seen};
 use crate::odometry::relative::{advance, body_point, gap, norm_above, RelativePose};
 use crate::slam::mission::Mission;
 use crate::union_find::Uf;
@@ -55,13 +77,19 @@ pub struct TrackOptions {
     pub window: usize,
     /// Most later detection steps each step is compared with.
     pub max_steps: usize,
+    /// Bridges: most steps between the two steps.
+    pub bridge_window: usize,
+    /// Bridges: most later detection steps each step is bridged to.
+    pub bridge_steps: usize,
 }
 
 impl Default for TrackOptions {
     fn default() -> Self {
         TrackOptions {
             window: 50,
-            max_steps: 8,
+            max_steps: 25,
+            bridge_window: 300,
+            bridge_steps: 150,
         }
     }
 }
@@ -130,7 +158,129 @@ pub fn track_unions(
             }
         }
     }
+    let ctx = Bridge {
+        chain,
+        dets,
+        order: &order,
+        runs: &runs,
+        body: &body,
+        o,
+        s,
+    };
+    ctx.bridge_unions(uf, options, &mut unions);
     unions
+}
+
+/// What [`Bridge::bridge_unions`] reads: the detections in step order, their
+/// runs of one step and their body points.
+struct Bridge<'a> {
+    chain: &'a OdometryChain,
+    dets: &'a [crate::slam::mission::Detection],
+    order: &'a [usize],
+    runs: &'a [(usize, usize)],
+    body: &'a [[Interval; 2]],
+    o: [f64; 2],
+    s: f64,
+}
+
+impl Bridge<'_> {
+    /// The detections of run `r` with a bearing, by their group's root.
+    fn roots(&self, uf: &mut Uf, r: usize) -> Vec<(usize, usize)> {
+        let (from, to) = (self.runs[r].1, self.runs[r + 1].1);
+        self.order[from..to]
+            .iter()
+            .filter(|&&j| self.dets[j].bearing.is_some())
+            .map(|&j| (uf.find(j), j))
+            .collect()
+    }
+
+    /// The pose of run `r2`'s step in the body frame of run `r`'s from two
+    /// groups seen at both (module doc, "Bridges"), intersected with
+    /// `odo`, the odometry's; None when fewer than two groups are common
+    /// or the pose is proved empty.
+    fn pose_from_groups(
+        &self,
+        uf: &mut Uf,
+        r: usize,
+        r2: usize,
+        odo: &RelativePose,
+    ) -> Option<RelativePose> {
+        let at_i = self.roots(uf, r);
+        let at_j = self.roots(uf, r2);
+        let common: Vec<(usize, usize)> = at_i
+            .iter()
+            .filter_map(|&(ra, a)| at_j.iter().find(|x| x.0 == ra).map(|x| (a, x.1)))
+            .collect();
+        if common.len() < 2 {
+            return None;
+        }
+        let seen = |a: usize, b: usize| Seen {
+            landmark: self.body[a],
+            range: self.dets[b].range,
+            bearing: self.dets[b].bearing,
+        };
+        let mut h = odo.h;
+        for (x, &(ai, aj)) in common.iter().enumerate() {
+            for &(bi, bj) in &common[x + 1..] {
+                h = contract_pair_heading(h, &seen(ai, aj), &seen(bi, bj));
+            }
+        }
+        if h.is_empty() {
+            return None;
+        }
+        let mut p = odo.p;
+        for &(ai, aj) in &common {
+            let d = &self.dets[aj];
+            let b = body_point(d.range, d.bearing, self.o, h);
+            p[0] = p[0].intersect(self.body[ai][0] - b[0]);
+            p[1] = p[1].intersect(self.body[ai][1] - b[1]);
+        }
+        (!p[0].is_empty() && !p[1].is_empty()).then_some(RelativePose { p, h })
+    }
+
+    /// Bridges (module doc): for each detection step i and the next
+    /// `bridge_steps` detection steps j within `bridge_window` steps, the
+    /// relative pose from two groups seen at both steps; detections of i
+    /// and j whose gap's norm is below s are one landmark.
+    fn bridge_unions(&self, uf: &mut Uf, options: TrackOptions, unions: &mut Vec<(usize, usize)>) {
+        let n = self.chain.steps();
+        let k = self.order.len();
+        for r in 0..self.runs.len() - 1 {
+            let i = self.runs[r].0;
+            let mut odo = RelativePose::ORIGIN;
+            let mut at = i;
+            for r2 in r + 1..(r + 1 + options.bridge_steps).min(self.runs.len() - 1) {
+                let j = self.runs[r2].0;
+                if j > n || j - i > options.bridge_window {
+                    break;
+                }
+                while at < j {
+                    odo = advance(self.chain, &odo, at);
+                    at += 1;
+                }
+                let Some(pose) = self.pose_from_groups(uf, r, r2, &odo) else {
+                    continue;
+                };
+                if pose.position_width() >= 2.0 * self.s {
+                    continue;
+                }
+                let (from, to) = (self.runs[r2].1, self.runs[r2 + 1].1.min(k));
+                for &b in &self.order[from..to] {
+                    let d = &self.dets[b];
+                    for &a in &self.order[self.runs[r].1..self.runs[r + 1].1] {
+                        if uf.find(a) == uf.find(b) {
+                            continue;
+                        }
+                        let v = gap(&self.body[a], &pose, d.range, d.bearing, self.o);
+                        if norm_above(&v) < self.s {
+                            uf.union(a, b);
+                            unions.push((a, b));
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
