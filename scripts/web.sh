@@ -77,12 +77,14 @@ WASM_BROTLI_BUDGET=82300
 # The figures module (outlines, region boundaries): the SLAM demo and the
 # missions tab.
 FIGURES_BROTLI_BUDGET=18500
-# The SLAM module (the solver and the simulators): the SLAM demo.
-SLAM_BROTLI_BUDGET=180700
+# The SLAM module (the solver and the simulators): the SLAM demo. 177,115
+# bytes when it was made, 182,724 once the woods track bridges and the
+# consensus over subsets were in it.
+SLAM_BROTLI_BUDGET=186400
 # The radar module (web-radar, loaded by the radar demo only): core's TDOA
 # solver, its format reader and atmost_nvector: 114,733 bytes when it was
-# made.
-RADAR_BROTLI_BUDGET=120000
+# made, 119,703 with the pulses' hyperbolic shells.
+RADAR_BROTLI_BUDGET=122100
 
 # One module against its budget.
 within() {
