@@ -43,7 +43,7 @@ fn null() -> ObjectBuilder {
 }
 
 /// `schema` or `null`, described.
-fn nullable(schema: impl Into<RefOr<Schema>>, description: &str) -> RefOr<Schema> {
+pub(crate) fn nullable(schema: impl Into<RefOr<Schema>>, description: &str) -> RefOr<Schema> {
     OneOfBuilder::new()
         .item(null())
         .item(schema)

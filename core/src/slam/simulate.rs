@@ -876,27 +876,32 @@ impl SimulateRequest {
         o.false_detections =
             self.false_detections
                 .map_or(Ok(0), |k| k.at_most(max_false, "false_detections"))? as usize;
-        // Options of other scenarios pass only at their defaults.
+        // Options of other scenarios pass only at their defaults: (field,
+        // set away from its default, this scenario takes it, who does).
+        let (paper, not_woods) = (scenario == Scenario::Paper, scenario != Scenario::Woods);
         let only = [
-            ("layout", o.layout != Layout::Line, "the paper scenario"),
-            ("range_only", o.range_only, "the paper scenario"),
+            (
+                "layout",
+                o.layout != Layout::Line,
+                paper,
+                "the paper scenario",
+            ),
+            ("range_only", o.range_only, paper, "the paper scenario"),
             (
                 "false_detections",
                 o.false_detections > 0,
+                paper,
                 "the paper scenario",
             ),
-            ("noise", o.noise != 1.0, "the paper and auv scenarios"),
+            (
+                "noise",
+                o.noise != 1.0,
+                not_woods,
+                "the paper and auv scenarios",
+            ),
         ];
-        let foreign = |(field, set, owner): &(&str, bool, &str)| {
-            let theirs = match scenario {
-                Scenario::Paper => true,
-                Scenario::Auv => field == &"noise",
-                Scenario::Woods => false,
-            };
-            (*set && !theirs).then(|| bad(field, format!("{field} applies to {owner} only")))
-        };
-        if let Some(e) = only.iter().find_map(foreign) {
-            return Err(e);
+        if let Some((field, _, _, owner)) = only.iter().find(|(_, set, takes, _)| *set && !takes) {
+            return Err(bad(field, format!("{field} applies to {owner} only")));
         }
         Ok(o)
     }

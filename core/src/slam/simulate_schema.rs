@@ -14,6 +14,7 @@
 
 use super::mission::{MAX_LANDMARKS, MAX_STEPS};
 use super::simulate::{SimulateRequest, MAX_FALSE_DETECTIONS};
+use crate::format::openapi::nullable;
 use utoipa::openapi::schema::{AdditionalProperties, ObjectBuilder, OneOfBuilder, Schema, Type};
 use utoipa::openapi::RefOr;
 use utoipa::{PartialSchema, ToSchema};
@@ -41,14 +42,6 @@ fn one_of<T: Into<serde_json::Value>>(
             .enum_values(Some(values.into_iter().map(Into::into))),
         description,
     )
-}
-
-fn nullable(schema: ObjectBuilder, description: &str) -> RefOr<Schema> {
-    OneOfBuilder::new()
-        .item(ObjectBuilder::new().schema_type(Type::Null))
-        .item(schema)
-        .description(Some(description))
-        .into()
 }
 
 /// What a scenario accepts of the options that are not its own.
