@@ -2,6 +2,7 @@
 //! "Command-line contract"). Exit status: 0 success, 1 bad input, 2 usage.
 
 mod cli;
+mod render;
 mod service;
 
 use clap::{Parser, Subcommand};

@@ -5,7 +5,7 @@
 //! propagation on a 10^6-step mission against a 10^5-step one, and `best`
 //! on that mission against `none`.
 
-use super::bench::{median_ms, paired_ms, Bench};
+use super::measure::{median_ms, paired_ms, Bench};
 use nvector_core::contractors::motion_chain::{sweep_backward, sweep_forward, Sweep};
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;

@@ -26,7 +26,7 @@
 //! - `landmark_min_separation`: the smallest true distance between two
 //!   tubes less a margin; `scan`: detections at the same time.
 
-use crate::cli::import::{read_csv, Csv};
+use crate::cli::csv::{read_csv, Csv};
 use crate::CliError;
 use serde_json::{json, Value};
 use std::f64::consts::PI;

@@ -137,7 +137,7 @@ fn extent(p: &TdoaProblem, s: &TdoaSolution) -> [f64; 4] {
 
 /// Draws the x-y plane: receivers, pulse boxes, emitter boxes, truth.
 fn plot(p: &TdoaProblem, s: &TdoaSolution, path: &Path) -> Result<(), CliError> {
-    crate::cli::plot::font_ready()?;
+    crate::render::font_ready()?;
     let err = |e: String| CliError(format!("drawing {}: {e}", path.display()));
     let root = SVGBackend::new(path, (900, 800)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(e.to_string()))?;

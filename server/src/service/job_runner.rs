@@ -20,7 +20,7 @@
 //! prints `memory allocation of N bytes failed` and aborts, and the service
 //! reads that on the worker's standard error as `memory_limit`.
 
-use super::jobs::JobErrorCode;
+use super::store::JobErrorCode;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::result::write_result;
 use nvector_core::slam::solve::solve_model;

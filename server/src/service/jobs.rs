@@ -7,7 +7,7 @@ use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError, Body, RequestBody};
 use super::job_runner::JobKind;
 use super::state::{AppState, Owner};
-use super::store::{JobRow, JobState, QueuePolicy, Queued};
+use super::store::{JobErrorCode, JobRow, JobState, QueuePolicy, Queued};
 use super::worker::now_ms;
 use axum::extract::{Path, Query, State};
 use axum::http::{header, StatusCode};
@@ -242,57 +242,6 @@ pub struct Job {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(nullable = false, minimum = 1)]
     pub worker_crashes: Option<i64>,
-}
-
-/// Why a job failed or was cut short, as a word: the workers store
-/// [`JobErrorCode::as_str`], and a job's `error_code` is read back into it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum JobErrorCode {
-    /// The time limit stopped it: `done` with the partial, sound result, or
-    /// `failed` when it did not stop within the grace period.
-    TimeLimit,
-    /// It needs more memory than the service's limit per job (the message
-    /// names the limit); not retried.
-    MemoryLimit,
-    /// Its worker process died (abort, signal) as many times as the
-    /// service's `--job-attempts`.
-    WorkerCrashed,
-    /// The stored mission could not be read.
-    InvalidMission,
-    /// The mission was deleted before the job ran.
-    MissionDeleted,
-    /// The service's own failure (storage, a bug).
-    Internal,
-}
-
-impl JobErrorCode {
-    /// Every code.
-    pub const ALL: [JobErrorCode; 6] = [
-        JobErrorCode::TimeLimit,
-        JobErrorCode::MemoryLimit,
-        JobErrorCode::WorkerCrashed,
-        JobErrorCode::InvalidMission,
-        JobErrorCode::MissionDeleted,
-        JobErrorCode::Internal,
-    ];
-
-    /// The stored word.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            JobErrorCode::TimeLimit => "time_limit",
-            JobErrorCode::MemoryLimit => "memory_limit",
-            JobErrorCode::WorkerCrashed => "worker_crashed",
-            JobErrorCode::InvalidMission => "invalid_mission",
-            JobErrorCode::MissionDeleted => "mission_deleted",
-            JobErrorCode::Internal => "internal",
-        }
-    }
-
-    /// The code of a stored word (`None` for a word no version wrote).
-    pub fn parse(word: &str) -> Option<JobErrorCode> {
-        JobErrorCode::ALL.into_iter().find(|c| c.as_str() == word)
-    }
 }
 
 impl From<&JobRow> for Job {
@@ -670,7 +619,7 @@ pub(super) async fn job_result(
         if format == "csv" {
             return Ok((
                 [(header::CONTENT_TYPE, "text/csv")],
-                super::tdoa::pulses_csv(&v),
+                super::result_files::pulses_csv(&v),
             )
                 .into_response());
         }
@@ -680,14 +629,18 @@ pub(super) async fn job_result(
             .await?
             .and_then(|b| serde_json::from_str(&b).ok())
             .unwrap_or(Value::Null);
-        let svg = super::tdoa::tdoa_svg(&v, &problem);
+        let svg = super::result_files::tdoa_svg(&v, &problem);
         return Ok(([(header::CONTENT_TYPE, "image/svg+xml")], svg).into_response());
     }
     match format {
         "json" => Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response()),
         "csv" => {
             let v = parse_json(text.as_bytes())?;
-            Ok(([(header::CONTENT_TYPE, "text/csv")], trajectory_csv(&v)).into_response())
+            Ok((
+                [(header::CONTENT_TYPE, "text/csv")],
+                super::result_files::trajectory_csv(&v),
+            )
+                .into_response())
         }
         "svg" => {
             let v = parse_json(text.as_bytes())?;
@@ -699,7 +652,7 @@ pub(super) async fn job_result(
                 .unwrap_or(Value::Null);
             Ok((
                 [(header::CONTENT_TYPE, "image/svg+xml")],
-                crate::cli::plot::render_svg(&v, &mission),
+                crate::render::render_svg(&v, &mission),
             )
                 .into_response())
         }
@@ -710,34 +663,6 @@ pub(super) async fn job_result(
         )
         .at("format")),
     }
-}
-
-/// The trajectory as CSV: `step,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]`.
-pub fn trajectory_csv(result: &Value) -> String {
-    let traj = result["trajectory"].as_array().cloned().unwrap_or_default();
-    let dim = traj
-        .iter()
-        .find_map(|b| b.as_array().map(Vec::len))
-        .unwrap_or(2);
-    let names = ["x", "y", "z"];
-    let mut out = String::from("step");
-    for n in names.iter().take(dim) {
-        out.push_str(&format!(",{n}_lo,{n}_hi"));
-    }
-    out.push('\n');
-    for (i, b) in traj.iter().enumerate() {
-        out.push_str(&i.to_string());
-        for a in 0..dim {
-            let cell = |k: usize| match &b[a][k] {
-                Value::Number(n) => n.to_string(),
-                Value::String(s) => s.clone(),
-                _ => "empty".into(),
-            };
-            out.push_str(&format!(",{},{}", cell(0), cell(1)));
-        }
-        out.push('\n');
-    }
-    out
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@ mod meters;
 mod metrics;
 mod missions;
 pub mod openapi;
+mod result_files;
 mod simulate;
 mod state;
 pub mod store;

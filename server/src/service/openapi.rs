@@ -44,7 +44,7 @@ use utoipa::OpenApi;
     components(schemas(
         super::store::JobState,
         nvector_core::nvector::Contractor,
-        super::jobs::JobErrorCode,
+        super::store::JobErrorCode,
         super::jobs::ResultFormat,
         super::jobs::JobEvent
     ))

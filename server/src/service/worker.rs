@@ -19,8 +19,8 @@
 //! for jobs queued by another process sharing the database).
 
 use super::job_runner::{JobKind, JobOrder};
-use super::jobs::JobErrorCode;
 use super::meters::{self, Meters, ReasonLabel};
+use super::store::JobErrorCode;
 use super::store::{JobError, JobRow, JobState, Store};
 use super::worker_process::{Message, WorkerProcess};
 use std::sync::atomic::{AtomicBool, Ordering};

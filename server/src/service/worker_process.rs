@@ -8,8 +8,8 @@
 
 use super::config::format_size;
 use super::job_runner::{JobOrder, Report};
-use super::jobs::JobErrorCode;
 use super::store::JobError;
+use super::store::JobErrorCode;
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};

@@ -8,7 +8,7 @@
 //! next use. The schema is created on open, under an advisory lock so that
 //! processes starting together do not race.
 
-use super::{
+use super::types::{
     JobError, JobRow, JobState, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult,
     COST_SQL, JOB_COLUMNS,
 };
@@ -107,7 +107,7 @@ impl PostgresStore {
             url: url.to_string(),
             pool,
             next: AtomicUsize::new(0),
-            instance: super::new_instance_id(),
+            instance: super::types::new_instance_id(),
         })
     }
 

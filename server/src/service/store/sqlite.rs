@@ -1,6 +1,6 @@
 //! SQLite storage: a database file, created on first run.
 
-use super::{
+use super::types::{
     JobError, JobRow, JobState, MissionRow, QueuePolicy, Queued, Store, StoreError, StoreResult,
     COST_SQL, JOB_COLUMNS,
 };
@@ -69,7 +69,7 @@ impl SqliteStore {
         }
         Ok(SqliteStore {
             conn: Mutex::new(conn),
-            instance: super::new_instance_id(),
+            instance: super::types::new_instance_id(),
         })
     }
 
@@ -442,8 +442,10 @@ mod tests {
     }
 
     fn open() -> (SqliteStore, std::path::PathBuf) {
-        let dir =
-            std::env::temp_dir().join(format!("nvector-store-{}", super::super::new_instance_id()));
+        let dir = std::env::temp_dir().join(format!(
+            "nvector-store-{}",
+            super::super::types::new_instance_id()
+        ));
         let store = SqliteStore::open(dir.join("db").to_str().unwrap()).unwrap();
         (store, dir)
     }
