@@ -33,6 +33,21 @@ pub fn contract_bearing(
     bearing: Interval,
     range: Interval,
 ) -> bool {
+    let phi = heading + bearing;
+    contract_bearing_trig(p, d, phi.cos(), phi.sin(), range)
+}
+
+/// [`contract_bearing`] given c = cos(θ + β) and s = sin(θ + β) (the same
+/// bits as the enclosures it computes): a caller that contracts one
+/// detection many times (a shape against every box of a paving) computes
+/// them once.
+pub fn contract_bearing_trig(
+    p: &mut [Interval],
+    d: &mut [Interval],
+    cos_phi: Interval,
+    sin_phi: Interval,
+    range: Interval,
+) -> bool {
     let r = range.intersect(Interval::new(0.0, f64::INFINITY));
     let rho = if p.len() >= 3 {
         (r.sqr() - (d[2] - p[2]).sqr()).sqrt()
@@ -42,9 +57,8 @@ pub fn contract_bearing(
     if rho.is_empty() {
         return false;
     }
-    let phi = heading + bearing;
-    let dx = rho * phi.cos();
-    let dy = rho * phi.sin();
+    let dx = rho * cos_phi;
+    let dy = rho * sin_phi;
     d[0] = d[0].intersect(p[0] + dx);
     d[1] = d[1].intersect(p[1] + dy);
     p[0] = p[0].intersect(d[0] - dx);

@@ -21,7 +21,7 @@
 //!
 //! - [`Shape::contract_piece`] / [`Shape::meets_box`]: the branch "landmark
 //!   in box B": copies of P and B ∩ C contracted by the detection's own
-//!   constraints ([`contract_distance`], then [`contract_bearing`] and
+//!   constraints ([`contract_distance`], then [`contract_bearing`](crate::contractors::bearing::contract_bearing) and
 //!   [`contract_distance`] again when a bearing is known). The forward pass
 //!   of the distance contractor evaluates `Σ (P_i - B_i)^2`, which is the
 //!   exact range of the squared distance between the two boxes (the terms
@@ -57,10 +57,11 @@
 //!
 //! O(d) per test, O(budget · d) for [`disjoint_paved`].
 
-use crate::contractors::bearing::contract_bearing;
+use crate::contractors::bearing::contract_bearing_trig;
 use crate::contractors::distance::contract_distance;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use std::cell::OnceCell;
 
 /// What the shapes need of one detection, and no more: its step, range
 /// and bearing (the SLAM association step builds them from the mission's
@@ -79,7 +80,7 @@ pub struct Sighting {
 pub const MAX_DIM: usize = 3;
 
 /// The landmark set of one detection (see the module doc).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Shape {
     /// P: the box of the robot position p(step).
     pub centre: IntervalBox,
@@ -90,6 +91,24 @@ pub struct Shape {
     pub bearing: Option<(Interval, Interval)>,
     /// C: a box known to hold the landmark (the detection variable d(j)).
     pub cut: IntervalBox,
+    /// (φ, cos φ, sin φ) for φ = θ + β of `bearing`, made at the first
+    /// contraction (issue 18: a shape is contracted against every box of
+    /// a paving, and the interval cosine and sine of φ were recomputed
+    /// each time). Used only while θ + β gives the same bits as φ (a
+    /// changed `bearing` recomputes them), so every contraction gives the
+    /// same bits as without it.
+    trig: OnceCell<(Interval, Interval, Interval)>,
+}
+
+/// Equal shapes: the same centre, range, bearing and cut (the cached
+/// cosine and sine are not part of the shape).
+impl PartialEq for Shape {
+    fn eq(&self, other: &Shape) -> bool {
+        self.centre == other.centre
+            && self.range == other.range
+            && self.bearing == other.bearing
+            && self.cut == other.cut
+    }
 }
 
 /// One branch of a detection: the robot position and the landmark position
@@ -270,6 +289,22 @@ impl Shape {
             range: range.intersect(Interval::new(0.0, f64::INFINITY)),
             bearing,
             cut,
+            trig: OnceCell::new(),
+        }
+    }
+
+    /// cos φ and sin φ of φ = θ + β: those made with the shape while φ has
+    /// the same bits, else computed (the same bits either way).
+    fn cos_sin(&self, heading: Interval, beta: Interval) -> (Interval, Interval) {
+        let phi = heading + beta;
+        let same = |a: Interval, b: Interval| {
+            a.lo().to_bits() == b.lo().to_bits() && a.hi().to_bits() == b.hi().to_bits()
+        };
+        let &(made, c, s) = self.trig.get_or_init(|| (phi, phi.cos(), phi.sin()));
+        if same(made, phi) {
+            (c, s)
+        } else {
+            (phi.cos(), phi.sin())
         }
     }
 
@@ -306,7 +341,8 @@ impl Shape {
             return None;
         }
         if let Some((heading, bearing)) = self.bearing {
-            if !contract_bearing(p, d, heading, bearing, r) || !contract_distance(p, d, &mut r) {
+            let (c, s) = self.cos_sin(heading, bearing);
+            if !contract_bearing_trig(p, d, c, s, r) || !contract_distance(p, d, &mut r) {
                 return None;
             }
         }
@@ -460,6 +496,38 @@ mod tests {
         assert!(!a.meets_box(b2(-1.0, 1.0, -1.0, 1.0).axes()));
         assert!(a.meets_box(b2(4.0, 7.0, -1.0, 1.0).axes()));
         assert!(!a.meets_box(b2(7.0, 8.0, 7.0, 8.0).axes()));
+    }
+
+    /// Issue 18: the cosine and sine kept with a shape stand for those of
+    /// its bearing only: a bearing changed after a contraction gives the
+    /// pieces of a shape made with the new bearing, and the same shape
+    /// gives the same bits at every contraction.
+    #[test]
+    fn a_changed_bearing_is_not_read_with_the_old_cosine() {
+        let port = Shape::new(
+            b2(-0.1, 0.1, -0.1, 0.1),
+            Interval::new(4.9, 5.1),
+            Some((Interval::ZERO, Interval::new(1.4, 1.7))),
+            IntervalBox::entire(2),
+        );
+        let all = IntervalBox::entire(2);
+        let first = port.contract_piece(all.axes()).expect("meets");
+        assert_eq!(port.contract_piece(all.axes()), Some(first));
+        let mut turned = port.clone();
+        turned.bearing = Some((Interval::ZERO, Interval::new(-1.7, -1.4)));
+        let fresh = Shape::new(
+            b2(-0.1, 0.1, -0.1, 0.1),
+            Interval::new(4.9, 5.1),
+            Some((Interval::ZERO, Interval::new(-1.7, -1.4))),
+            IntervalBox::entire(2),
+        );
+        let piece = turned.contract_piece(all.axes()).expect("meets");
+        assert_eq!(Some(piece), fresh.contract_piece(all.axes()));
+        // Starboard: the landmark is south of the robot, not north.
+        assert!(
+            piece.d[1].hi() < 0.0 && first.d[1].lo() > 0.0,
+            "{piece:?} {first:?}"
+        );
     }
 
     #[test]
