@@ -103,6 +103,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         8,
         "the minimum separation inside the passes",
     ),
+    (
+        "slam::association::scan_map",
+        8,
+        "scan registration against the closed-world map",
+    ),
     ("tdoa::shell_step", 8, "the shapes step of the TDOA rounds"),
     ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),
     ("slam::rounds", 9, "the physics-guided rounds"),

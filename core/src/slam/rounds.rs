@@ -61,6 +61,7 @@
 //! Soundness: every step is a sound contractor (see each file), so the true
 //! trajectory and landmarks stay inside.
 
+use super::association::scan_map::ScanMap;
 use super::association::separation::separation_unions;
 use super::association::sequential::SeparationGrid;
 use super::association::tracks::{track_unions, TrackOptions};
@@ -134,6 +135,8 @@ struct Propagation<'a> {
     /// The minimum separation inside the passes ([`SeparationGrid`]),
     /// rebuilt at the start of each pass; None when the rule is off.
     grid: Option<SeparationGrid>,
+    /// The closed-world map of the pass ([`ScanMap`]), with the grid.
+    scan_map: Option<ScanMap>,
 }
 
 impl<'a> Propagation<'a> {
@@ -204,6 +207,7 @@ impl<'a> Propagation<'a> {
                 .is_some_and(|o| o != [0.0, 0.0])
                 .then(|| mission.seen_from_position()),
             grid: None,
+            scan_map: None,
         }
     }
 
@@ -274,6 +278,10 @@ impl<'a> Propagation<'a> {
         };
         let stride = count.div_ceil(32).max(1);
         self.grid = self.sequential_separation();
+        self.scan_map = self.grid.as_ref().and_then(|_| {
+            let n = self.mission.landmark_count?;
+            ScanMap::new(self.mission, &self.model.det, &mut self.matching, n)
+        });
         // Where a change still propagates from, and the detection that
         // started it (named if the chain empties).
         let mut alive: Option<(usize, usize)> = None;
@@ -435,7 +443,7 @@ impl<'a> Propagation<'a> {
     /// than the tolerance (both are swept along the chain).
     fn contract_offset_detections(&mut self, s: usize) -> Result<bool, Halt> {
         let moved = self.offset_detections_once(s)?;
-        let merged = self.separate_in_pass(s)?;
+        let merged = self.separate_in_pass(s)? | self.scan_map_in_pass(s)?;
         if !self.pair_headings(s)? && !merged {
             return Ok(moved);
         }
@@ -480,6 +488,39 @@ impl<'a> Propagation<'a> {
             for (a, b) in unions {
                 self.moving[a] = true;
                 self.moving[b] = true;
+                merged = true;
+            }
+        }
+        Ok(merged)
+    }
+
+    /// The detections at the `s`-th distinct step, scan by scan, matched
+    /// onto the pass's map ([`ScanMap::settle`]); whether a union was made.
+    fn scan_map_in_pass(&mut self, s: usize) -> Result<bool, Halt> {
+        let Some(map) = self.scan_map.as_ref() else {
+            return Ok(false);
+        };
+        let mut at: Vec<usize> = self.order[self.starts[s]..self.starts[s + 1]].to_vec();
+        let dets = &self.mission.detections;
+        at.sort_by_key(|&j| (dets[j].scan, j));
+        let mut merged = false;
+        for scan in at.chunk_by(|&a, &b| dets[a].scan.is_some() && dets[a].scan == dets[b].scan) {
+            let unions = map
+                .settle(self.mission, &self.model.det, &mut self.matching, scan)
+                .map_err(Halt::Infeasible)?;
+            self.contractions += 1;
+            for (a, b) in unions {
+                let root = self.matching.union(a, b);
+                let common = self.model.det[a].intersect(&self.model.det[b]);
+                if common.is_empty() {
+                    return Err(Halt::Infeasible(format!(
+                        "detection {a}: its box and its scan-matched group's (detection {b}) have no common point"
+                    )));
+                }
+                for j in [a, b, root] {
+                    self.model.det[j] = common.clone();
+                    self.moving[j] = true;
+                }
                 merged = true;
             }
         }

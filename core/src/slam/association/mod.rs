@@ -83,6 +83,7 @@ mod pairs;
 mod regions;
 mod registration;
 mod round;
+pub mod scan_map;
 pub mod separation;
 pub mod sequential;
 mod state;

@@ -10,8 +10,10 @@
 //!
 //! Each group g (detections proved to see one landmark, singletons
 //! included) has its landmark in the intersection B(g) of its members'
-//! boxes. When the hull of B(g) and B(h) has a Euclidean diameter below s,
-//! the two landmarks are less than s apart, so they are not distinct: g
+//! boxes. When no point of B(g) is s or more from a point of B(h) (an
+//! upper bound of the largest cross distance, [`farthest_above`], below
+//! s; it was the hull's diameter, which also counts the distances inside
+//! each box), the two landmarks are less than s apart, so they are not distinct: g
 //! and h see the same landmark (a union). Groups are swept in the order of
 //! their boxes' lower x bound; a group is compared with the groups still
 //! "active" (whose box reaches within s in x of its own), at most
@@ -21,8 +23,8 @@
 //! # Soundness
 //!
 //! Each box holds its group's true landmark (the boxes are sound
-//! enclosures and the groups proved), so the true landmarks are in the
-//! hull, at most its diameter apart; the diameter is bounded from above
+//! enclosures and the groups proved), so the true landmarks, one in each
+//! box, are at most the largest cross distance apart; it is bounded from above
 //! with outward rounding (`Interval` arithmetic), so "below s" is proved.
 //! The landmarks of a union are equal, hence in the intersection of the
 //! boxes; an empty intersection proves the mission infeasible. Comparing
@@ -53,6 +55,25 @@ pub(crate) fn diameter_above(b: &IntervalBox) -> f64 {
         }
         let w = Interval::point(x.hi()) - Interval::point(x.lo());
         acc = acc + w.sqr();
+    }
+    acc.sqrt().hi()
+}
+
+/// An upper bound of the largest distance between a point of `a` and a
+/// point of `b` (infinity when unbounded; neither empty): per axis the
+/// magnitude of `a - b`, outward rounded. Below s, the landmarks held by
+/// the two boxes are less than s apart, whatever the boxes' own widths
+/// (the hull's diameter also counts the distances inside each box: a 1 m
+/// box around a 0.4 m box has a hull of 1.4 m but no two points of the
+/// two boxes more than 1 m apart).
+pub(crate) fn farthest_above(a: &IntervalBox, b: &IntervalBox) -> f64 {
+    let mut acc = Interval::ZERO;
+    for (x, y) in a.axes().iter().zip(b.axes()) {
+        let d = *x - *y;
+        if !d.is_bounded() {
+            return f64::INFINITY;
+        }
+        acc = acc + Interval::point(d.mag()).sqr();
     }
     acc.sqrt().hi()
 }
@@ -101,7 +122,7 @@ pub fn separation_unions(
         let mut merged: Option<usize> = None;
         for x in from..active.len() {
             let (ar, a) = &active[x];
-            if diameter_above(&a.hull(&b)) >= s {
+            if farthest_above(a, &b) >= s {
                 continue;
             }
             let (ar, a) = (*ar, a.clone());

@@ -16,18 +16,19 @@
 //! group's root, the intersection of what the group's members proved so
 //! far) is compared with the boxes G of the groups held in a grid of
 //! cells of side s (each group under the cell of its box's centre when it
-//! was entered). When the hull of B and G has a Euclidean diameter below s
-//! the two landmarks are less than s apart, so they are one: a union, and
+//! was entered). When no point of B is s or more from a point of G
+//! ([`super::separation::farthest_above`] below s) the two landmarks are less than s apart, so they are one: a union, and
 //! the merged group's box is B ∩ G. Only groups whose centre was within
-//! two cells of B's centre are compared (a group whose hull with B has a
-//! diameter below s has its centre within s of B's).
+//! two cells of B's centre are compared (a group whose points are all
+//! within s of B's has its centre within s of B's). B itself may be up to
+//! 2 s wide (a wider box has points 2 s apart, at least s from any G).
 //!
 //! # Soundness
 //!
 //! The argument of [`super::separation`]: every box holds its group's true
 //! landmark at every moment of the pass (each contraction keeps every
-//! solution), so the two landmarks lie in the hull, less than its
-//! diameter apart; the diameter is bounded from above with outward
+//! solution), so the two landmarks, one in each box, are less than the
+//! largest cross distance apart; it is bounded from above with outward
 //! rounding, so "below s" is proved, and with it one landmark (when both
 //! groups see real landmarks). Its point is then in B ∩ G; an empty
 //! intersection proves the mission infeasible. A grid entry left behind by
@@ -41,7 +42,7 @@
 //! boxes narrower than s, at most a few tens when the groups are distinct
 //! landmarks); memory O(G).
 
-use super::separation::diameter_above;
+use super::separation::{diameter_above, farthest_above};
 use crate::ibox::IntervalBox;
 use crate::union_find::Uf;
 use std::collections::BTreeMap;
@@ -75,7 +76,13 @@ impl SeparationGrid {
 
     /// The cell of the centre of `b` (None: not a 2-D box narrower than s).
     fn key(&self, b: &IntervalBox) -> Option<(i64, i64)> {
-        if b.dim() != 2 || b.is_empty() || diameter_above(b) >= self.s {
+        self.key_within(b, self.s)
+    }
+
+    /// The cell of the centre of `b` (None: not a 2-D box narrower than
+    /// `w`, w <= 2 s: the cell index stays finite for bounded boxes).
+    fn key_within(&self, b: &IntervalBox, w: f64) -> Option<(i64, i64)> {
+        if b.dim() != 2 || b.is_empty() || diameter_above(b) >= w {
             return None;
         }
         Some((cell(b[0].mid(), self.s), cell(b[1].mid(), self.s)))
@@ -93,7 +100,7 @@ impl SeparationGrid {
     ) -> Result<Vec<(usize, usize)>, String> {
         let mut unions = Vec::new();
         let mut root = uf.find(j);
-        let Some((cx, cy)) = self.key(&det[root]) else {
+        let Some((cx, cy)) = self.key_within(&det[root], 2.0 * self.s) else {
             return Ok(unions);
         };
         let mut seen: Vec<usize> = Vec::new();
@@ -109,7 +116,7 @@ impl SeparationGrid {
                     }
                     seen.push(r);
                     let (b, g) = (&det[root], &det[r]);
-                    if g.is_empty() || diameter_above(&b.hull(g)) >= self.s {
+                    if g.is_empty() || farthest_above(b, g) >= self.s {
                         continue;
                     }
                     let common = b.intersect(g);
