@@ -36,20 +36,29 @@
 //!    nothing else: every detection of N' = R is kept in every reading
 //!    (*certain*), and the propagation of `stripped(N')` encloses every
 //!    position of every reading.
-//! 4. *Resolution* (m = b). For a detection x of an unresolved conflict
-//!    C(i): a reading keeping x keeps N' and x, so when `stripped(N' ∪
-//!    {x})` is proved infeasible, x is proved false. Then the reading
-//!    drops x from C(i) and, its one drop there spent, keeps the rest of
-//!    C(i): N' grows by C(i) \ {x}, and the other conflicts are tried
-//!    again against the larger N', to a fixpoint. Two detections of one
-//!    conflict proved false make more than b drops: no reading exists.
+//! 4. *Resolution.* Let q' = b - m (drops not accounted for). A reading
+//!    keeping a detection x of a conflict C(i) still drops one detection of
+//!    C(i) \ {x} and of every other conflict, so at most q' of N': it keeps
+//!    whole one set of the family F = {N'} when q' = 0, else N' dealt in
+//!    time order into q' + 3 blocks, every set leaving q' blocks out
+//!    (C(q' + 3, q') = 4, 10, 20 sets for q' = 1, 2, 3; none above 3).
+//!    When `stripped(S ∪ {x})` is proved infeasible for every S of F, x is
+//!    proved false: it leaves the budget (b - 1), C(i) is resolved (its
+//!    other detections, no longer counted, rejoin N'), and the packing
+//!    goes on from step 3 (N' grew, perhaps with false detections that
+//!    make new conflicts), to a fixpoint. Conflicts plus proved false
+//!    beyond the budget: no reading exists.
 //!
-//! What is returned: P grows by the detections proved false; the
-//! unresolved conflicts each hold one drop of every reading
-//! ([`super::kept::kept`] counts them with P, their members are not
-//! sure); with m = b the positions of `stripped(N')`.
-//! With m < b nothing is claimed but the conflicts themselves (each
-//! still holds a drop of every reading; [`super::kept::kept`] counts them).
+//! What is returned: the detections proved false; the unresolved
+//! conflicts, each holding one drop of every reading
+//! ([`super::kept::kept_with_conflicts`] counts them with P, their
+//! members are not sure, so with P and them accounting for q every other
+//! detection is sure and the refinement reports its groups); with m = b
+//! the positions of `stripped(N')`.
+//!
+//! The packing stops (a work heuristic, sound whatever it says) when, with
+//! the conflicts still to find as large as those found, N' would keep
+//! under a third of the detections: too few to refute anything.
 //!
 //! # Soundness
 //!
