@@ -28,7 +28,7 @@ fn cases() -> u64 {
     std::env::var("NVECTOR_PROPTEST_CASES")
         .ok()
         .and_then(|s| s.parse::<u64>().ok())
-        .map_or(6, |c| (c / 100).max(4))
+        .map_or(10, |c| (c / 100).max(10))
 }
 
 /// A range interval of half-width 0.05 m holding `r`.

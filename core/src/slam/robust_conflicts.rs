@@ -56,9 +56,10 @@
 //! detection is sure and the refinement reports its groups); with m = b
 //! the positions of `stripped(N')`.
 //!
-//! The packing stops (a work heuristic, sound whatever it says) when, with
-//! the conflicts still to find as large as those found, N' would keep
-//! under a third of the detections: too few to refute anything.
+//! The packing stops (a work heuristic, sound whatever it says) when it
+//! has run more than [`PATIENCE`] propagations and, with the conflicts
+//! still to find as large as those found, N' would keep under a third of
+//! the detections: too few to refute anything.
 //!
 //! # Soundness
 //!
@@ -193,6 +194,11 @@ impl Solver<'_> {
     }
 }
 
+/// Propagations the packing may spend before its work heuristic
+/// ([`State::promising`]) may stop it: small missions, cheap to pack,
+/// are packed whole.
+pub const PATIENCE: usize = 150;
+
 /// Most unaccounted drops q' = b - m for which resolution runs (step 4:
 /// the family of q'-block sets of N').
 pub const MAX_OPEN: usize = 3;
@@ -313,9 +319,10 @@ impl State<'_> {
     }
 
     /// A work heuristic (any answer is sound: stopping the packing only
-    /// claims less): whether, with the conflicts still to find as large
-    /// as the mean of those found, N' would keep at least a third of the
-    /// detections [`State::open`] started with. Below that N' is too small
+    /// claims less): whether the packing has run at most [`PATIENCE`]
+    /// propagations, or, with the conflicts still to find as large as the
+    /// mean of those found, N' would keep at least a third of the
+    /// detections it started with. Below that N' is too small
     /// to refute anything (measured on the paper scenario: conflicts of
     /// n + 1 = 5 detections, 10 of them in 54-63), and the packing would
     /// spend hundreds of propagations for nothing.
@@ -323,7 +330,8 @@ impl State<'_> {
         let found: usize = self.conflicts.iter().map(Vec::len).sum();
         let m = self.conflicts.len();
         let to_find = (self.budget - m).saturating_mul(found) / m.max(1);
-        self.rest.len().saturating_sub(to_find).saturating_mul(3) >= self.open
+        self.s.solves <= PATIENCE
+            || self.rest.len().saturating_sub(to_find).saturating_mul(3) >= self.open
     }
 
     fn keep_of(&self, set: &[usize]) -> Vec<bool> {
