@@ -57,7 +57,7 @@
 //! the positions of `stripped(N')`.
 //!
 //! The packing stops (a work heuristic, sound whatever it says) when it
-//! has run more than [`PATIENCE`] propagations and, with the conflicts
+//! has run more than [`PATIENCE`] / (N + k) propagations and, with the conflicts
 //! still to find as large as those found, N' would keep under a third of
 //! the detections: too few to refute anything.
 //!
@@ -194,10 +194,11 @@ impl Solver<'_> {
     }
 }
 
-/// Propagations the packing may spend before its work heuristic
-/// ([`State::promising`]) may stop it: small missions, cheap to pack,
-/// are packed whole.
-pub const PATIENCE: usize = 150;
+/// (Steps + detections) x propagations the packing may spend before its
+/// work heuristic ([`State::promising`]) may stop it: 150 propagations of
+/// a 4,000-step mission, 60 of the paper scenario's 10,000; small
+/// missions, cheap to pack, are packed whole.
+pub const PATIENCE: u64 = 600_000;
 
 /// Most unaccounted drops q' = b - m for which resolution runs (step 4:
 /// the family of q'-block sets of N').
@@ -319,8 +320,8 @@ impl State<'_> {
     }
 
     /// A work heuristic (any answer is sound: stopping the packing only
-    /// claims less): whether the packing has run at most [`PATIENCE`]
-    /// propagations, or, with the conflicts still to find as large as the
+    /// claims less): whether the packing has run at most [`PATIENCE`] /
+    /// (N + k) propagations, or, with the conflicts still to find as large as the
     /// mean of those found, N' would keep at least a third of the
     /// detections it started with. Below that N' is too small
     /// to refute anything (measured on the paper scenario: conflicts of
@@ -330,7 +331,8 @@ impl State<'_> {
         let found: usize = self.conflicts.iter().map(Vec::len).sum();
         let m = self.conflicts.len();
         let to_find = (self.budget - m).saturating_mul(found) / m.max(1);
-        self.s.solves <= PATIENCE
+        let size = (self.s.mission.steps as u64).saturating_add(self.proved_false.len() as u64);
+        (self.s.solves as u64).saturating_mul(size) <= PATIENCE
             || self.rest.len().saturating_sub(to_find).saturating_mul(3) >= self.open
     }
 
