@@ -115,6 +115,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("slam::kept", 10, "what the robust propagation keeps"),
     ("slam::outliers", 11, "the robust propagation"),
     (
+        "slam::robust_conflicts",
+        11,
+        "conflict packing under max_outliers",
+    ),
+    (
         "slam::robust_subsets",
         11,
         "consensus over subsets under max_outliers",

@@ -111,16 +111,44 @@ pub fn kept(
     q: usize,
     n: Option<usize>,
 ) -> Result<Option<Kept>, String> {
+    kept_with_conflicts(det, proved_false, &[], groups, q, n)
+}
+
+/// [`kept`], with `conflicts`: pairwise disjoint sets of detections of
+/// which every reading drops at least one ([`super::robust_conflicts`]).
+/// A conflict that holds a detection proved false is not counted (that
+/// detection already is); the others count one drop each, like a pair,
+/// and their members are not sure.
+pub fn kept_with_conflicts(
+    det: &[IntervalBox],
+    proved_false: &[bool],
+    conflicts: &[Vec<usize>],
+    groups: &[Vec<usize>],
+    q: usize,
+    n: Option<usize>,
+) -> Result<Option<Kept>, String> {
     let dropped: Vec<usize> = (0..det.len()).filter(|&j| proved_false[j]).collect();
-    let Some(budget) = q.checked_sub(dropped.len()) else {
+    let counted: Vec<&Vec<usize>> = conflicts
+        .iter()
+        .filter(|c| c.iter().all(|&j| !proved_false[j]))
+        .collect();
+    let mut in_conflict = vec![false; det.len()];
+    for &j in counted.iter().copied().flatten() {
+        in_conflict[j] = true;
+    }
+    let Some(budget) = q.checked_sub(dropped.len() + counted.len()) else {
         return Err(format!(
-            "{} detections {dropped:?} cannot reach any landmark position, more than max_outliers = {q}",
+            "{} detections {dropped:?} cannot reach any landmark position and the disjoint sets {counted:?} hold one false detection each, more than max_outliers = {q}",
             dropped.len()
         ));
     };
     let mut pairs = Vec::new();
     for g in groups {
-        let members: Vec<usize> = g.iter().copied().filter(|&j| !proved_false[j]).collect();
+        let members: Vec<usize> = g
+            .iter()
+            .copied()
+            .filter(|&j| !proved_false[j] && !in_conflict[j])
+            .collect();
         disjoint_pairs(&members, det, budget + 1, &mut pairs);
         if pairs.len() > budget {
             break;
@@ -132,7 +160,11 @@ pub fn kept(
             dropped.len() + pairs.len()
         ));
     }
-    let mut sure: Vec<bool> = proved_false.iter().map(|&f| !f).collect();
+    let mut sure: Vec<bool> = proved_false
+        .iter()
+        .zip(&in_conflict)
+        .map(|(&f, &c)| !f && !c)
+        .collect();
     for &(a, b) in &pairs {
         sure[a] = false;
         sure[b] = false;

@@ -81,9 +81,10 @@
 //! beyond the model (recorded sums and key snapshots; past 2^24 keys the
 //! merge is given up and the one-sided bounds stay).
 
-use super::kept::{kept, refine, sure_groups, Kept};
+use super::kept::{kept_with_conflicts, refine, sure_groups, Kept};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
+use super::robust_conflicts::{pack, Packing};
 pub use super::robust_regions::relaxed_intersection;
 use super::robust_regions::{regions, Regions};
 use super::robust_subsets::{consensus, Consensus};
@@ -771,6 +772,9 @@ struct Robust<'a> {
     initial_max_trajectory_diameter: f64,
     /// Consensus over subsets has run (it runs at most once).
     consensus_done: bool,
+    /// Pairwise disjoint conflicts of the conflict packing, each holding
+    /// one drop of every reading ([`super::robust_conflicts`]).
+    conflicts: Vec<Vec<usize>>,
 }
 
 impl<'a> Robust<'a> {
@@ -798,6 +802,7 @@ impl<'a> Robust<'a> {
             fraction: 0.0,
             initial_max_trajectory_diameter: model.trajectory_diameters().0,
             consensus_done: false,
+            conflicts: Vec::new(),
             model,
         }
     }
@@ -809,7 +814,7 @@ impl<'a> Robust<'a> {
     fn consensus(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
         let (proved_false, positions, contractions) =
             match consensus(self.mission, self.q, self.options, cancel) {
-                Consensus::Skipped => return Ok(0),
+                Consensus::Skipped => return self.packing(cancel),
                 Consensus::Infeasible(reason) => return Err(reason),
                 Consensus::Proved {
                     proved_false,
@@ -819,6 +824,41 @@ impl<'a> Robust<'a> {
                 } => (proved_false, positions, contractions),
             };
         self.contractions += contractions;
+        self.apply(&proved_false, &positions)
+    }
+
+    /// Conflict packing ([`super::robust_conflicts`], any q): where
+    /// consensus over subsets does not apply. As [`Self::consensus`].
+    fn packing(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
+        let (proved_false, positions, conflicts, contractions) = match pack(
+            self.mission,
+            self.q,
+            &self.ev.proved_false,
+            &self.order,
+            self.options,
+            cancel,
+        ) {
+            Packing::Skipped => return Ok(0),
+            Packing::Infeasible(reason) => return Err(reason),
+            Packing::Proved {
+                proved_false,
+                conflicts,
+                positions,
+                contractions,
+                ..
+            } => (proved_false, positions, conflicts, contractions),
+        };
+        self.contractions += contractions;
+        let mut changed = conflicts.len();
+        self.conflicts = conflicts;
+        let positions = positions.unwrap_or_else(|| self.model.pos.clone());
+        changed += self.apply(&proved_false, &positions)?;
+        Ok(changed)
+    }
+
+    /// Marks the detections `proved_false` and cuts the positions to
+    /// `positions` (both enclosing every reading); how many changed.
+    fn apply(&mut self, proved_false: &[bool], positions: &[Interval]) -> Result<usize, String> {
         let mut changed = 0;
         for (j, &f) in proved_false.iter().enumerate() {
             if f && !self.ev.proved_false[j] {
@@ -828,7 +868,7 @@ impl<'a> Robust<'a> {
             }
         }
         let dim = self.model.dim;
-        for (i, (p, h)) in self.model.pos.iter_mut().zip(&positions).enumerate() {
+        for (i, (p, h)) in self.model.pos.iter_mut().zip(positions).enumerate() {
             let cut = p.intersect(*h);
             changed += usize::from(cut != *p);
             *p = cut;
@@ -868,9 +908,10 @@ impl<'a> Robust<'a> {
     /// What the current boxes prove of the detections kept in every
     /// reading ([`kept`]).
     fn kept_now(&self) -> Result<Option<Kept>, String> {
-        kept(
+        kept_with_conflicts(
             &self.model.det,
             &self.ev.proved_false,
+            &self.conflicts,
             &self.groups,
             self.q,
             self.mission.landmark_count,

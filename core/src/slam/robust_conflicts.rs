@@ -1,0 +1,446 @@
+//! Conflict packing: disjoint conflicts found by the ordinary (q = 0)
+//! propagation account for `max_outliers`, and detections proved false
+//! against the rest (`max_outliers` = q > 0, any q; docs/outliers.md,
+//! "Conflict packing"). Reiter's diagnosis (1987): conflict sets and
+//! their hitting sets, the conflicts shrunk by a deletion filter.
+//!
+//! # Constraint
+//!
+//! A *reading* drops at most q detections (docs/formats.md); every box
+//! must enclose every solution of every reading, and a detection is
+//! *proved false* when no reading with a solution keeps it. Detections
+//! already proved false (the set P) are dropped in every reading, so the
+//! others see a budget b = q - |P|.
+//!
+//! # Math
+//!
+//! 1. *Relaxation* (as in [`super::robust_subsets`]): for a set S, the
+//!    mission `stripped(S)` ([`super::kept::stripped`]) with q = 0 is a
+//!    relaxation of every reading keeping all of S; its ordinary
+//!    propagation proving it infeasible proves that no reading with a
+//!    solution keeps all of S. Such an S is a *conflict*.
+//! 2. *Shrinking* (deletion filter, "progression"): from an infeasible set
+//!    T in time order, C starts empty; while `stripped(C)` is not proved
+//!    infeasible, bisect for the shortest prefix T[..=i] with C ∪ T[..=i]
+//!    proved infeasible, add T[i] to C and keep T[..i]. The invariant
+//!    (C ∪ T proved infeasible) holds; the result is a conflict because
+//!    its own infeasibility is the loop's exit test, whatever the
+//!    bisection found (propagation need not be monotone: only the final
+//!    test is relied on).
+//! 3. *Packing.* Greedily: R = every detection outside P; while
+//!    `stripped(R)` is infeasible, shrink a conflict C(i) out of R and
+//!    remove it from R. The conflicts are pairwise disjoint, and every
+//!    reading with a solution drops at least one detection of each, so at
+//!    least m = their count: m > b proves that no reading exists. When m =
+//!    b, a reading drops exactly one detection of each conflict and
+//!    nothing else: every detection of N' = R is kept in every reading
+//!    (*certain*), and the propagation of `stripped(N')` encloses every
+//!    position of every reading.
+//! 4. *Resolution.* Let q' = b - m (drops not accounted for). A reading
+//!    keeping a detection x of a conflict C(i) still drops one detection of
+//!    C(i) \ {x} and of every other conflict, so at most q' of N': it keeps
+//!    whole one set of the family F = {N'} when q' = 0, else N' dealt in
+//!    time order into q' + 3 blocks, every set leaving q' blocks out
+//!    (C(q' + 3, q') = 4, 10, 20 sets for q' = 1, 2, 3; none above 3).
+//!    When `stripped(S ∪ {x})` is proved infeasible for every S of F, x is
+//!    proved false: it leaves the budget (b - 1), C(i) is resolved (its
+//!    other detections, no longer counted, rejoin N'), and the packing
+//!    goes on from step 3 (N' grew, perhaps with false detections that
+//!    make new conflicts), to a fixpoint. Conflicts plus proved false
+//!    beyond the budget: no reading exists.
+//!
+//! What is returned: the detections proved false; the unresolved
+//! conflicts, each holding one drop of every reading
+//! ([`super::kept::kept_with_conflicts`] counts them with P, their
+//! members are not sure, so with P and them accounting for q every other
+//! detection is sure and the refinement reports its groups); with m = b
+//! the positions of `stripped(N')`.
+//!
+//! The packing stops (a work heuristic, sound whatever it says) when it
+//! has run more than [`PATIENCE`] / (N + k) propagations and, with the conflicts
+//! still to find as large as those found, N' would keep under a third of
+//! the detections: too few to refute anything.
+//!
+//! # Soundness
+//!
+//! Steps 1-4 rest only on the semantics of `max_outliers` and on the
+//! soundness of the ordinary propagator's infeasible verdict (a stopped or
+//! cancelled solve counts as feasible: it proves nothing). The conflicts
+//! are pairwise disjoint by construction (each is shrunk out of what the
+//! earlier ones left), which is what makes their count a lower bound of
+//! every reading's drops. Tested by `core/tests/robust_conflicts.rs`
+//! (planted false detections of every kind, q the number planted and
+//! more): no true detection proved false, no true position lost, no false
+//! detection grouped; and a packing that counts overlapping conflicts as
+//! disjoint is caught.
+//!
+//! # Complexity
+//!
+//! At most [`MAX_SOLVES`] ordinary propagations of the mission (a conflict
+//! of c detections out of k costs about c (1 + log2 k) of them); skipped
+//! when (N + k) · [`MAX_SOLVES`] exceeds [`MAX_WORK`], and what is found
+//! before the cap is kept (conflicts proved are conflicts). Memory: a few
+//! keep vectors, O(k), and one positions vector, O(N · d).
+
+use super::kept::stripped;
+use super::mission::Mission;
+use super::rounds::rounds;
+use super::types::{Progress, SolveOptions, SolveStatus};
+use crate::interval::Interval;
+use std::sync::atomic::AtomicBool;
+
+/// Most ordinary propagations the rule runs.
+pub const MAX_SOLVES: usize = 600;
+
+/// Most (steps + detections) x [`MAX_SOLVES`] the rule may spend: the
+/// paper scenario's 10,000 steps and 50-73 detections fit (a propagation
+/// takes some ms); CMU Plaza 1 (9,657 steps, 3,600 detections, whose
+/// q = 0 propagation takes far longer) and the format's 2,000,000 steps
+/// (`huge_fields`) do not and skip the rule.
+pub const MAX_WORK: u64 = 7_000_000;
+
+/// Whether the rule's propagations fit [`MAX_WORK`].
+pub fn within_work(steps: usize, detections: usize) -> bool {
+    (steps as u64)
+        .saturating_add(detections as u64)
+        .saturating_mul(MAX_SOLVES as u64)
+        <= MAX_WORK
+}
+
+/// What [`pack`] proves.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Packing {
+    /// Nothing to do (q = 0, over the work cap, or every detection
+    /// together is not proved infeasible): nothing is claimed.
+    Skipped,
+    /// More disjoint conflicts than the budget: no reading exists.
+    Infeasible(String),
+    /// The proof (module doc).
+    Proved {
+        /// Per detection: proved false here (P not included).
+        proved_false: Vec<bool>,
+        /// Pairwise disjoint conflicts, disjoint from P and from the
+        /// detections proved false here, each holding one drop of every
+        /// reading.
+        conflicts: Vec<Vec<usize>>,
+        /// With m = b: encloses every position of every reading.
+        positions: Option<Vec<Interval>>,
+        /// Ordinary propagations run.
+        solves: usize,
+        /// Their contractions.
+        contractions: u64,
+    },
+}
+
+/// The ordinary propagations of one packing, counted against the cap.
+struct Solver<'a> {
+    mission: &'a Mission,
+    options: &'a SolveOptions,
+    cancel: &'a AtomicBool,
+    solves: usize,
+    contractions: u64,
+}
+
+impl Solver<'_> {
+    /// `Some(infeasible)`, and the positions when feasible; `None` at the
+    /// cap (nothing proved).
+    fn solve(&mut self, keep: &[bool]) -> Option<(bool, Vec<Interval>)> {
+        if self.solves >= MAX_SOLVES {
+            return None;
+        }
+        self.solves += 1;
+        let sub = stripped(self.mission, keep);
+        let s = rounds(&sub, self.options, &mut |_: &Progress| {}, self.cancel);
+        self.contractions += s.contractions;
+        Some((matches!(s.status, SolveStatus::Infeasible(_)), s.model.pos))
+    }
+
+    /// Whether the set `members` is proved infeasible (`None`: the cap).
+    fn infeasible(&mut self, members: &[usize]) -> Option<bool> {
+        let mut keep = vec![false; self.mission.detections.len()];
+        for &j in members {
+            keep[j] = true;
+        }
+        self.solve(&keep).map(|r| r.0)
+    }
+
+    /// Step 2 of the module doc: a conflict inside `t` (time order),
+    /// whose union is proved infeasible. `None`: the cap was hit or the
+    /// filter ran out of candidates (nothing proved).
+    fn shrink(&mut self, t: &[usize]) -> Option<Vec<usize>> {
+        let mut c: Vec<usize> = Vec::new();
+        let mut t: Vec<usize> = t.to_vec();
+        loop {
+            if !c.is_empty() && self.infeasible(&c)? {
+                return Some(c);
+            }
+            if t.is_empty() {
+                return None;
+            }
+            // Invariant: c ∪ t proved infeasible; hi is an infeasible
+            // prefix end, lo - 1 a feasible one (or none).
+            let (mut lo, mut hi) = (0usize, t.len() - 1);
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                let mut set = c.clone();
+                set.extend_from_slice(&t[..=mid]);
+                if self.infeasible(&set)? {
+                    hi = mid;
+                } else {
+                    lo = mid + 1;
+                }
+            }
+            c.push(t[hi]);
+            t.truncate(hi);
+        }
+    }
+}
+
+/// (Steps + detections) x propagations the packing may spend before its
+/// work heuristic ([`State::promising`]) may stop it: 150 propagations of
+/// a 4,000-step mission, 60 of the paper scenario's 10,000; small
+/// missions, cheap to pack, are packed whole.
+pub const PATIENCE: u64 = 600_000;
+
+/// Most unaccounted drops q' = b - m for which resolution runs (step 4:
+/// the family of q'-block sets of N').
+pub const MAX_OPEN: usize = 3;
+
+/// Conflict packing (module doc) for a mission with `max_outliers` = q
+/// (at most k) and the detections `proved_false` so far; `order`: the
+/// detections in time order.
+pub fn pack(
+    mission: &Mission,
+    q: usize,
+    proved_false: &[bool],
+    order: &[usize],
+    options: &SolveOptions,
+    cancel: &AtomicBool,
+) -> Packing {
+    let k = mission.detections.len();
+    let p = proved_false.iter().filter(|&&f| f).count();
+    if q == 0 || p >= q || !within_work(mission.steps, k) {
+        return Packing::Skipped;
+    }
+    let mut st = State {
+        s: Solver {
+            mission,
+            options,
+            cancel,
+            solves: 0,
+            contractions: 0,
+        },
+        rank: vec![0; k],
+        rest: order
+            .iter()
+            .copied()
+            .filter(|&j| !proved_false[j])
+            .collect(),
+        conflicts: Vec::new(),
+        proved_false: vec![false; k],
+        budget: q - p,
+        positions: None,
+        open: k - p,
+    };
+    for (r, &j) in order.iter().enumerate() {
+        st.rank[j] = r;
+    }
+    loop {
+        match st.pack_rest() {
+            Err(()) => return Packing::Infeasible(infeasible_reason(&st.conflicts, q, p)),
+            Ok(false) => break,
+            Ok(true) => {}
+        }
+        match st.resolve_one() {
+            Err(reason) => return Packing::Infeasible(reason),
+            Ok(false) => break,
+            Ok(true) => {}
+        }
+    }
+    if st.conflicts.is_empty() && !st.proved_false.contains(&true) {
+        return Packing::Skipped;
+    }
+    Packing::Proved {
+        proved_false: st.proved_false,
+        conflicts: st.conflicts,
+        positions: st.positions,
+        solves: st.s.solves,
+        contractions: st.s.contractions,
+    }
+}
+
+fn infeasible_reason(conflicts: &[Vec<usize>], q: usize, p: usize) -> String {
+    format!(
+        "the detection sets {conflicts:?} are each inconsistent (one detection of each is false) and pairwise disjoint, and {p} other detections or more are proved false: more than max_outliers = {q}"
+    )
+}
+
+/// The packing's state: N' = `rest` (time order), the unresolved
+/// conflicts, the detections proved false here, the budget b left.
+struct State<'a> {
+    s: Solver<'a>,
+    /// Each detection's place in time order.
+    rank: Vec<usize>,
+    rest: Vec<usize>,
+    conflicts: Vec<Vec<usize>>,
+    proved_false: Vec<bool>,
+    budget: usize,
+    /// With m = b: the positions of `stripped(rest)`.
+    positions: Option<Vec<Interval>>,
+    /// How many detections the packing started with.
+    open: usize,
+}
+
+impl State<'_> {
+    /// Step 3: conflicts shrunk out of `rest` until it is feasible. Ok:
+    /// whether the packing is complete (false: the cap); Err: more
+    /// conflicts than the budget.
+    fn pack_rest(&mut self) -> Result<bool, ()> {
+        loop {
+            let keep = self.keep_of(&self.rest);
+            let Some((infeasible, pos)) = self.s.solve(&keep) else {
+                return Ok(false);
+            };
+            if !infeasible {
+                if self.conflicts.len() == self.budget {
+                    self.positions = Some(pos);
+                }
+                return Ok(true);
+            }
+            let Some(c) = self.s.shrink(&self.rest) else {
+                return Ok(false);
+            };
+            self.rest.retain(|j| !c.contains(j));
+            self.conflicts.push(c);
+            if self.conflicts.len() > self.budget {
+                return Err(());
+            }
+            if !self.promising() {
+                return Ok(false);
+            }
+        }
+    }
+
+    /// A work heuristic (any answer is sound: stopping the packing only
+    /// claims less): whether the packing has run at most [`PATIENCE`] /
+    /// (N + k) propagations, or, with the conflicts still to find as large as the
+    /// mean of those found, N' would keep at least a third of the
+    /// detections it started with. Below that N' is too small
+    /// to refute anything (measured on the paper scenario: conflicts of
+    /// n + 1 = 5 detections, 10 of them in 54-63), and the packing would
+    /// spend hundreds of propagations for nothing.
+    fn promising(&self) -> bool {
+        let found: usize = self.conflicts.iter().map(Vec::len).sum();
+        let m = self.conflicts.len();
+        let to_find = (self.budget - m).saturating_mul(found) / m.max(1);
+        let size = (self.s.mission.steps as u64).saturating_add(self.proved_false.len() as u64);
+        (self.s.solves as u64).saturating_mul(size) <= PATIENCE
+            || self.rest.len().saturating_sub(to_find).saturating_mul(3) >= self.open
+    }
+
+    fn keep_of(&self, set: &[usize]) -> Vec<bool> {
+        let mut keep = vec![false; self.proved_false.len()];
+        for &j in set {
+            keep[j] = true;
+        }
+        keep
+    }
+
+    /// Step 4: the family of sets of N' of which every reading keeping a
+    /// detection of a conflict keeps one whole (at most q' = b - m of N'
+    /// dropped): N' itself for q' = 0, else N' dealt in time order into
+    /// q' + 3 blocks, every set leaving q' blocks out (C(q' + 3, q'): 4,
+    /// 10 or 20 sets). `None`: q' > [`MAX_OPEN`].
+    fn family(&self) -> Option<Vec<Vec<bool>>> {
+        let open = self.budget - self.conflicts.len();
+        if open == 0 {
+            return Some(vec![self.keep_of(&self.rest)]);
+        }
+        if open > MAX_OPEN || self.rest.len() < open + 3 {
+            return None;
+        }
+        let b = open + 3;
+        let mut out = Vec::new();
+        let mut excluded: Vec<usize> = (0..open).collect();
+        loop {
+            let mut keep = vec![false; self.proved_false.len()];
+            for (r, &j) in self.rest.iter().enumerate() {
+                keep[j] = !excluded.contains(&(r % b));
+            }
+            out.push(keep);
+            let Some(i) = (0..open).rev().find(|&i| excluded[i] < b - open + i) else {
+                return Some(out);
+            };
+            excluded[i] += 1;
+            for t in i + 1..open {
+                excluded[t] = excluded[t - 1] + 1;
+            }
+        }
+    }
+
+    /// Whether `x` is proved false: every set of the family plus x is
+    /// proved infeasible (`None`: the cap).
+    fn refuted(&mut self, family: &[Vec<bool>], x: usize) -> Option<bool> {
+        for set in family {
+            let mut keep = set.clone();
+            keep[x] = true;
+            if !self.s.solve(&keep)?.0 {
+                return Some(false);
+            }
+        }
+        Some(true)
+    }
+
+    /// Step 4: the first conflict with a detection proved false is
+    /// resolved (its detections proved false leave the budget, the others
+    /// rejoin N'). Ok: whether one was (false: none, or the cap); Err: no
+    /// reading exists.
+    fn resolve_one(&mut self) -> Result<bool, String> {
+        let Some(family) = self.family() else {
+            return Ok(false);
+        };
+        for i in 0..self.conflicts.len() {
+            let mut refuted = Vec::new();
+            for x in self.conflicts[i].clone() {
+                match self.refuted(&family, x) {
+                    None => return Ok(false),
+                    Some(true) => refuted.push(x),
+                    Some(false) => {}
+                }
+            }
+            if refuted.is_empty() {
+                continue;
+            }
+            let c = self.conflicts.remove(i);
+            if refuted.len() > self.budget || self.conflicts.len() > self.budget - refuted.len() {
+                return Err(format!(
+                    "detections {refuted:?} of the inconsistent set {c:?} are each inconsistent with the detections that every choice of at most max_outliers false detections keeps, and the disjoint inconsistent sets {:?} hold one false detection each: more than max_outliers false detections",
+                    self.conflicts
+                ));
+            }
+            self.budget -= refuted.len();
+            for &x in &refuted {
+                self.proved_false[x] = true;
+            }
+            self.rest
+                .extend(c.into_iter().filter(|j| !refuted.contains(j)));
+            let rank = &self.rank;
+            self.rest.sort_by_key(|&j| rank[j]);
+            self.positions = None;
+            return Ok(true);
+        }
+        Ok(false)
+    }
+}
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_work_cap() {
+        assert!(within_work(10_000, 73));
+        assert!(!within_work(9_657, 3_600));
+        assert!(!within_work(2_000_000, 0));
+        assert!(!within_work(usize::MAX, usize::MAX));
+    }
+}
