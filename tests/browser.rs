@@ -268,10 +268,23 @@ fn fetched(module: &str) -> String {
     format!("return performance.getEntriesByType('resource').filter((e) => e.name.includes('/{module}/')).length")
 }
 
+/// When the test started, for [`lap`].
+static STARTED: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+
+/// Prints the time since the test started and the phase just finished
+/// (`--nocapture`): where a cold CI run spends its minutes. Reports only.
+fn lap(phase: &str) {
+    let t = STARTED.get_or_init(Instant::now).elapsed().as_secs_f64();
+    eprintln!("browser: {t:7.1} s {phase}");
+}
+
 #[test]
 fn the_page_in_headless_chromium() {
+    lap("start");
     let Some(d) = Driver::start() else { return };
+    lap("chromedriver and Chromium started (a session)");
     let s = page_server();
+    lap("page server started");
     let base = format!("http://{}", s.addr);
 
     // Playground: the Figure 8 preset with the per-axis contractor gives the
@@ -282,9 +295,9 @@ fn the_page_in_headless_chromium() {
         Duration::from_secs(30),
     );
     // The playground's module alone: the figures module (the outlines) and
-    // the SLAM module (the solver, the simulators) are fetched when a tab
-    // needs them (web/www/wasm.js).
-    for module in ["pkg-figures", "pkg-slam"] {
+    // the SLAM demo's modules (the solver, the simulators) are fetched when
+    // a tab needs them (web/www/wasm.js).
+    for module in ["pkg-figures", "pkg-slam", "pkg-sim"] {
         assert_eq!(
             d.js(&fetched(module)),
             0,
@@ -297,6 +310,7 @@ fn the_page_in_headless_chromium() {
         Duration::from_secs(10),
     );
     assert_eq!(groups, "[[0,1],[2],[3,4],[5],[6]]");
+    lap("playground loaded and contracted");
     d.screenshot("playground-fig8");
     // The playground's legend and axes (drawn in the canvas; the canvas's
     // dataset says what), and the page's header: the API reference link
@@ -339,6 +353,7 @@ fn the_page_in_headless_chromium() {
          means.sort((x, y) => x - y); return means[3];",
     );
     eprintln!("BENCH browser playground_200_boxes_ms {ms}");
+    lap("playground checked");
 
     // The API reference renders: Redoc, served by the service itself, draws
     // the OpenAPI document's title and its operations. Its policy lets the
@@ -372,13 +387,14 @@ fn the_page_in_headless_chromium() {
     );
     d.screenshot("api-docs");
 
+    lap("API reference");
     // SLAM demo, offline in WASM.
     d.goto(&format!("{base}/?tab=slam&demo=1"));
     let nvd = d.wait(
         "return document.getElementById('sl-summary').dataset.nvectorDiameter",
         Duration::from_secs(120),
     );
-    for module in ["pkg-figures", "pkg-slam"] {
+    for module in ["pkg-figures", "pkg-slam", "pkg-sim"] {
         assert!(
             d.js(&fetched(module)).as_u64().unwrap() >= 1,
             "{module} was not fetched by the SLAM demo"
@@ -427,8 +443,11 @@ fn the_page_in_headless_chromium() {
         .unwrap()
         .contains("proved groups of at most 4 landmarks"));
 
+    lap("SLAM demo");
     range_only_preset(&d, &base);
+    lap("range-only preset");
     woods_preset(&d, &base);
+    lap("woods preset");
 
     // Same bits as native: the paper scenario simulated and run in WASM
     // equals the native binary's output.
@@ -449,6 +468,7 @@ fn the_page_in_headless_chromium() {
         .status()
         .unwrap();
     assert!(st.success());
+    lap("native simulate (paper, 4000 steps)");
     let native_result = out_dir.join("native.json");
     let t0 = Instant::now();
     let st = common::nvector()
@@ -459,6 +479,7 @@ fn the_page_in_headless_chromium() {
         .status()
         .unwrap();
     let native_ms = t0.elapsed().as_secs_f64() * 1e3;
+    lap("native run (projection)");
     assert!(st.success());
     let mission_text = std::fs::read_to_string(&mission_path).unwrap();
     let wasm_mission = d.js("return window.nvectorHandle.simulate(JSON.stringify({scenario: 'paper', seed: 7, steps: 4000}))");
@@ -484,6 +505,7 @@ fn the_page_in_headless_chromium() {
         "BENCH browser paper_4000_projection_ms {} native_process_ms {native_ms:.1}",
         got[1]
     );
+    lap("same bits in wasm");
 
     // Missions: upload a simulated mission through the page, follow the job,
     // and see the result drawn.
@@ -531,11 +553,13 @@ fn the_page_in_headless_chromium() {
         d.js(&fetched("pkg-figures")).as_u64().unwrap() >= 1,
         "the figures module was not fetched"
     );
-    assert_eq!(
-        d.js(&fetched("pkg-slam")),
-        0,
-        "the missions tab fetched the SLAM module"
-    );
+    for module in ["pkg-slam", "pkg-sim"] {
+        assert_eq!(
+            d.js(&fetched(module)),
+            0,
+            "the missions tab fetched the SLAM demo's {module}"
+        );
+    }
     assert_eq!(
         d.js("return document.getElementById('rv-summary').dataset.trajectory"),
         "3001"
@@ -576,8 +600,10 @@ fn the_page_in_headless_chromium() {
         .unwrap()
         .contains("best"));
     d.screenshot("missions-side-by-side");
+    lap("missions uploaded, run and drawn");
 
     cmu_plaza_drawn(&d, &s);
+    lap("CMU Plaza imported, run and drawn");
 
     // A reload still lists both jobs (remembered by the browser) and shows
     // the older one again on request.
@@ -596,6 +622,7 @@ fn the_page_in_headless_chromium() {
 
     // The radar demo (its own wasm module, loaded with its tab only).
     radar_demo(&d, &base);
+    lap("radar demo");
 
     // A narrow window (a phone held upright): every view fits its width,
     // nothing scrolls sideways.
@@ -626,6 +653,7 @@ fn the_page_in_headless_chromium() {
         );
         d.screenshot(&format!("narrow-{tab}"));
     }
+    lap("narrow window, done");
 }
 
 /// A number from a canvas's dataset (what `drawResult` drew).
@@ -830,6 +858,7 @@ fn cmu_plaza_drawn(d: &Driver, s: &Server) {
         .status()
         .unwrap();
     assert!(st.success());
+    lap("CMU Plaza imported (nvector import)");
     d.js("const s = document.getElementById('ms-mode'); s.value = 'shapes'; return s.value");
     let file = d.element("#ms-file");
     d.cmd(
@@ -842,6 +871,7 @@ fn cmu_plaza_drawn(d: &Driver, s: &Server) {
         "const s = document.getElementById('rv-summary').dataset; return s.state === 'error' || s.state === 'failed' || (s.state === 'drawn' && s.detections === '3529' && s.contractors)",
         Duration::from_secs(180),
     );
+    lap("CMU Plaza run by the service (shapes) and drawn");
     assert_eq!(
         shown,
         "shapes,none",

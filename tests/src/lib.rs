@@ -24,10 +24,10 @@ pub fn repo_root() -> &'static Path {
 ///
 /// `NVECTOR_BIN`, when set, names it. Otherwise it is `nvector` in the
 /// profile directory of this test executable (`target/debug/deps/x` ->
-/// `target/debug/nvector`), first brought up to date by `cargo build -p
-/// nvector-server --bin nvector` with that directory's profile (`test` for
-/// `target/debug`, as `cargo test` builds; `release` for `target/release`),
-/// once per test process. The binary belongs to another package, so
+/// `target/debug/nvector`), first brought up to date by `cargo build
+/// --workspace --bins --tests --profile test` (`cargo test --workspace`'s
+/// selection and profile; for `target/release`, `cargo build -p
+/// nvector-server --bin nvector --profile release`), once per test process. The binary belongs to another package, so
 /// `CARGO_BIN_EXE_nvector` does not exist here; building it from the test
 /// keeps `cargo test --workspace` working from a fresh clone, and costs one
 /// no-op cargo call when the Makefile built it first.
@@ -51,17 +51,26 @@ pub fn nvector_bin() -> &'static Path {
             "debug" => "test",
             other => other,
         };
+        // In `target/debug`, the binary is built with the package
+        // selection of `cargo test --workspace` (every member's tests: the
+        // same features for every dependency), so that after it (CI, `make
+        // test`) only the binary itself is compiled. With `-p
+        // nvector-server` alone, cargo resolved other features (serde_json
+        // without `alloc`, syn without `extra-traits` and `visit`: brought
+        // by other members and their dev-dependencies) and compiled serde,
+        // the proc macros, core and the server's dependencies a second time
+        // while the tests ran: most of the browser test's cold 125 s in CI
+        // (BENCHMARKS.md, issue 19).
+        let select: &[&str] = if profile == "test" {
+            &["--workspace", "--bins", "--tests"]
+        } else {
+            &["-p", "nvector-server", "--bin", "nvector"]
+        };
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
         let status = Command::new(cargo)
             .current_dir(repo_root())
-            .args([
-                "build",
-                "--quiet",
-                "-p",
-                "nvector-server",
-                "--bin",
-                "nvector",
-            ])
+            .args(["build", "--quiet"])
+            .args(select)
             .args(["--profile", profile])
             .status()
             .expect("run cargo to build the nvector binary");

@@ -3,22 +3,24 @@
 //! JavaScript errors naming the JSON path; a panic is reported on the
 //! console.
 //!
-//! Three features split it into the page's modules (scripts/web.sh):
+//! Four features split it into the page's modules (scripts/web.sh):
 //! `playground` (`contract`, `modes`: atmost_nvector alone, the module the
 //! page fetches first), `figures` (`outlines`, `boundaries`: the drawing
-//! outlines, fetched when the SLAM demo or the missions tab first draws)
-//! and `slam` (`simulate`, `run`: the solver and the simulators, fetched
-//! when the SLAM demo first runs). A build with all three (the default:
-//! native, tests) has every method.
+//! outlines, fetched when the SLAM demo or the missions tab first draws),
+//! `slam` (`run`: the solver) and `simulate` (`simulate`: the simulators),
+//! both fetched when the SLAM demo first runs. A build with all four (the
+//! default: native, tests) has every method.
 
 #[cfg(feature = "figures")]
 mod figures;
-#[cfg(feature = "slam")]
+#[cfg(any(feature = "slam", feature = "simulate"))]
 mod slam;
 #[cfg(feature = "figures")]
 pub use figures::{region_boundaries, shape_outlines};
 #[cfg(feature = "slam")]
-pub use slam::{run_mission, simulate_json};
+pub use slam::run_mission;
+#[cfg(feature = "simulate")]
+pub use slam::simulate_json;
 
 #[cfg(feature = "playground")]
 use nvector_core::nvector::contract::{response_json, ContractRequest};
@@ -29,7 +31,7 @@ use nvector_core::nvector::{atmost_nvector, Contractor};
 use nvector_core::InputError;
 #[cfg(feature = "playground")]
 use serde_json::json;
-#[cfg(any(feature = "playground", feature = "slam"))]
+#[cfg(any(feature = "playground", feature = "slam", feature = "simulate"))]
 use serde_json::Value;
 use wasm_bindgen::prelude::*;
 
@@ -38,7 +40,7 @@ pub(crate) fn into_error(e: InputError) -> JsError {
     JsError::new(&e.to_string())
 }
 
-#[cfg(any(feature = "playground", feature = "slam"))]
+#[cfg(any(feature = "playground", feature = "slam", feature = "simulate"))]
 pub(crate) fn parse(text: &str) -> Result<Value, JsError> {
     serde_json::from_str(text).map_err(|e| JsError::new(&format!("invalid JSON: {e}")))
 }

@@ -1,17 +1,26 @@
-//! The SLAM module's part of the facade (feature `slam`): simulate a
-//! mission and run it to the fixpoint.
+//! The SLAM demo's part of the facade: run a mission to the fixpoint
+//! (feature `slam`, the solver module) and simulate one (feature
+//! `simulate`, the simulators' module). Two modules, so that each stays
+//! within the page's 160,000 bytes of brotli.
 
 use crate::{into_error, parse, Nvector};
+#[cfg(feature = "simulate")]
 use nvector_core::format::{self, Object};
+#[cfg(feature = "slam")]
 use nvector_core::slam::mission::Mission;
+#[cfg(feature = "simulate")]
 use nvector_core::slam::simulate::{simulate, SimulateLimits, SimulateRequest};
+#[cfg(feature = "slam")]
 use nvector_core::slam::solve::solve;
+#[cfg(feature = "slam")]
 use nvector_core::slam::types::{Association, Progress, SolveOptions};
 use nvector_core::InputError;
 use serde_json::Value;
+#[cfg(feature = "slam")]
 use std::sync::atomic::AtomicBool;
 use wasm_bindgen::prelude::*;
 
+#[cfg(feature = "slam")]
 /// Runs a mission (JSON) to the fixpoint with a contractor name (`none`,
 /// `nvalue`, `projection`, `independent`, `shapes`, `best`).
 pub fn run_mission(
@@ -30,6 +39,7 @@ pub fn run_mission(
     Ok(solve(&m, &options, progress, &AtomicBool::new(false)))
 }
 
+#[cfg(feature = "simulate")]
 /// Simulation options from JSON: `{"scenario", "seed", "steps",
 /// "landmarks", "noise", "operator", "layout", "range_only",
 /// "false_detections"}`, read and checked by core as every front end does
@@ -41,6 +51,7 @@ pub fn simulate_json(options: &Value) -> Result<Value, InputError> {
     Ok(simulate(&request.options(SimulateLimits::CORE)?))
 }
 
+#[cfg(feature = "simulate")]
 #[wasm_bindgen]
 impl Nvector {
     /// A simulated mission (JSON options -> mission JSON).
@@ -49,7 +60,11 @@ impl Nvector {
             .map(|v| v.to_string())
             .map_err(into_error)
     }
+}
 
+#[cfg(feature = "slam")]
+#[wasm_bindgen]
+impl Nvector {
     /// Runs a mission; `progress(round, max_diameter, fraction)` is called
     /// after each round.
     pub fn run(

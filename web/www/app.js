@@ -2,7 +2,7 @@
 // its own module (playground.js, slam.js, missions.js; radar.js with its
 // own wasm, loaded when its tab opens) drawing
 // through the one drawing module (draw.js). The page's first wasm (pkg/)
-// is the playground's; the figures and SLAM modules (wasm.js) are fetched
+// is the playground's; the figures, solver and simulator modules (wasm.js) are fetched
 // when the SLAM demo or the missions tab opens.
 import init, { Nvector } from './pkg/nvector_web.js';
 import { $ } from './dom.js';
@@ -49,7 +49,7 @@ init().then(() => {
   window.nvectorHandle = {
     contract: (r) => nv.contract(r),
     modes: () => nv.modes(),
-    simulate: (o) => loaded('slam').simulate(o),
+    simulate: (o) => loaded('sim').simulate(o),
     run: (m, c, p) => loaded('slam').run(m, c, p),
     outlines: (s) => loaded('figures').outlines(s),
     boundaries: (r) => loaded('figures').boundaries(r),

@@ -2,14 +2,15 @@
 // the nvector-web crate, one cargo feature each): the figures module
 // (pkg-figures/: the outlines and region boundaries draw.js draws),
 // fetched the first time the SLAM demo or the missions tab draws; the SLAM
-// module (pkg-slam/: the solver and the simulators), fetched the first
-// time the SLAM demo runs. The module fetched with the page (pkg/, app.js)
+// demo's two modules (pkg-slam/: the solver, `run`; pkg-sim/: the
+// simulators, `simulate`), fetched together the first time the SLAM demo
+// runs. The module fetched with the page (pkg/, app.js)
 // is the playground's atmost_nvector alone.
 import { useCore } from './draw.js';
 
 /** The loaded handles, null before their module has loaded. */
-export const handles = { figures: null, slam: null };
-const loading = { figures: null, slam: null };
+export const handles = { figures: null, slam: null, sim: null };
+const loading = { figures: null, slam: null, sim: null };
 
 /** A module's handle, loaded once (a failed load is tried again at the next call). */
 function load(key, url) {
@@ -29,7 +30,18 @@ export function loadFigures() {
   return load('figures', './pkg-figures/nvector_web_figures.js').then((h) => { useCore(h); return h; });
 }
 
-/** The SLAM module's handle (`simulate`, `run`), with the figures module loaded too. */
+/**
+ * The SLAM demo's handle: `simulate` (the simulators' module) and `run`
+ * (the solver's), both modules fetched at once, with the figures module
+ * loaded too.
+ */
 export function loadSlam() {
-  return Promise.all([load('slam', './pkg-slam/nvector_web_slam.js'), loadFigures()]).then(([h]) => h);
+  return Promise.all([
+    load('slam', './pkg-slam/nvector_web_slam.js'),
+    load('sim', './pkg-sim/nvector_web_sim.js'),
+    loadFigures(),
+  ]).then(([solver, sim]) => ({
+    simulate: (o) => sim.simulate(o),
+    run: (m, c, p) => solver.run(m, c, p),
+  }));
 }
