@@ -13,28 +13,12 @@
 #![allow(clippy::disallowed_methods)]
 
 use nvector_core::ibox::IntervalBox;
+use nvector_core::rng::Rng;
 use nvector_core::slam::association::sequential::SeparationGrid;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
 use nvector_core::union_find::Uf;
 use nvector_core::Interval;
-
-/// splitmix64: the test's own generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// Landmarks at least `s` apart (rejection sampling in a square whose
 /// side grows with their number), shifted by `origin`.
@@ -70,7 +54,7 @@ fn box_around(rng: &mut Rng, l: [f64; 2], w: f64) -> IntervalBox {
 
 #[test]
 fn planted_boxes_only_join_detections_of_one_landmark() {
-    let mut rng = Rng(20);
+    let mut rng = Rng::from_state(20);
     let mut joined = 0usize;
     for case in 0..3000 {
         let s = match case % 4 {
@@ -84,14 +68,14 @@ fn planted_boxes_only_join_detections_of_one_landmark() {
             1 => -1e12,
             _ => 0.0,
         };
-        let n = 1 + (rng.next() % 25) as usize;
+        let n = 1 + (rng.next_u64() % 25) as usize;
         let lm = landmarks(&mut rng, n, s, origin);
-        let k = 1 + (rng.next() % 120) as usize;
+        let k = 1 + (rng.next_u64() % 120) as usize;
         let mut truth = Vec::with_capacity(k);
         let mut det = Vec::with_capacity(k);
         for _ in 0..k {
-            let t = (rng.next() % n as u64) as usize;
-            let w = match rng.next() % 8 {
+            let t = (rng.next_u64() % n as u64) as usize;
+            let w = match rng.next_u64() % 8 {
                 0 => 0.0,
                 1 => f64::INFINITY,
                 2 => s * (1.0 + rng.unit() * 3.0),
@@ -103,8 +87,8 @@ fn planted_boxes_only_join_detections_of_one_landmark() {
         let mut uf = Uf::new(k);
         // Some detections start in proved groups (tracks): true pairs.
         for _ in 0..k / 4 {
-            let a = (rng.next() % k as u64) as usize;
-            let b = (rng.next() % k as u64) as usize;
+            let a = (rng.next_u64() % k as u64) as usize;
+            let b = (rng.next_u64() % k as u64) as usize;
             if truth[a] == truth[b] {
                 uf.union(a, b);
             }
