@@ -27,7 +27,8 @@ pub fn repo_root() -> &'static Path {
 /// `target/debug/nvector`), first brought up to date by `cargo build
 /// --workspace --bins --tests --profile test` (`cargo test --workspace`'s
 /// selection and profile; for `target/release`, `cargo build -p
-/// nvector-server --bin nvector --profile release`), once per test process. The binary belongs to another package, so
+/// nvector-server --bin nvector --profile release`), once per test
+/// process. The binary belongs to another package, so
 /// `CARGO_BIN_EXE_nvector` does not exist here; building it from the test
 /// keeps `cargo test --workspace` working from a fresh clone, and costs one
 /// no-op cargo call when the Makefile built it first.

@@ -1,7 +1,8 @@
 //! The SLAM demo's part of the facade: run a mission to the fixpoint
 //! (feature `slam`, the solver module) and simulate one (feature
-//! `simulate`, the simulators' module). Two modules, so that each stays
-//! within the page's 160,000 bytes of brotli.
+//! `simulate`, the simulators' module): two modules, a step toward each
+//! within issue 17's 160,000 bytes of brotli (the solver's is not yet:
+//! BENCHMARKS.md, "The page's wasm transfer").
 
 use crate::{into_error, parse, Nvector};
 #[cfg(feature = "simulate")]
