@@ -12,6 +12,18 @@ cd "$(dirname "$0")/.."
 module() {
   local package=$1 features=$2 wasm=$3 out=$4 name=$5
   cargo build -p "$package" $features --profile wasm-release --target wasm32-unknown-unknown
+  # The steps below take most of a module's time (wasm-opt to a fixpoint,
+  # brotli at its best level: about 10 s a module): skipped when this
+  # module was already made from the same cargo output with this script
+  # (`make test` builds the page, then `scripts/web.sh test` checks it).
+  local stamp made=target/web-made/$name.sha256
+  stamp=$(cat "target/wasm32-unknown-unknown/wasm-release/$wasm.wasm" "$0" | sha256sum | cut -d' ' -f1)
+  if [ -f "$made" ] && [ "$(cat "$made")" = "$stamp" ] && [ -f "$out/${name}_bg.wasm" ] &&
+    [ -f "$out/${name}_bg.wasm.br" ] && [ -f "$out/${name}_bg.wasm.gz" ]; then
+    echo "web: $out/${name}_bg.wasm: up to date, $(stat -c %s "$out/${name}_bg.wasm") bytes, $(stat -c %s "$out/${name}_bg.wasm.br") with brotli, $(stat -c %s "$out/${name}_bg.wasm.gz") with gzip"
+    return
+  fi
+  rm -f "$made"
   wasm-bindgen --target web --no-typescript --remove-name-section --remove-producers-section \
     --out-dir "$out" --out-name "$name" "target/wasm32-unknown-unknown/wasm-release/$wasm.wasm"
   # wasm-opt (binaryen, installed by scripts/setup.sh) for size. It keeps
@@ -37,6 +49,8 @@ module() {
     brotli -f -q 11 -o "$f.br" "$f"
     gzip -9 -n -c "$f" >"$f.gz"
   done
+  mkdir -p target/web-made
+  echo "$stamp" >"$made"
   echo "web: $out/${name}_bg.wasm: $(stat -c %s "$out/${name}_bg.wasm") bytes, $(stat -c %s "$out/${name}_bg.wasm.br") with brotli, $(stat -c %s "$out/${name}_bg.wasm.gz") with gzip"
 }
 
