@@ -178,7 +178,7 @@ impl ShapesState {
         sums: &ChainSums,
     ) -> Result<(), String> {
         self.distinct_pairs(round, n, order, sums)?;
-        if let Some(mut w) = self.witness_regions(round, n)? {
+        if let Some(mut w) = self.witness_regions(round, n, order, sums)? {
             // An infeasible group ends the round at once (the witness
             // regions and the pairs found are dropped: the mission is
             // infeasible).
