@@ -156,7 +156,10 @@ impl Distinct {
                 merged: Uf::new(k),
                 infeasible: None,
                 common: Vec::new(),
-                scratch: Vec::new(),
+                nexts: Vec::new(),
+                commons: Vec::new(),
+                mark: Vec::new(),
+                epoch: 0,
             };
             let roots: Vec<u32> = (0..k as u32)
                 .filter(|&r| !adj[r as usize].is_empty())
@@ -200,7 +203,25 @@ struct Enum<'a> {
     merged: Uf,
     infeasible: Option<String>,
     common: Vec<u32>,
-    scratch: Vec<u32>,
+    /// Buffers of the candidate lists, by clique size (reused from node to
+    /// node; grown with the recursion's depth, which k bounds, not n).
+    nexts: Vec<Vec<u32>>,
+    /// `commons[d]` (d >= 1): the common neighbours of the clique's first
+    /// d + 1 roots, kept while they are on the clique, so that a full
+    /// clique intersects one more list instead of all of its own.
+    commons: Vec<Vec<u32>>,
+    /// `mark[r] == epoch`: root r is a common neighbour of the clique
+    /// being closed ([`Enum::mark_all`]; empty until first used).
+    mark: Vec<u32>,
+    epoch: u32,
+}
+
+/// `bufs[d]`, grown to hold it, taken out (put it back after use).
+fn take_buf(bufs: &mut Vec<Vec<u32>>, d: usize) -> Vec<u32> {
+    if bufs.len() <= d {
+        bufs.resize_with(d + 1, Vec::new);
+    }
+    std::mem::take(&mut bufs[d])
 }
 
 impl Enum<'_> {
@@ -215,42 +236,104 @@ impl Enum<'_> {
             self.close(clique);
             return;
         }
+        let d = clique.len();
+        let mut next = take_buf(&mut self.nexts, d);
         for (i, &v) in cands.iter().enumerate() {
             if self.nodes >= self.budget || self.infeasible.is_some() {
-                return;
+                break;
             }
-            let mut next = Vec::new();
             intersect_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
-            if clique.len() + 1 + next.len() < self.depth {
+            if d + 1 + next.len() < self.depth {
                 continue;
             }
             clique.push(v);
+            if d >= 1 && d + 1 < self.depth {
+                // The common neighbours of the clique so far (see
+                // `commons`); a full clique's are found in `close`.
+                let mut common = take_buf(&mut self.commons, d);
+                intersect_sorted(
+                    self.common_of(clique, d - 1),
+                    &self.adj[v as usize],
+                    &mut common,
+                );
+                self.commons[d] = common;
+            }
             self.extend(clique, &next);
             clique.pop();
+        }
+        self.nexts[d] = next;
+    }
+
+    /// The common neighbours of `clique[..=d]`: the adjacency of its
+    /// first root, or `commons[d]`.
+    fn common_of(&self, clique: &[u32], d: usize) -> &[u32] {
+        if d == 0 {
+            &self.adj[clique[0] as usize]
+        } else {
+            &self.commons[d]
         }
     }
 
     /// Common neighbours of a full (n-1)-clique: one landmark.
     fn close(&mut self, clique: &[u32]) {
         let mut common = std::mem::take(&mut self.common);
-        common.clear();
-        common.extend_from_slice(&self.adj[clique[0] as usize]);
-        for &c in &clique[1..] {
-            let mut out = std::mem::take(&mut self.scratch);
-            intersect_sorted(&common, &self.adj[c as usize], &mut out);
-            self.scratch = std::mem::replace(&mut common, out);
+        let last = clique.len() - 1;
+        if last == 0 {
+            common.clear();
+            common.extend_from_slice(&self.adj[clique[0] as usize]);
+        } else {
+            intersect_sorted(
+                self.common_of(clique, last - 1),
+                &self.adj[clique[last] as usize],
+                &mut common,
+            );
         }
         self.close_common(clique, &common);
         self.common = common;
+    }
+
+    /// Marks the members of `common` (a new epoch of `mark`).
+    fn mark_all(&mut self, common: &[u32]) {
+        if self.mark.len() != self.adj.len() {
+            self.mark = vec![0; self.adj.len()];
+        }
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.mark.fill(0);
+            self.epoch = 1;
+        }
+        for &c in common {
+            self.mark[c as usize] = self.epoch;
+        }
     }
 
     fn close_common(&mut self, clique: &[u32], common: &[u32]) {
         if common.len() < 2 {
             return;
         }
+        let adj = self.adj;
+        let mut marked = false;
         for (i, &a) in common.iter().enumerate() {
-            let na = &self.adj[a as usize];
-            if let Some(&b) = common[i + 1..].iter().find(|b| na.binary_search(b).is_ok()) {
+            let na = &adj[a as usize];
+            let rest = &common[i + 1..];
+            // The first b of `rest` adjacent to a (both lists increasing):
+            // by binary searches in a's list when `rest` is short, else by
+            // a scan of a's list for the marked members of `common` (the
+            // same b: the least member of `rest` in a's list).
+            let found = if rest.len() * 8 <= na.len() {
+                rest.iter().find(|b| na.binary_search(b).is_ok()).copied()
+            } else {
+                if !marked {
+                    self.mark_all(common);
+                    marked = true;
+                }
+                let from = na.partition_point(|&x| x <= a);
+                na[from..]
+                    .iter()
+                    .find(|&&x| self.mark[x as usize] == self.epoch)
+                    .copied()
+            };
+            if let Some(b) = found {
                 let mut named: Vec<u32> = clique.to_vec();
                 named.extend([a, b]);
                 named.sort_unstable();
