@@ -148,26 +148,10 @@ impl Distinct {
         }
         for _ in 0..MAX_PASSES {
             let adj = self.graph(uf)?;
-            let mut e = Enum {
-                adj: &adj,
-                depth: n - 1,
-                nodes: 0,
-                budget: node_budget,
-                merged: Uf::new(k),
-                infeasible: None,
-                common: Vec::new(),
-                nexts: Vec::new(),
-                commons: Vec::new(),
-                mark: Vec::new(),
-                epoch: 0,
-            };
             let roots: Vec<u32> = (0..k as u32)
                 .filter(|&r| !adj[r as usize].is_empty())
                 .collect();
-            // A clique holds at most n - 1 of the k roots: n itself is an
-            // input number (up to u32::MAX) that k does not bound.
-            let mut clique = Vec::with_capacity(n.min(k));
-            e.extend(&mut clique, &roots);
+            let mut e = clique_pass(&adj, n - 1, node_budget, &roots);
             if let Some(reason) = e.infeasible {
                 return Err(reason);
             }
@@ -190,6 +174,30 @@ impl Distinct {
         }
         Ok(unions)
     }
+}
+
+/// One pass of the clique rule: the (`depth` = n-1)-cliques of the group
+/// graph `adj` over `roots`, enumerated within `budget` nodes.
+fn clique_pass<'a>(adj: &'a [Vec<u32>], depth: usize, budget: usize, roots: &[u32]) -> Enum<'a> {
+    let k = adj.len();
+    let mut e = Enum {
+        adj,
+        depth,
+        nodes: 0,
+        budget,
+        merged: Uf::new(k),
+        infeasible: None,
+        common: Vec::new(),
+        nexts: Vec::new(),
+        commons: Vec::new(),
+        mark: Vec::new(),
+        epoch: 0,
+    };
+    // A clique holds at most n - 1 of the k roots: n itself is an input
+    // number (up to u32::MAX) that k does not bound.
+    let mut clique = Vec::with_capacity(depth.saturating_add(1).min(k));
+    e.extend(&mut clique, roots);
+    e
 }
 
 /// Enumeration of the (n-1)-cliques of the group graph.
@@ -379,6 +387,129 @@ mod tests {
         // With n = 5 nothing follows.
         let mut uf = Uf::new(6);
         assert!(d.infer(&mut uf, 5, 1000).unwrap().is_empty());
+    }
+
+    /// The enumeration before issue 18's buffers (a new candidate list per
+    /// node, a full clique's lists all intersected, the 5-clique check by
+    /// binary searches): the reference of
+    /// `the_clique_pass_matches_the_plain_enumeration`.
+    struct Plain<'a> {
+        adj: &'a [Vec<u32>],
+        depth: usize,
+        nodes: usize,
+        budget: usize,
+        merged: Uf,
+        infeasible: Option<(Vec<u32>, u32, u32)>,
+    }
+
+    impl Plain<'_> {
+        fn extend(&mut self, clique: &mut Vec<u32>, cands: &[u32]) {
+            if self.infeasible.is_some() || self.nodes >= self.budget {
+                return;
+            }
+            self.nodes += 1;
+            if clique.len() == self.depth {
+                let mut common = self.adj[clique[0] as usize].clone();
+                for &c in &clique[1..] {
+                    let mut out = Vec::new();
+                    intersect_sorted(&common, &self.adj[c as usize], &mut out);
+                    common = out;
+                }
+                for (i, &a) in common.iter().enumerate() {
+                    let na = &self.adj[a as usize];
+                    if let Some(&b) = common[i + 1..].iter().find(|b| na.binary_search(b).is_ok()) {
+                        self.infeasible = Some((clique.clone(), a, b));
+                        return;
+                    }
+                }
+                if common.len() >= 2 {
+                    for &x in &common[1..] {
+                        self.merged.union(common[0] as usize, x as usize);
+                    }
+                }
+                return;
+            }
+            for (i, &v) in cands.iter().enumerate() {
+                if self.nodes >= self.budget || self.infeasible.is_some() {
+                    return;
+                }
+                let mut next = Vec::new();
+                intersect_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
+                if clique.len() + 1 + next.len() < self.depth {
+                    continue;
+                }
+                clique.push(v);
+                self.extend(clique, &next);
+                clique.pop();
+            }
+        }
+    }
+
+    /// Random graphs (dense and sparse, hubs with long lists), n from 2 to
+    /// 6, budgets that stop the search or not: the pass finds the same
+    /// merges, the same node count and the same 5-clique (named the same)
+    /// as the plain enumeration.
+    #[test]
+    fn the_clique_pass_matches_the_plain_enumeration() {
+        let mut rng = crate::rng::Rng::new(18);
+        let mut infeasible = 0;
+        for case in 0..600 {
+            let k = 5 + (rng.next_u64() % 60) as usize;
+            let density = rng.unit() * if case % 3 == 0 { 0.9 } else { 0.4 };
+            let hubs = (rng.next_u64() % 4) as usize;
+            let mut adj = vec![Vec::new(); k];
+            for a in 0..k {
+                for b in a + 1..k {
+                    let p = if a < hubs { 0.95 } else { density };
+                    if rng.unit() < p {
+                        adj[a].push(b as u32);
+                        adj[b].push(a as u32);
+                    }
+                }
+            }
+            for l in &mut adj {
+                l.sort_unstable();
+            }
+            let roots: Vec<u32> = (0..k as u32)
+                .filter(|&r| !adj[r as usize].is_empty())
+                .collect();
+            let depth = 1 + (rng.next_u64() % 5) as usize;
+            let budget = [10, 200, 100_000][case % 3];
+            let mut e = clique_pass(&adj, depth, budget, &roots);
+            let mut p = Plain {
+                adj: &adj,
+                depth,
+                nodes: 0,
+                budget,
+                merged: Uf::new(k),
+                infeasible: None,
+            };
+            p.extend(&mut Vec::new(), &roots);
+            assert_eq!(e.nodes, p.nodes, "case {case}");
+            match &p.infeasible {
+                Some((clique, a, b)) => {
+                    infeasible += 1;
+                    let mut named = clique.clone();
+                    named.extend([*a, *b]);
+                    named.sort_unstable();
+                    let reason = e.infeasible.clone().expect("infeasible as the plain one");
+                    assert!(
+                        reason.contains(&format!("{named:?}")),
+                        "case {case}: {reason}"
+                    );
+                }
+                None => {
+                    assert_eq!(e.infeasible, None, "case {case}");
+                    for r in 0..k {
+                        assert_eq!(e.merged.find(r), p.merged.find(r), "case {case} root {r}");
+                    }
+                }
+            }
+        }
+        assert!(
+            infeasible > 20 && infeasible < 580,
+            "{infeasible} infeasible cases"
+        );
     }
 
     #[test]
