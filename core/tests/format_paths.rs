@@ -253,3 +253,37 @@ fn leaf_values_read_the_same() {
     }
     assert!(refused > docs.len() * 5, "{refused} refused");
 }
+
+/// The messages in full, as formats.md words them (written by hand, not
+/// copied from a run): a path into nested objects, into an array of
+/// objects, into an array of numbers.
+#[test]
+fn mission_errors_name_the_path_in_full() {
+    use nvector_core::slam::mission::Mission;
+    let mission = |inputs: &str, detections: &str| {
+        let text = format!(
+            r#"{{"format": "nvector-mission/1", "model": "unicycle2d", "dt": 1, "steps": 1,
+            "initial_position": [[0, 0], [0, 0]], "inputs": {inputs}, "detections": {detections}}}"#
+        );
+        let v: Value = serde_json::from_str(&text).unwrap();
+        Mission::from_value(&v).err().unwrap().to_string()
+    };
+    assert_eq!(
+        mission(
+            r#"{"speed": {"value": [1], "eror": 0.1}, "heading": {"value": [0], "error": 0}}"#,
+            "[]"
+        ),
+        "inputs.speed.eror: unknown field `eror` (expected one of: value, error, lo, hi)"
+    );
+    assert_eq!(
+        mission(
+            r#"{"speed": {"value": [1], "error": 0}, "heading": {"value": [0], "error": 0}}"#,
+            r#"[{"step": 1, "range": [1, 2]}, {"step": 0, "range": [3, 2]}]"#
+        ),
+        "detections[1].range: lower bound 3 is above upper bound 2"
+    );
+    assert_eq!(
+        mission(r#"{"speed": {"value": [1, "x"], "error": 0}}"#, "[]"),
+        "inputs.speed.value[1]: expected a finite number, found a string"
+    );
+}
