@@ -84,6 +84,7 @@ mod regions;
 mod registration;
 mod round;
 pub mod scan_map;
+pub mod scan_pose;
 pub mod separation;
 pub mod sequential;
 mod state;
