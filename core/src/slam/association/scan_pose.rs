@@ -38,7 +38,10 @@ pub fn scan_pose_step(
     let Some(&th) = model.heading.get(t) else {
         return Ok((Vec::new(), false));
     };
-    if at.is_empty() || !(th.width() > MIN_WIDTH) || model.det.first().is_none_or(|d| d.dim() != 2)
+    if at.is_empty()
+        || th.is_empty()
+        || th.width() <= MIN_WIDTH
+        || model.det.first().is_none_or(|d| d.dim() != 2)
     {
         return Ok((Vec::new(), false));
     }
