@@ -62,7 +62,7 @@
 //! trajectory and landmarks stay inside.
 
 use super::association::scan_map::ScanMap;
-use super::association::scan_pose::scan_pose_step;
+use super::association::scan_pose::{scan_pose_step, ScanPoseMemo};
 use super::association::separation::separation_unions;
 use super::association::sequential::SeparationGrid;
 use super::association::tracks::{track_unions, TrackOptions};
@@ -138,6 +138,8 @@ struct Propagation<'a> {
     grid: Option<SeparationGrid>,
     /// The closed-world map of the pass ([`ScanMap`]), with the grid.
     scan_map: Option<ScanMap>,
+    /// What the scan pose left at each step ([`ScanPoseMemo`]).
+    pose_memo: ScanPoseMemo,
 }
 
 impl<'a> Propagation<'a> {
@@ -209,6 +211,7 @@ impl<'a> Propagation<'a> {
                 .then(|| mission.seen_from_position()),
             grid: None,
             scan_map: None,
+            pose_memo: ScanPoseMemo::default(),
         }
     }
 
@@ -467,6 +470,7 @@ impl<'a> Propagation<'a> {
             self.mission,
             &mut self.model,
             &mut self.matching,
+            &mut self.pose_memo,
             at,
             self.steps[s],
             self.tol,

@@ -13,6 +13,7 @@
 //! [`MIN_WIDTH`], where the pieces would add little to the detections'
 //! own contractions.
 
+use crate::interval::Interval;
 use crate::odometry::scan_pose::{contract_scan_pose, PoseOutcome, PoseReading};
 use crate::slam::mission::Mission;
 use crate::slam::model::Model;
@@ -24,6 +25,30 @@ pub const PIECES: usize = 16;
 /// Headings narrower than this (rad) are not cut.
 pub const MIN_WIDTH: f64 = 0.05;
 
+/// Per step, the domains the scan pose left there (th, p and the sum of
+/// the landmark boxes' bounds): a step whose domains are still those is
+/// not contracted again (the pieces would find little more; skipping a
+/// contraction is always sound). O(N) memory.
+#[derive(Debug, Clone, Default)]
+pub struct ScanPoseMemo(Vec<Option<[f64; 7]>>);
+
+/// The stamp of a step's domains for [`ScanPoseMemo`].
+fn stamp(th: Interval, p: &[Interval; 2], reads: &[PoseReading]) -> [f64; 7] {
+    let sum = reads
+        .iter()
+        .flat_map(|r| r.landmark)
+        .fold(0.0, |a, x| a + x.lo() + x.hi());
+    [
+        th.lo(),
+        th.hi(),
+        p[0].lo(),
+        p[0].hi(),
+        p[1].lo(),
+        p[1].hi(),
+        sum,
+    ]
+}
+
 /// Contracts the detections `at` (all at step `t`) with p(t) and th(t);
 /// returns the detections whose box shrank by more than `tol` and whether
 /// p(t) or th(t) did. Err: no heading piece fits every detection.
@@ -31,6 +56,7 @@ pub fn scan_pose_step(
     mission: &Mission,
     model: &mut Model,
     uf: &mut Uf,
+    memo: &mut ScanPoseMemo,
     at: &[usize],
     t: usize,
     tol: f64,
@@ -63,6 +89,17 @@ pub fn scan_pose_step(
     }
     let mut p = [model.pos[2 * t], model.pos[2 * t + 1]];
     let mut h = th;
+    if memo.0.len() <= t {
+        memo.0.resize(model.heading.len().max(t + 1), None);
+    }
+    let before = stamp(th, &p, &reads);
+    if memo.0[t].is_some_and(|m| {
+        m.iter()
+            .zip(&before)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
+    }) {
+        return Ok((Vec::new(), false));
+    }
     if contract_scan_pose(&mut p, &mut h, model.sensor_offset, &mut reads, PIECES)
         == PoseOutcome::Empty
     {
@@ -95,11 +132,12 @@ pub fn scan_pose_step(
             model.det[root].intersect_with(&dj);
         }
     }
+    memo.0[t] = Some(stamp(h, &p, &reads));
     Ok((moved, moved_pose))
 }
 
 /// How much an interval shrank (infinite bounds becoming finite count as
 /// infinite).
-fn shrink(before: crate::interval::Interval, after: crate::interval::Interval) -> f64 {
+fn shrink(before: Interval, after: Interval) -> f64 {
     crate::contractors::motion_chain::shrinkage(before, after)
 }
