@@ -87,6 +87,7 @@ mod regions;
 mod registration;
 mod round;
 pub mod scan_map;
+pub mod scan_pose;
 pub mod separation;
 pub mod sequential;
 mod state;
