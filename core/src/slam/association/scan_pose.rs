@@ -71,22 +71,7 @@ pub fn scan_pose_step(
     {
         return Ok((Vec::new(), false));
     }
-    let mut js = Vec::with_capacity(at.len());
-    let mut reads = Vec::with_capacity(at.len());
-    for &j in at {
-        let Some(bearing) = mission.detections[j].bearing else {
-            continue;
-        };
-        let root = uf.find(j);
-        let mut b = model.det[j].clone();
-        b.intersect_with(&model.det[root]);
-        js.push(j);
-        reads.push(PoseReading {
-            range: mission.detections[j].range,
-            bearing,
-            landmark: [b[0], b[1]],
-        });
-    }
+    let (js, mut reads) = readings(mission, model, uf, at);
     let mut p = [model.pos[2 * t], model.pos[2 * t + 1]];
     let mut h = th;
     if memo.0.len() <= t {
@@ -120,8 +105,50 @@ pub fn scan_pose_step(
     for &j in at {
         model.heading_at[j] = h;
     }
+    let moved = write_landmarks(model, uf, &js, &reads, tol);
+    memo.0[t] = Some(stamp(h, &p, &reads));
+    Ok((moved, moved_pose))
+}
+
+/// The readings of the detections `at` that have a bearing (with their
+/// indices): range, bearing, and the landmark box of the detection met
+/// with its group's.
+fn readings(
+    mission: &Mission,
+    model: &Model,
+    uf: &mut Uf,
+    at: &[usize],
+) -> (Vec<usize>, Vec<PoseReading>) {
+    let mut js = Vec::with_capacity(at.len());
+    let mut reads = Vec::with_capacity(at.len());
+    for &j in at {
+        let Some(bearing) = mission.detections[j].bearing else {
+            continue;
+        };
+        let root = uf.find(j);
+        let mut b = model.det[j].clone();
+        b.intersect_with(&model.det[root]);
+        js.push(j);
+        reads.push(PoseReading {
+            range: mission.detections[j].range,
+            bearing,
+            landmark: [b[0], b[1]],
+        });
+    }
+    (js, reads)
+}
+
+/// Writes the contracted landmark boxes back (each also into its group's
+/// box); returns the detections whose box shrank by more than `tol`.
+fn write_landmarks(
+    model: &mut Model,
+    uf: &mut Uf,
+    js: &[usize],
+    reads: &[PoseReading],
+    tol: f64,
+) -> Vec<usize> {
     let mut moved = Vec::new();
-    for (&j, r) in js.iter().zip(&reads) {
+    for (&j, r) in js.iter().zip(reads) {
         let before = [model.det[j][0], model.det[j][1]];
         model.det[j][0] = r.landmark[0];
         model.det[j][1] = r.landmark[1];
@@ -132,8 +159,7 @@ pub fn scan_pose_step(
             model.det[root].intersect_with(&dj);
         }
     }
-    memo.0[t] = Some(stamp(h, &p, &reads));
-    Ok((moved, moved_pose))
+    moved
 }
 
 /// How much an interval shrank (infinite bounds becoming finite count as
