@@ -115,7 +115,7 @@ def main():
     if failed:
         print("test_rust: FAILED: " + ", ".join(failed), file=sys.stderr)
         sys.exit(1)
-    doc = subprocess.run(["cargo", "test", "--workspace", "--doc", *args], cwd=root)
+    doc = subprocess.run(["cargo", "test", "--workspace", "--doc", "--", *args], cwd=root)
     sys.exit(doc.returncode)
 
 
