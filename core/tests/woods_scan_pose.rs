@@ -210,3 +210,36 @@ fn a_contradiction_is_found() {
     let out = contract_scan_pose(&mut p, &mut th, [0.0, 0.0], &mut reads, 8);
     assert_eq!(out, PoseOutcome::Contracted);
 }
+
+/// A heading interval whose width overflows (hi - lo = +inf in floats):
+/// the pieces must still cover it, so a true heading anywhere inside
+/// survives with its position and landmark.
+#[test]
+fn a_heading_wider_than_the_floats_keeps_the_truth() {
+    for th_true in [-1e308, -3.0, 0.0, 1.0, 7e307, 1e308] {
+        let (p_true, r_true, b_true) = ([2.0, -1.0], 5.0, 0.3);
+        let a = th_true + b_true;
+        let l = [
+            p_true[0] + r_true * libm::cos(a),
+            p_true[1] + r_true * libm::sin(a),
+        ];
+        let mut p = [Interval::new(-10.0, 10.0), Interval::new(-10.0, 10.0)];
+        let mut th = Interval::new(-f64::MAX, f64::MAX);
+        let mut reads = vec![PoseReading {
+            range: Interval::new(4.9, 5.1),
+            bearing: Interval::new(0.29, 0.31),
+            landmark: [
+                Interval::new(l[0] - 1.0, l[0] + 1.0),
+                Interval::new(l[1] - 1.0, l[1] + 1.0),
+            ],
+        }];
+        let out = contract_scan_pose(&mut p, &mut th, [0.0, 0.0], &mut reads, 16);
+        assert_eq!(out, PoseOutcome::Contracted, "heading {th_true}");
+        assert!(th.contains(th_true), "heading {th_true} lost: {th:?}");
+        assert!(inside(&p, p_true), "heading {th_true}: position lost");
+        assert!(
+            inside(&reads[0].landmark, l),
+            "heading {th_true}: landmark lost"
+        );
+    }
+}

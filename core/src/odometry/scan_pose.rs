@@ -95,12 +95,16 @@ pub fn contract_scan_pose(
     if pieces < 2 || reads.is_empty() || !th.is_bounded() || th.is_empty() {
         return PoseOutcome::Contracted;
     }
+    // The pieces' bounds: lo, then non-decreasing values in [lo, hi], then
+    // hi, so the pieces cover th whatever the rounding. The width may
+    // overflow to +inf (then the inner bounds are hi); k = 0 is lo itself
+    // (inf · 0 would be NaN).
     let (lo, w) = (th.lo(), th.hi() - th.lo());
     let bound = |k: usize| -> f64 {
-        if k == pieces {
-            th.hi()
-        } else {
-            (lo + w * (k as f64) / (pieces as f64)).min(th.hi())
+        match k {
+            0 => lo,
+            k if k == pieces => th.hi(),
+            k => (lo + w * (k as f64) / (pieces as f64)).clamp(lo, th.hi()),
         }
     };
     let mut vs = vec![[Interval::EMPTY; 2]; reads.len()];
