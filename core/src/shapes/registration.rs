@@ -356,6 +356,17 @@ fn maps(
     true
 }
 
+/// `boxes` (of dimension `dim`) coarsened to at most `coarse` boxes, as
+/// [`register_on`] coarsens each piece of a [`LocalGroup`]: the same boxes,
+/// bit for bit, and a piece given already coarsened is read unchanged, so
+/// a caller may coarsen a piece once and keep it. O(m² · d).
+pub fn coarsen_piece(boxes: &[IntervalBox], dim: usize, coarse: usize) -> Vec<IntervalBox> {
+    coarsen(boxes.iter().map(to_axes).collect(), dim, coarse)
+        .iter()
+        .map(|a| IntervalBox::new(&a[..dim]))
+        .collect()
+}
+
 /// Half-perimeter of a box (its first `dim` axes).
 fn size(h: &Axes, dim: usize) -> f64 {
     h[..dim].iter().map(|x| x.width()).sum()
@@ -428,18 +439,42 @@ fn merge(set: &mut Vec<Axes>, dim: usize, max: usize) {
                     .unwrap_or(std::cmp::Ordering::Equal)
             })
     });
+    merge_neighbours(set, dim, max);
+}
+
+/// Merges the cheapest neighbours of `set` (in its order) into their hull
+/// until at most `max` boxes are left: the cost of a merge is the growth
+/// of the half-perimeter over the larger box's; the first of equal costs
+/// goes first. The cost of each box with the next is kept as the merges
+/// go (only the two next to a merge change): the same costs, so the same
+/// merges, as computing them all again before each merge. O(m²) for m
+/// boxes.
+fn merge_neighbours(set: &mut Vec<Axes>, dim: usize, max: usize) {
+    if set.len() <= max.max(1) {
+        return;
+    }
+    let cost = |set: &[Axes], i: usize| {
+        let h = hull2(&set[i], &set[i + 1], dim);
+        size(&h, dim) - size(&set[i], dim).max(size(&set[i + 1], dim))
+    };
+    let mut costs: Vec<f64> = (0..set.len() - 1).map(|i| cost(set, i)).collect();
     while set.len() > max {
         let mut best = (f64::INFINITY, 0);
-        for i in 0..set.len() - 1 {
-            let h = hull2(&set[i], &set[i + 1], dim);
-            let cost = size(&h, dim) - size(&set[i], dim).max(size(&set[i + 1], dim));
-            if cost < best.0 {
-                best = (cost, i);
+        for (i, &c) in costs.iter().enumerate() {
+            if c < best.0 {
+                best = (c, i);
             }
         }
         let i = best.1;
         set[i] = hull2(&set[i], &set[i + 1], dim);
         set.remove(i + 1);
+        costs.remove(i);
+        if i > 0 {
+            costs[i - 1] = cost(set, i - 1);
+        }
+        if i + 1 < set.len() {
+            costs[i] = cost(set, i);
+        }
     }
 }
 
@@ -457,6 +492,63 @@ mod tests {
     /// width of [4, 6]², and the swapped map (p near (15, 5) for one group,
     /// near (-5, 5) for the other) has no common point: each group gets its
     /// own witness.
+    /// The merges of [`merge_neighbours`] (costs kept between merges) are
+    /// those of computing every neighbour's cost again before each merge
+    /// (the loop it replaced, issue 18), bit for bit, on random sets with
+    /// many equal costs (boxes on a grid); and a piece coarsened by
+    /// [`coarsen_piece`] is read unchanged when coarsened again.
+    #[test]
+    fn kept_merge_costs_give_the_merges_of_the_full_scan() {
+        fn full_scan(set: &mut Vec<Axes>, dim: usize, max: usize) {
+            while set.len() > max {
+                let mut best = (f64::INFINITY, 0);
+                for i in 0..set.len() - 1 {
+                    let h = hull2(&set[i], &set[i + 1], dim);
+                    let cost = size(&h, dim) - size(&set[i], dim).max(size(&set[i + 1], dim));
+                    if cost < best.0 {
+                        best = (cost, i);
+                    }
+                }
+                let i = best.1;
+                set[i] = hull2(&set[i], &set[i + 1], dim);
+                set.remove(i + 1);
+            }
+        }
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        };
+        for case in 0..400 {
+            let (dim, count, max) = (2 + case % 2, 1 + next(60) as usize, 1 + next(14) as usize);
+            let set: Vec<Axes> = (0..count)
+                .map(|_| {
+                    let mut a = [Interval::ZERO; MAX_DIM];
+                    for x in a.iter_mut().take(dim) {
+                        let lo = next(20) as f64 * 0.5 - 5.0;
+                        *x = Interval::new(lo, lo + next(6) as f64 * 0.25);
+                    }
+                    a
+                })
+                .collect();
+            let (mut kept, mut full) = (set.clone(), set.clone());
+            merge_neighbours(&mut kept, dim, max);
+            full_scan(&mut full, dim, max);
+            let bits = |v: &[Axes]| -> Vec<u64> {
+                v.iter()
+                    .flat_map(|a| a.iter().flat_map(|x| [x.lo().to_bits(), x.hi().to_bits()]))
+                    .collect()
+            };
+            assert_eq!(bits(&kept), bits(&full), "case {case}");
+            let boxes: Vec<IntervalBox> = set.iter().map(|a| IntervalBox::new(&a[..dim])).collect();
+            let once = coarsen_piece(&boxes, dim, max);
+            assert!(once.len() <= max, "case {case}");
+            assert_eq!(coarsen_piece(&once, dim, max), once, "case {case}");
+        }
+    }
+
     #[test]
     fn a_local_pair_places_the_robot_and_names_the_landmarks() {
         let witnesses = vec![
