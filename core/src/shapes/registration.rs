@@ -225,6 +225,12 @@ pub fn register_on(
     out
 }
 
+/// The difference boxes of one group, piece and witness: for each box of
+/// the coarsened W(i), the hull of its differences with the boxes of the
+/// coarsened piece, then those differences (`block` = 1 + their count, a
+/// box S meets one of them only if it meets their hull).
+type Diffs = (usize, Vec<Axes>);
+
 /// The difference boxes W(i) - R(g, piece) (`w`: the coarsened W, R
 /// coarsened here to `coarse` boxes): `diff[g][piece][i]` (empty for a witness other than a group's
 /// fixed one).
@@ -233,7 +239,7 @@ fn differences(
     groups: &[LocalGroup],
     dim: usize,
     coarse: usize,
-) -> Vec<Vec<Vec<Vec<Axes>>>> {
+) -> Vec<Vec<Vec<Diffs>>> {
     let n = w.len();
     groups
         .iter()
@@ -242,13 +248,16 @@ fn differences(
                 .iter()
                 .map(|piece| {
                     let r = coarsen(piece.iter().map(to_axes).collect(), dim, coarse);
+                    let block = 1 + r.len();
                     (0..n)
                         .map(|i| {
                             if g.fixed.is_some_and(|f| f != i) {
-                                return Vec::new();
+                                return (block, Vec::new());
                             }
-                            let mut boxes = Vec::with_capacity(w[i].len() * r.len());
+                            let mut boxes = Vec::with_capacity(w[i].len() * block);
                             for wb in &w[i] {
+                                let at = boxes.len();
+                                boxes.push([Interval::EMPTY; MAX_DIM]);
                                 for rb in &r {
                                     let mut d = [Interval::ZERO; MAX_DIM];
                                     for x in 0..dim {
@@ -256,8 +265,11 @@ fn differences(
                                     }
                                     boxes.push(d);
                                 }
+                                boxes[at] = boxes[at + 1..]
+                                    .iter()
+                                    .fold(boxes[at], |h, d| hull2(&h, d, dim));
                             }
-                            boxes
+                            (block, boxes)
                         })
                         .collect()
                 })
@@ -268,9 +280,9 @@ fn differences(
 
 /// The candidate masks of one box S of p(s) (bit i: witness i may be the
 /// group's landmark, for every piece), from the masks `all`; None when
-/// some group has none. Adds the box tests to `work`.
+/// some group has none. Adds the difference boxes read to `work`.
 fn candidate_masks(
-    diff: &[Vec<Vec<Vec<Axes>>>],
+    diff: &[Vec<Vec<Diffs>>],
     s: &Axes,
     all: u64,
     dim: usize,
@@ -281,12 +293,20 @@ fn candidate_masks(
         let mut mask = all;
         for piece in g {
             let mut pm = 0u64;
-            for (i, boxes) in piece.iter().enumerate() {
+            for (i, (block, boxes)) in piece.iter().enumerate() {
                 if mask & (1 << i) == 0 {
                     continue;
                 }
-                *work += boxes.len() as u64;
-                if boxes.iter().any(|b| meets(s, b, dim)) {
+                // A box outside a block's hull misses the whole block: the
+                // same answer as testing every difference box.
+                let hit = boxes.chunks(*block).any(|c| {
+                    *work += 1;
+                    meets(s, &c[0], dim) && {
+                        *work += c.len() as u64 - 1;
+                        c[1..].iter().any(|b| meets(s, b, dim))
+                    }
+                });
+                if hit {
                     pm |= 1 << i;
                 }
             }
@@ -546,6 +566,66 @@ mod tests {
             let once = coarsen_piece(&boxes, dim, max);
             assert!(once.len() <= max, "case {case}");
             assert_eq!(coarsen_piece(&once, dim, max), once, "case {case}");
+        }
+    }
+
+    /// The hull before each block of difference boxes only skips blocks
+    /// that no box of them meets: the masks are those of testing every
+    /// difference box, on random witnesses, pieces and boxes of p(s).
+    #[test]
+    fn block_hulls_give_the_masks_of_every_difference_box() {
+        let mut rng = crate::rng::Rng::new(1806);
+        let mut b = || {
+            let lo = rng.unit() * 20.0 - 10.0;
+            Interval::new(lo, lo + rng.unit() * 3.0)
+        };
+        for case in 0..300 {
+            let w: Vec<Vec<Axes>> = (0..3)
+                .map(|_| {
+                    (0..1 + case % 5)
+                        .map(|_| to_axes(&IntervalBox::new(&[b(), b()])))
+                        .collect()
+                })
+                .collect();
+            let groups: Vec<LocalGroup> = (0..2)
+                .map(|g| LocalGroup {
+                    pieces: (0..2)
+                        .map(|_| {
+                            (0..1 + case % 7)
+                                .map(|_| IntervalBox::new(&[b(), b()]))
+                                .collect()
+                        })
+                        .collect(),
+                    fixed: (g == 1 && case % 2 == 0).then_some(2),
+                })
+                .collect();
+            let diff = differences(&w, &groups, 2, 4);
+            for _ in 0..20 {
+                let s = to_axes(&IntervalBox::new(&[b(), b()]));
+                let every: Option<Vec<u64>> = diff
+                    .iter()
+                    .map(|g| {
+                        let mask = g.iter().fold(7u64, |mask, piece| {
+                            let mut pm = 0;
+                            for (i, (block, boxes)) in piece.iter().enumerate() {
+                                let hit = boxes
+                                    .chunks(*block)
+                                    .any(|c| c[1..].iter().any(|d| meets(&s, d, 2)));
+                                if hit {
+                                    pm |= 1 << i;
+                                }
+                            }
+                            mask & pm
+                        });
+                        (mask != 0).then_some(mask)
+                    })
+                    .collect();
+                assert_eq!(
+                    candidate_masks(&diff, &s, 7, 2, &mut 0),
+                    every,
+                    "case {case}"
+                );
+            }
         }
     }
 
