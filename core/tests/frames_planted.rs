@@ -82,7 +82,7 @@ fn check_frames(pm: &PlantedMission, rng: &mut Rng) -> Result<usize, String> {
             }
         }
         proved += out.len();
-        for (member, s, paving) in frames.every_piece() {
+        for (member, s, _, paving) in frames.every_piece() {
             let l = &pm.landmarks[pm.matching[member].expect("a true group")];
             let rel: Vec<BigRational> = (0..dim)
                 .map(|a| rat(l[a]) - rat(pm.positions[s][a]))

@@ -79,6 +79,9 @@ impl Default for FrameOptions {
 struct Piece {
     step: usize,
     member: usize,
+    /// Unique among the pieces these frames ever built (a piece never
+    /// changes: a memo keyed on it stays valid while the id is seen).
+    id: u64,
     region: Paving,
     /// Whether its pairs were found already (a piece depends on its
     /// group's members and the displacement sums alone, and so do the
@@ -91,6 +94,8 @@ struct Piece {
 pub struct Frames {
     /// By group root: (member count when built, pieces).
     cache: Vec<Option<(usize, Vec<Piece>)>>,
+    /// The id of the next piece built.
+    next_id: u64,
 }
 
 /// The shape of detection j in the frame of step s (cut by nothing: the
@@ -124,13 +129,14 @@ impl Frames {
             .collect()
     }
 
-    /// Every cached piece: a member of its group, its step s and its paving
-    /// of `L - p(s)`.
-    pub fn every_piece(&self) -> Vec<(usize, usize, &Paving)> {
+    /// Every cached piece: a member of its group, its step s, its id
+    /// (unique among the pieces these frames ever built) and its paving of
+    /// `L - p(s)`.
+    pub fn every_piece(&self) -> Vec<(usize, usize, u64, &Paving)> {
         self.cache
             .iter()
             .flatten()
-            .flat_map(|(_, pieces)| pieces.iter().map(|p| (p.member, p.step, &p.region)))
+            .flat_map(|(_, pieces)| pieces.iter().map(|p| (p.member, p.step, p.id, &p.region)))
             .collect()
     }
 
@@ -221,7 +227,7 @@ impl Frames {
                     crate::sort::sort_indices_by(&mut members, |a, b| {
                         dets[a].step.cmp(&dets[b].step)
                     });
-                    let mut pieces = Vec::new();
+                    let mut pieces: Vec<Piece> = Vec::new();
                     for chunk in
                         members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
                     {
@@ -234,6 +240,10 @@ impl Frames {
                             opts,
                             &mut work,
                         )?);
+                    }
+                    for p in &mut pieces {
+                        p.id = self.next_id;
+                        self.next_id += 1;
                     }
                     pieces
                 }
@@ -384,6 +394,7 @@ fn build_pieces(
         pieces.push(Piece {
             step: s,
             member: anchor,
+            id: 0,
             region,
             tested: false,
         });

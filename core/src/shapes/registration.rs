@@ -225,6 +225,12 @@ pub fn register_on(
     out
 }
 
+/// The difference boxes of one group, piece and witness: for each box of
+/// the coarsened W(i), the hull of its differences with the boxes of the
+/// coarsened piece, then those differences (`block` = 1 + their count, a
+/// box S meets one of them only if it meets their hull).
+type Diffs = (usize, Vec<Axes>);
+
 /// The difference boxes W(i) - R(g, piece) (`w`: the coarsened W, R
 /// coarsened here to `coarse` boxes): `diff[g][piece][i]` (empty for a witness other than a group's
 /// fixed one).
@@ -233,7 +239,7 @@ fn differences(
     groups: &[LocalGroup],
     dim: usize,
     coarse: usize,
-) -> Vec<Vec<Vec<Vec<Axes>>>> {
+) -> Vec<Vec<Vec<Diffs>>> {
     let n = w.len();
     groups
         .iter()
@@ -242,13 +248,16 @@ fn differences(
                 .iter()
                 .map(|piece| {
                     let r = coarsen(piece.iter().map(to_axes).collect(), dim, coarse);
+                    let block = 1 + r.len();
                     (0..n)
                         .map(|i| {
                             if g.fixed.is_some_and(|f| f != i) {
-                                return Vec::new();
+                                return (block, Vec::new());
                             }
-                            let mut boxes = Vec::with_capacity(w[i].len() * r.len());
+                            let mut boxes = Vec::with_capacity(w[i].len() * block);
                             for wb in &w[i] {
+                                let at = boxes.len();
+                                boxes.push([Interval::EMPTY; MAX_DIM]);
                                 for rb in &r {
                                     let mut d = [Interval::ZERO; MAX_DIM];
                                     for x in 0..dim {
@@ -256,8 +265,11 @@ fn differences(
                                     }
                                     boxes.push(d);
                                 }
+                                boxes[at] = boxes[at + 1..]
+                                    .iter()
+                                    .fold(boxes[at], |h, d| hull2(&h, d, dim));
                             }
-                            boxes
+                            (block, boxes)
                         })
                         .collect()
                 })
@@ -268,9 +280,9 @@ fn differences(
 
 /// The candidate masks of one box S of p(s) (bit i: witness i may be the
 /// group's landmark, for every piece), from the masks `all`; None when
-/// some group has none. Adds the box tests to `work`.
+/// some group has none. Adds the difference boxes read to `work`.
 fn candidate_masks(
-    diff: &[Vec<Vec<Vec<Axes>>>],
+    diff: &[Vec<Vec<Diffs>>],
     s: &Axes,
     all: u64,
     dim: usize,
@@ -281,12 +293,20 @@ fn candidate_masks(
         let mut mask = all;
         for piece in g {
             let mut pm = 0u64;
-            for (i, boxes) in piece.iter().enumerate() {
+            for (i, (block, boxes)) in piece.iter().enumerate() {
                 if mask & (1 << i) == 0 {
                     continue;
                 }
-                *work += boxes.len() as u64;
-                if boxes.iter().any(|b| meets(s, b, dim)) {
+                // A box outside a block's hull misses the whole block: the
+                // same answer as testing every difference box.
+                let hit = boxes.chunks(*block).any(|c| {
+                    *work += 1;
+                    meets(s, &c[0], dim) && {
+                        *work += c.len() as u64 - 1;
+                        c[1..].iter().any(|b| meets(s, b, dim))
+                    }
+                });
+                if hit {
                     pm |= 1 << i;
                 }
             }
@@ -354,6 +374,17 @@ fn maps(
     }
     assign[g] = usize::MAX;
     true
+}
+
+/// `boxes` (of dimension `dim`) coarsened to at most `coarse` boxes, as
+/// [`register_on`] coarsens each piece of a [`LocalGroup`]: the same boxes,
+/// bit for bit, and a piece given already coarsened is read unchanged, so
+/// a caller may coarsen a piece once and keep it. O(m² · d).
+pub fn coarsen_piece(boxes: &[IntervalBox], dim: usize, coarse: usize) -> Vec<IntervalBox> {
+    coarsen(boxes.iter().map(to_axes).collect(), dim, coarse)
+        .iter()
+        .map(|a| IntervalBox::new(&a[..dim]))
+        .collect()
 }
 
 /// Half-perimeter of a box (its first `dim` axes).
@@ -428,18 +459,42 @@ fn merge(set: &mut Vec<Axes>, dim: usize, max: usize) {
                     .unwrap_or(std::cmp::Ordering::Equal)
             })
     });
+    merge_neighbours(set, dim, max);
+}
+
+/// Merges the cheapest neighbours of `set` (in its order) into their hull
+/// until at most `max` boxes are left: the cost of a merge is the growth
+/// of the half-perimeter over the larger box's; the first of equal costs
+/// goes first. The cost of each box with the next is kept as the merges
+/// go (only the two next to a merge change): the same costs, so the same
+/// merges, as computing them all again before each merge. O(m²) for m
+/// boxes.
+fn merge_neighbours(set: &mut Vec<Axes>, dim: usize, max: usize) {
+    if set.len() <= max.max(1) {
+        return;
+    }
+    let cost = |set: &[Axes], i: usize| {
+        let h = hull2(&set[i], &set[i + 1], dim);
+        size(&h, dim) - size(&set[i], dim).max(size(&set[i + 1], dim))
+    };
+    let mut costs: Vec<f64> = (0..set.len() - 1).map(|i| cost(set, i)).collect();
     while set.len() > max {
         let mut best = (f64::INFINITY, 0);
-        for i in 0..set.len() - 1 {
-            let h = hull2(&set[i], &set[i + 1], dim);
-            let cost = size(&h, dim) - size(&set[i], dim).max(size(&set[i + 1], dim));
-            if cost < best.0 {
-                best = (cost, i);
+        for (i, &c) in costs.iter().enumerate() {
+            if c < best.0 {
+                best = (c, i);
             }
         }
         let i = best.1;
         set[i] = hull2(&set[i], &set[i + 1], dim);
         set.remove(i + 1);
+        costs.remove(i);
+        if i > 0 {
+            costs[i - 1] = cost(set, i - 1);
+        }
+        if i + 1 < set.len() {
+            costs[i] = cost(set, i);
+        }
     }
 }
 
@@ -457,6 +512,123 @@ mod tests {
     /// width of [4, 6]², and the swapped map (p near (15, 5) for one group,
     /// near (-5, 5) for the other) has no common point: each group gets its
     /// own witness.
+    /// The merges of [`merge_neighbours`] (costs kept between merges) are
+    /// those of computing every neighbour's cost again before each merge
+    /// (the loop it replaced, issue 18), bit for bit, on random sets with
+    /// many equal costs (boxes on a grid); and a piece coarsened by
+    /// [`coarsen_piece`] is read unchanged when coarsened again.
+    #[test]
+    fn kept_merge_costs_give_the_merges_of_the_full_scan() {
+        fn full_scan(set: &mut Vec<Axes>, dim: usize, max: usize) {
+            while set.len() > max {
+                let mut best = (f64::INFINITY, 0);
+                for i in 0..set.len() - 1 {
+                    let h = hull2(&set[i], &set[i + 1], dim);
+                    let cost = size(&h, dim) - size(&set[i], dim).max(size(&set[i + 1], dim));
+                    if cost < best.0 {
+                        best = (cost, i);
+                    }
+                }
+                let i = best.1;
+                set[i] = hull2(&set[i], &set[i + 1], dim);
+                set.remove(i + 1);
+            }
+        }
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        };
+        for case in 0..400 {
+            let (dim, count, max) = (2 + case % 2, 1 + next(60) as usize, 1 + next(14) as usize);
+            let set: Vec<Axes> = (0..count)
+                .map(|_| {
+                    let mut a = [Interval::ZERO; MAX_DIM];
+                    for x in a.iter_mut().take(dim) {
+                        let lo = next(20) as f64 * 0.5 - 5.0;
+                        *x = Interval::new(lo, lo + next(6) as f64 * 0.25);
+                    }
+                    a
+                })
+                .collect();
+            let (mut kept, mut full) = (set.clone(), set.clone());
+            merge_neighbours(&mut kept, dim, max);
+            full_scan(&mut full, dim, max);
+            let bits = |v: &[Axes]| -> Vec<u64> {
+                v.iter()
+                    .flat_map(|a| a.iter().flat_map(|x| [x.lo().to_bits(), x.hi().to_bits()]))
+                    .collect()
+            };
+            assert_eq!(bits(&kept), bits(&full), "case {case}");
+            let boxes: Vec<IntervalBox> = set.iter().map(|a| IntervalBox::new(&a[..dim])).collect();
+            let once = coarsen_piece(&boxes, dim, max);
+            assert!(once.len() <= max, "case {case}");
+            assert_eq!(coarsen_piece(&once, dim, max), once, "case {case}");
+        }
+    }
+
+    /// The hull before each block of difference boxes only skips blocks
+    /// that no box of them meets: the masks are those of testing every
+    /// difference box, on random witnesses, pieces and boxes of p(s).
+    #[test]
+    fn block_hulls_give_the_masks_of_every_difference_box() {
+        let mut rng = crate::rng::Rng::new(1806);
+        let mut b = || {
+            let lo = rng.unit() * 20.0 - 10.0;
+            Interval::new(lo, lo + rng.unit() * 3.0)
+        };
+        for case in 0..300 {
+            let w: Vec<Vec<Axes>> = (0..3)
+                .map(|_| {
+                    (0..1 + case % 5)
+                        .map(|_| to_axes(&IntervalBox::new(&[b(), b()])))
+                        .collect()
+                })
+                .collect();
+            let groups: Vec<LocalGroup> = (0..2)
+                .map(|g| LocalGroup {
+                    pieces: (0..2)
+                        .map(|_| {
+                            (0..1 + case % 7)
+                                .map(|_| IntervalBox::new(&[b(), b()]))
+                                .collect()
+                        })
+                        .collect(),
+                    fixed: (g == 1 && case % 2 == 0).then_some(2),
+                })
+                .collect();
+            let diff = differences(&w, &groups, 2, 4);
+            for _ in 0..20 {
+                let s = to_axes(&IntervalBox::new(&[b(), b()]));
+                let every: Option<Vec<u64>> = diff
+                    .iter()
+                    .map(|g| {
+                        let mask = g.iter().fold(7u64, |mask, piece| {
+                            let mut pm = 0;
+                            for (i, (block, boxes)) in piece.iter().enumerate() {
+                                let hit = boxes
+                                    .chunks(*block)
+                                    .any(|c| c[1..].iter().any(|d| meets(&s, d, 2)));
+                                if hit {
+                                    pm |= 1 << i;
+                                }
+                            }
+                            mask & pm
+                        });
+                        (mask != 0).then_some(mask)
+                    })
+                    .collect();
+                assert_eq!(
+                    candidate_masks(&diff, &s, 7, 2, &mut 0),
+                    every,
+                    "case {case}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn a_local_pair_places_the_robot_and_names_the_landmarks() {
         let witnesses = vec![

@@ -15,14 +15,14 @@
 //! boxes of p(step)).
 
 use super::round::Round;
-use super::state::{RegKey, ShapesOptions, ShapesState};
+use super::state::{CoarsePieces, RegKey, ShapesOptions, ShapesState};
 use super::witness_step::Witnesses;
 use crate::contractors::motion_chain::shrinkage;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::shapes::chain_sums::ChainSums;
 use crate::shapes::region::Paving;
-use crate::shapes::registration::{register_on, CoarseWitnesses, LocalGroup};
+use crate::shapes::registration::{coarsen_piece, register_on, CoarseWitnesses, LocalGroup};
 
 /// What a round's registrations read (the tuning, the distinct graph, the
 /// coarsened witness regions), the cache of earlier answers by step, and what they
@@ -33,80 +33,105 @@ struct Registrations<'a> {
     /// The witness regions, coarsened once for the round's registrations.
     witnesses: CoarseWitnesses,
     cache: &'a mut Vec<(usize, RegKey, Vec<u64>)>,
+    /// The pieces moved to a registration step and coarsened in the last
+    /// round, by (step, piece id), with the displacement sum that moved
+    /// them ([`Registrations::piece_at`]); taken from as this round reads
+    /// them.
+    old_pieces: CoarsePieces,
+    /// Those this round read, kept for the next.
+    new_pieces: CoarsePieces,
     reach: Vec<u64>,
 }
 
-/// A piece of a group's region in a local frame: (step, group root, paving).
-type Piece<'a> = (usize, usize, &'a Paving);
+/// A piece of a group's region in a local frame: (step, group root, piece
+/// id, paving).
+type Piece<'a> = (usize, usize, u64, &'a Paving);
+
+/// The groups of one registration: their roots, their pieces (indices into
+/// the window), their witness slots.
+type Local = (Vec<usize>, Vec<Vec<usize>>, Vec<Option<usize>>);
 
 impl Registrations<'_> {
-    /// The groups whose pieces lie in `window`, moved to the frame of step
-    /// `s` (the witness groups first, then those with the most pieces,
-    /// when more than `register_groups`); their roots.
-    fn local_groups(
-        &self,
-        round: &mut Round,
-        s: usize,
-        window: &[Piece],
-        sums: &ChainSums,
-        slot_root: &[usize],
-    ) -> (Vec<usize>, Vec<LocalGroup>) {
-        let dim = round.dom.dim;
-        let mut roots: Vec<usize> = Vec::new();
-        let mut groups: Vec<LocalGroup> = Vec::new();
-        for &(t, root, region) in window {
-            let delta = sums.delta(s, t);
-            let boxes: Vec<IntervalBox> = region
-                .boxes()
-                .iter()
-                .map(|b| {
-                    let axes: Vec<Interval> = (0..dim).map(|x| b[x] + delta[x]).collect();
-                    IntervalBox::new(&axes)
-                })
-                .collect();
+    /// The groups whose pieces lie in `window` (the witness groups first,
+    /// then those with the most pieces, when more than `register_groups`).
+    fn local_groups(&self, round: &mut Round, window: &[Piece], slot_root: &[usize]) -> Local {
+        let (mut roots, mut members, mut fixed): Local = Default::default();
+        for (x, &(_, root, _, _)) in window.iter().enumerate() {
             let gi = match roots.iter().position(|&r| r == root) {
                 Some(gi) => gi,
                 None => {
                     roots.push(root);
-                    groups.push(LocalGroup {
-                        pieces: Vec::new(),
-                        fixed: slot_root.iter().position(|&w| round.uf.find(w) == root),
-                    });
+                    members.push(Vec::new());
+                    fixed.push(slot_root.iter().position(|&w| round.uf.find(w) == root));
                     roots.len() - 1
                 }
             };
-            groups[gi].pieces.push(boxes);
+            members[gi].push(x);
         }
-        if groups.len() > self.options.register_groups {
+        if roots.len() > self.options.register_groups {
             // The witness groups first, then the most pieces.
-            let mut idx: Vec<usize> = (0..groups.len()).collect();
+            let mut idx: Vec<usize> = (0..roots.len()).collect();
             // (`roots` are distinct: one order whatever the sort.)
             crate::sort::sort_indices_by(&mut idx, |a, b| {
-                let key = |i: usize| {
-                    (
-                        groups[i].fixed.is_none(),
-                        usize::MAX - groups[i].pieces.len(),
-                        roots[i],
-                    )
-                };
+                let key = |i: usize| (fixed[i].is_none(), usize::MAX - members[i].len(), roots[i]);
                 key(a).cmp(&key(b))
             });
             idx.truncate(self.options.register_groups);
             crate::sort::sort_usize(&mut idx);
             roots = idx.iter().map(|&i| roots[i]).collect();
-            groups = idx.iter().map(|&i| groups[i].clone()).collect();
+            members = idx.iter().map(|&i| members[i].clone()).collect();
+            fixed = idx.iter().map(|&i| fixed[i]).collect();
         }
-        (roots, groups)
+        (roots, members, fixed)
     }
 
-    /// The registration at step `s` of the local groups `groups` (roots
-    /// `roots`) on the witness regions: from the cache when its inputs are
-    /// close, else computed, p(s) shrunk and the cache updated.
+    /// The boxes of `piece` moved to the frame of step `s` and coarsened as
+    /// [`register_on`] would coarsen them (`coarsen_piece`): taken from the
+    /// last round when that moved the same piece by a displacement sum of
+    /// the same bits (the same input, so the same boxes), else computed.
+    fn piece_at(
+        &mut self,
+        s: usize,
+        piece: &Piece,
+        sums: &ChainSums,
+        dim: usize,
+    ) -> Vec<IntervalBox> {
+        let &(t, _, id, region) = piece;
+        let delta = sums.delta(s, t);
+        let same = |d: &[Interval]| {
+            d.iter().zip(&delta[..dim]).all(|(a, b)| {
+                a.lo().to_bits() == b.lo().to_bits() && a.hi().to_bits() == b.hi().to_bits()
+            })
+        };
+        let coarse = match self.old_pieces.remove(&(s, id)) {
+            Some((d, coarse)) if same(&d) => coarse,
+            _ => {
+                let shifted: Vec<IntervalBox> = region
+                    .boxes()
+                    .iter()
+                    .map(|b| {
+                        let axes: Vec<Interval> = (0..dim).map(|x| b[x] + delta[x]).collect();
+                        IntervalBox::new(&axes)
+                    })
+                    .collect();
+                coarsen_piece(&shifted, dim, self.options.register.coarse)
+            }
+        };
+        self.new_pieces
+            .insert((s, id), (delta[..dim].to_vec(), coarse.clone()));
+        coarse
+    }
+
+    /// The registration at step `s` of the local groups (roots, pieces
+    /// and slots `local`, pieces in `window`) on the witness regions: from
+    /// the cache when its inputs are close, else computed, p(s) shrunk and
+    /// the cache updated.
     fn register_at(
         &mut self,
         round: &mut Round,
         s: usize,
-        (roots, groups): (Vec<usize>, Vec<LocalGroup>),
+        (window, sums): (&[Piece], &ChainSums),
+        (roots, members, fixed): Local,
         w: &Witnesses,
     ) -> Result<(), String> {
         let dim = round.dom.dim;
@@ -116,8 +141,8 @@ impl Registrations<'_> {
             p: p.clone(),
             roots: roots.clone(),
             slots: w.slot_root.clone(),
-            fixed: groups.iter().map(|g| g.fixed).collect(),
-            pieces: groups.iter().map(|g| g.pieces.len()).sum(),
+            fixed: fixed.clone(),
+            pieces: members.iter().map(Vec::len).sum(),
             witnesses: w.regions.iter().map(|r| r.hull()).collect(),
         };
         let slot = self.cache.binary_search_by_key(&s, |e| e.0);
@@ -129,6 +154,17 @@ impl Registrations<'_> {
                 return Ok(());
             }
         }
+        let groups: Vec<LocalGroup> = members
+            .iter()
+            .zip(fixed)
+            .map(|(m, fixed)| LocalGroup {
+                pieces: m
+                    .iter()
+                    .map(|&x| self.piece_at(s, &window[x], sums, dim))
+                    .collect(),
+                fixed,
+            })
+            .collect();
         let graph = &self.graph;
         let distinct =
             |g: usize, h: usize| graph[roots[g]].binary_search(&(roots[h] as u32)).is_ok();
@@ -192,6 +228,8 @@ impl ShapesState {
                 self.options.register.coarse,
             ),
             cache: &mut self.registered,
+            old_pieces: std::mem::take(&mut self.coarse_pieces),
+            new_pieces: CoarsePieces::new(),
             reach: vec![u64::MAX; round.mission.detections.len()],
         };
         // Pieces by step: (step, root, paving).
@@ -199,9 +237,9 @@ impl ShapesState {
             .frames
             .every_piece()
             .into_iter()
-            .map(|(member, step, region)| (step, round.uf.find(member), region))
+            .map(|(member, step, id, region)| (step, round.uf.find(member), id, region))
             .collect();
-        pieces.sort_unstable_by_key(|&(step, root, _)| (step, root));
+        pieces.sort_unstable_by_key(|&(step, root, id, _)| (step, root, id));
         let (gap, every) = (regs.options.register_gap, regs.options.register_every);
         let mut last_anchor: Option<usize> = None;
         let mut lo = 0;
@@ -215,10 +253,12 @@ impl ShapesState {
                 lo += 1;
             }
             let hi = lo + pieces[lo..].iter().take_while(|e| e.0 <= s + gap).count();
-            let local = regs.local_groups(round, s, &pieces[lo..hi], sums, &w.slot_root);
-            regs.register_at(round, s, local, w)?;
+            let window = &pieces[lo..hi];
+            let local = regs.local_groups(round, window, &w.slot_root);
+            regs.register_at(round, s, (window, sums), local, w)?;
         }
         let reach = regs.reach;
+        self.coarse_pieces = regs.new_pieces;
         self.join_by_reach(round, w, &reach)
     }
 

@@ -72,6 +72,11 @@ impl Default for ShapesOptions {
     }
 }
 
+/// Pieces moved to a registration step and coarsened: by (step, piece
+/// id), the displacement sum that moved them and the coarsened boxes.
+pub(super) type CoarsePieces =
+    std::collections::BTreeMap<(usize, u64), (Vec<Interval>, Vec<IntervalBox>)>;
+
 /// A member's position box, detection box, its region's hull and box count.
 pub(super) type BranchKey = (IntervalBox, IntervalBox, IntervalBox, usize);
 
@@ -150,6 +155,10 @@ pub struct ShapesState {
     /// What each registration step last read, and the candidates it gave.
     /// By step, in step order.
     pub(super) registered: Vec<(usize, RegKey, Vec<u64>)>,
+    /// The pieces the last round's registrations moved and coarsened
+    /// (issue 18: the same inputs give the same boxes, so they are read
+    /// from here while the piece and its displacement sum are the same).
+    pub(super) coarse_pieces: CoarsePieces,
     /// The displacement boxes D(i) stay the same over the propagation
     /// (the caller's promise: every model but odometry2d, whose D(i)
     /// follow the headings): the chain sums are then built once
@@ -248,6 +257,7 @@ impl ShapesState {
             frames: Frames::default(),
             relative_done: false,
             registered: Vec::new(),
+            coarse_pieces: CoarsePieces::new(),
             fixed_displacements: false,
             stored_sums: None,
             full_work: false,
