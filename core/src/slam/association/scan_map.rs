@@ -133,7 +133,7 @@ impl ScanMap {
             })
             .filter(|c| c.0.is_finite())
             .collect();
-        cand.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        crate::sort::stable_by(&mut cand, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut chosen: Vec<(usize, BTreeSet<u64>)> = Vec::new();
         for (_, r, scans) in cand {
             if chosen.len() == n {
