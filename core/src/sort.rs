@@ -106,15 +106,22 @@ pub fn sort_ord<T: Ord>(v: &mut [T]) {
 /// Puts `v[at[i]]` at `i` (`at` a permutation of the positions), by swaps:
 /// no copy of the items.
 fn permute<T>(v: &mut [T], at: &[usize]) {
+    permute_by(at, &mut |i, j| v.swap(i, j));
+}
+
+/// The swaps that put the item at `at[i]` at `i`, made by `swap`: not
+/// generic, one copy for every item type.
+#[inline(never)]
+fn permute_by(at: &[usize], swap: &mut dyn FnMut(usize, usize)) {
     // dest[j]: where the item now at j goes.
     let mut dest = vec![0; at.len()];
     for (i, &j) in at.iter().enumerate() {
         dest[j] = i;
     }
-    for i in 0..v.len() {
+    for i in 0..at.len() {
         while dest[i] != i {
             let j = dest[i];
-            v.swap(i, j);
+            swap(i, j);
             dest.swap(i, j);
         }
     }

@@ -125,10 +125,10 @@ impl ScanMap {
             .iter()
             .filter(|g| !det[g[0]].is_empty())
             .map(|g| {
-                let scans = g
-                    .iter()
-                    .filter_map(|&j| mission.detections[j].scan)
-                    .collect();
+                // Inserted one by one: `collect` into a set sorts first
+                // (std's stable sort, its own copy in the page's wasm).
+                let mut scans = BTreeSet::new();
+                scans.extend(g.iter().filter_map(|&j| mission.detections[j].scan));
                 (det[g[0]].diameter(), g[0], scans)
             })
             .filter(|c| c.0.is_finite())
