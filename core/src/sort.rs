@@ -39,8 +39,13 @@ pub fn sort_positions(idx: &mut [usize], cmp: &mut dyn FnMut(usize, usize) -> Or
     merge_sort(idx, &mut |a, b| cmp(a, b).then(a.cmp(&b)));
 }
 
+/// Up to this many items, [`merge_sort`] sorts by insertion.
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+const SMALL: usize = 16;
+
 /// A stable merge sort of `v` by `cmp`, bottom up (runs of 1, 2, 4, ...
-/// merged into a buffer, the buffers swapped each pass): small code for
+/// merged into a buffer, the buffers swapped each pass; by insertion up to
+/// [`SMALL`] items): small code for
 /// the page's wasm, where it is the one sort under [`sort_positions`]
 /// (natively, tested against std's). O(k log k) comparisons, O(k) extra
 /// space.
@@ -48,6 +53,17 @@ pub fn sort_positions(idx: &mut [usize], cmp: &mut dyn FnMut(usize, usize) -> Or
 #[inline(never)]
 fn merge_sort(v: &mut [usize], cmp: &mut dyn FnMut(usize, usize) -> Ordering) {
     let n = v.len();
+    if n <= SMALL {
+        // Short slices (most calls): insertion sort in place, no buffer.
+        for i in 1..n {
+            let mut j = i;
+            while j > 0 && cmp(v[j], v[j - 1]) == Ordering::Less {
+                v.swap(j, j - 1);
+                j -= 1;
+            }
+        }
+        return;
+    }
     let mut from = v.to_vec();
     let mut to = vec![0; n];
     let mut width = 1;
