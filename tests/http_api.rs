@@ -647,7 +647,7 @@ fn the_page_is_served_precompressed_and_revalidated() {
         assert!(plain == wasm, "{accept}: the body is not the page's wasm");
         if encoding == Some("br") {
             assert!(
-                body.len() <= 82_300,
+                body.len() <= 75_000,
                 "{} bytes of wasm sent with brotli",
                 body.len()
             );

@@ -655,7 +655,9 @@ fn tightest(boxes: &[Option<[f64; 4]>]) -> Vec<usize> {
         .enumerate()
         .filter_map(|(i, r)| r.map(|r| (i, r)))
         .collect();
-    order.sort_by(|a, b| area(&a.1).total_cmp(&area(&b.1)).then(a.0.cmp(&b.0)));
+    crate::sort::stable_by(&mut order, |a, b| {
+        area(&a.1).total_cmp(&area(&b.1)).then(a.0.cmp(&b.0))
+    });
     let mut kept: Vec<(usize, [f64; 4])> = Vec::new();
     for (i, r) in order {
         if kept.len() == MAX_GROUP_OUTLINES {

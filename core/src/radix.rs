@@ -97,7 +97,7 @@ pub fn sort_bits(k: usize) -> u32 {
 pub fn sort_items(items: &mut Vec<u64>, bits: u32, scratch: &mut RadixScratch) {
     let k = items.len();
     if k < 1024 {
-        items.sort_unstable_by_key(|&it| (it >> (64 - bits), it & 0xFFFF_FFFF));
+        crate::sort::total_by_key(items, |&it| (it >> (64 - bits), it & 0xFFFF_FFFF));
         return;
     }
     let RadixScratch { tmp, counts, .. } = scratch;

@@ -88,7 +88,7 @@ const MASKS_DEDUP: usize = 1 << 20;
 /// limit is twice what is left.
 fn dedup_when_large(masks: &mut Vec<u64>, limit: &mut usize) {
     if masks.len() >= *limit {
-        masks.sort_unstable();
+        crate::sort::natural(masks);
         masks.dedup();
         *limit = (2 * masks.len()).max(MASKS_DEDUP);
     }
@@ -230,7 +230,7 @@ fn axis_bounds(boxes: &[IntervalBox], axis: usize, lower_only: bool) -> Vec<f64>
             v.push(x.hi());
         }
     }
-    v.sort_unstable_by(f64::total_cmp);
+    crate::sort::floats(&mut v);
     v.dedup();
     if v.is_empty() {
         // Every box is unbounded on this axis both ways... or only above:
@@ -326,7 +326,7 @@ impl<'a> HittingSet<'a> {
                 masks.push(m);
             }
         }
-        masks.sort_unstable();
+        crate::sort::natural(&mut masks);
         masks.dedup();
         // Keep maximal masks only.
         let mut cliques: Vec<u64> = Vec::new();
@@ -399,7 +399,7 @@ impl<'a> HittingSet<'a> {
                 .iter()
                 .map(|&ci| self.cliques[ci] & u)
                 .collect();
-            o.sort_unstable();
+            crate::sort::natural(&mut o);
             o.dedup();
             // Drop options dominated by another (subset of it within u).
             let (raw, len) = (self.by_box[best_box].len() as u64, o.len() as u64);
@@ -441,7 +441,7 @@ impl<'a> HittingSet<'a> {
                 dedup_when_large(&mut masks, &mut limit);
             }
         })?;
-        masks.sort_unstable();
+        crate::sort::natural(&mut masks);
         masks.dedup();
         by_size_desc(&mut masks);
         for m in masks {

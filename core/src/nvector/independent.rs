@@ -123,7 +123,7 @@ pub fn find_independent(
         }
     }
     let mut out = best.clone();
-    out.sort_unstable();
+    crate::sort::natural(&mut out);
     out
 }
 

@@ -85,7 +85,7 @@ impl Distinct {
 
     fn normalize(&mut self) {
         if self.sorted != self.pairs.len() {
-            self.pairs.sort_unstable();
+            crate::sort::natural(&mut self.pairs);
             self.pairs.dedup();
             self.sorted = self.pairs.len();
         }
@@ -107,7 +107,7 @@ impl Distinct {
             adj[rb].push(ra as u32);
         }
         for l in adj.iter_mut() {
-            l.sort_unstable();
+            crate::sort::natural(l);
             l.dedup();
         }
         Ok(adj)
@@ -357,7 +357,7 @@ impl Enum<'_> {
             if let Some(b) = found {
                 let mut named: Vec<u32> = clique.to_vec();
                 named.extend([a, b]);
-                named.sort_unstable();
+                crate::sort::natural(&mut named);
                 self.infeasible = Some(format!(
                     "detections {named:?} (with their groups): {} pairwise-distinct landmarks, more than landmark_count {}",
                     named.len(),
@@ -485,7 +485,7 @@ mod tests {
                 }
             }
             for l in &mut adj {
-                l.sort_unstable();
+                crate::sort::natural(l);
             }
             let roots: Vec<u32> = (0..k as u32)
                 .filter(|&r| !adj[r as usize].is_empty())
@@ -508,7 +508,7 @@ mod tests {
                     infeasible += 1;
                     let mut named = clique.clone();
                     named.extend([*a, *b]);
-                    named.sort_unstable();
+                    crate::sort::natural(&mut named);
                     let reason = e.infeasible.clone().expect("infeasible as the plain one");
                     assert!(
                         reason.contains(&format!("{named:?}")),

@@ -206,7 +206,7 @@ fn disjoint_witnesses(det: &[IntervalBox], open: &[bool], limit: usize) -> Vec<u
         .filter(|&j| open[j] && !det[j].is_empty())
         .map(|j| (det[j].diameter(), j))
         .collect();
-    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    crate::sort::stable_by(&mut order, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut out: Vec<usize> = Vec::new();
     for (_, j) in order {
         if out.len() >= limit {

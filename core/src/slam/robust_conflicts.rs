@@ -425,7 +425,7 @@ impl State<'_> {
             self.rest
                 .extend(c.into_iter().filter(|j| !refuted.contains(j)));
             let rank = &self.rank;
-            self.rest.sort_by_key(|&j| rank[j]);
+            crate::sort::stable_by_key(&mut self.rest, |&j| rank[j]);
             self.positions = None;
             return Ok(true);
         }

@@ -90,9 +90,9 @@ pub fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> Int
         // One sort instantiation for both (and for the other f64 sorts):
         // ties are equal bits, so reversing the ascending order is the
         // descending one.
-        lo.sort_unstable_by(f64::total_cmp);
+        crate::sort::floats(&mut lo);
         lo.reverse();
-        hi.sort_unstable_by(f64::total_cmp);
+        crate::sort::floats(&mut hi);
         let (l, h) = (lo[q], hi[q]);
         out[a] = if l <= h {
             Interval::new(l, h)

@@ -528,7 +528,7 @@ impl<'a> Propagation<'a> {
         };
         let mut at: Vec<usize> = self.order[self.starts[s]..self.starts[s + 1]].to_vec();
         let dets = &self.mission.detections;
-        at.sort_by_key(|&j| (dets[j].scan, j));
+        crate::sort::stable_by_key(&mut at, |&j| (dets[j].scan, j));
         let mut merged = false;
         for scan in at.chunk_by(|&a, &b| dets[a].scan.is_some() && dets[a].scan == dets[b].scan) {
             let unions = map

@@ -82,7 +82,7 @@ pub fn diameters(s: &TdoaSolution) -> (f64, f64) {
         .iter()
         .map(|v| IntervalBox::new(&v.x).diameter())
         .collect();
-    d.sort_by(f64::total_cmp);
+    crate::sort::floats(&mut d);
     let max = d.last().copied().unwrap_or(0.0);
     let median = if d.is_empty() { 0.0 } else { d[d.len() / 2] };
     (max, median)

@@ -125,15 +125,15 @@ impl ScanMap {
             .iter()
             .filter(|g| !det[g[0]].is_empty())
             .map(|g| {
-                let scans = g
-                    .iter()
-                    .filter_map(|&j| mission.detections[j].scan)
-                    .collect();
+                // Inserted one by one: `collect` into a set sorts first
+                // (std's stable sort, its own copy in the page's wasm).
+                let mut scans = BTreeSet::new();
+                scans.extend(g.iter().filter_map(|&j| mission.detections[j].scan));
                 (det[g[0]].diameter(), g[0], scans)
             })
             .filter(|c| c.0.is_finite())
             .collect();
-        cand.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        crate::sort::stable_by(&mut cand, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut chosen: Vec<(usize, BTreeSet<u64>)> = Vec::new();
         for (_, r, scans) in cand {
             if chosen.len() == n {

@@ -111,7 +111,7 @@ pub fn track_unions(
     let o = mission.sensor_offset.unwrap_or([0.0, 0.0]);
     let dets = &mission.detections;
     let mut order: Vec<usize> = (0..k).collect();
-    order.sort_unstable_by_key(|&j| (dets[j].step, j));
+    crate::sort::total_by_key(&mut order, |&j| (dets[j].step, j));
     // Runs of one step: (step, start in order).
     let mut runs: Vec<(usize, usize)> = Vec::new();
     for (x, &j) in order.iter().enumerate() {
