@@ -20,9 +20,9 @@
 //! sort's fast path, the natural sorts of integers and f64, the stable
 //! sorts of a few hot call sites) go through [`natural`], [`floats`],
 //! [`stable_by`], [`stable_by_key`] and [`total_by_key`]: std's sort
-//! natively, the shared sort in wasm, the same result either way. Left
-//! on std's everywhere: the registration's pieces, whose key has ties
-//! (their order is std's unstable sort's).
+//! natively, the shared sort in wasm, the same result either way (the
+//! registration's pieces too, since their key ends with the piece's
+//! unique id).
 //!
 //! Complexity: O(k log k) comparisons, each an indirect call, plus O(k)
 //! extra space for the positions (the items are then permuted by swaps).

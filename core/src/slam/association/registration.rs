@@ -239,7 +239,8 @@ impl ShapesState {
             .into_iter()
             .map(|(member, step, id, region)| (step, round.uf.find(member), id, region))
             .collect();
-        pieces.sort_unstable_by_key(|&(step, root, id, _)| (step, root, id));
+        // (Piece ids are unique: a total key, one order whatever the sort.)
+        crate::sort::total_by_key(&mut pieces, |&(step, root, id, _)| (step, root, id));
         let (gap, every) = (regs.options.register_gap, regs.options.register_every);
         let mut last_anchor: Option<usize> = None;
         let mut lo = 0;
