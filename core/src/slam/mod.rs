@@ -24,6 +24,7 @@ pub mod model;
 pub mod outliers;
 pub mod result;
 pub mod robust_conflicts;
+pub mod robust_hitting;
 pub mod robust_regions;
 pub mod robust_subsets;
 pub mod rounds;

@@ -84,6 +84,7 @@
 
 use super::kept::stripped;
 use super::mission::Mission;
+use super::robust_hitting::{hitting_set, minimum, Hit};
 use super::rounds::rounds;
 use super::types::{Progress, SolveOptions, SolveStatus};
 use crate::interval::Interval;
@@ -134,6 +135,9 @@ pub enum Packing {
 
 /// The ordinary propagations of one packing, counted against the cap.
 struct Solver<'a> {
+    /// Most propagations ([`MAX_SOLVES`], or [`HIT_SOLVES`] once the
+    /// overlapping conflicts are searched).
+    cap: usize,
     mission: &'a Mission,
     options: &'a SolveOptions,
     cancel: &'a AtomicBool,
@@ -145,7 +149,7 @@ impl Solver<'_> {
     /// `Some(infeasible)`, and the positions when feasible; `None` at the
     /// cap (nothing proved).
     fn solve(&mut self, keep: &[bool]) -> Option<(bool, Vec<Interval>)> {
-        if self.solves >= MAX_SOLVES {
+        if self.solves >= self.cap {
             return None;
         }
         self.solves += 1;
@@ -224,6 +228,7 @@ pub fn pack(
     }
     let mut st = State {
         s: Solver {
+            cap: MAX_SOLVES,
             mission,
             options,
             cancel,
@@ -255,6 +260,12 @@ pub fn pack(
             Err(reason) => return Packing::Infeasible(reason),
             Ok(false) => break,
             Ok(true) => {}
+        }
+    }
+    if st.conflicts.len() < st.budget && within_hit_work(mission.steps, k) {
+        st.s.cap = HIT_SOLVES;
+        if let Err(reason) = st.hit() {
+            return Packing::Infeasible(reason);
         }
     }
     if st.conflicts.is_empty() && !st.proved_false.contains(&true) {
@@ -432,6 +443,136 @@ impl State<'_> {
         Ok(false)
     }
 }
+
+/// Most ordinary propagations once the overlapping conflicts are searched
+/// ([`State::hit`]), the packing's included.
+pub const HIT_SOLVES: usize = 1500;
+
+/// Most (steps + detections) x [`HIT_SOLVES`] for the overlapping
+/// conflicts: the paper scenario's 10,000 steps fit, CMU Plaza 1 and the
+/// 2,000,000-step missions do not.
+pub const HIT_WORK: u64 = 16_000_000;
+
+/// Most branch-and-bound nodes of the hitting-set searches of one packing
+/// ([`super::robust_hitting`]).
+pub const HIT_NODES: u64 = 2_000_000;
+
+/// Whether [`State::hit`]'s propagations fit [`HIT_WORK`].
+pub fn within_hit_work(steps: usize, detections: usize) -> bool {
+    (steps as u64)
+        .saturating_add(detections as u64)
+        .saturating_mul(HIT_SOLVES as u64)
+        <= HIT_WORK
+}
+
+impl State<'_> {
+    /// The detections still open (neither proved false here nor before),
+    /// in time order.
+    fn pool(&self) -> Vec<usize> {
+        let mut pool: Vec<usize> = self.rest.clone();
+        pool.extend(self.conflicts.iter().flatten());
+        let rank = &self.rank;
+        pool.sort_by_key(|&j| rank[j]);
+        pool
+    }
+
+    /// Overlapping conflicts (docs/outliers.md, "Overlapping conflicts"):
+    /// Reiter's loop grows a family F of conflicts, each shrunk out of the
+    /// open detections minus a hitting set H of F, until a minimum H has b
+    /// members (the budget; more: no reading). Then a member x of H is
+    /// proved false when no set of at most b detections without x hits F:
+    /// while one, H', exists and the open detections minus H' are
+    /// infeasible, a conflict shrunk out of them joins F. x leaves the
+    /// budget and the conflicts holding it leave F; on to a fixpoint. Err:
+    /// no reading exists. The cap (solves or nodes) stops it with what is
+    /// proved so far.
+    fn hit(&mut self) -> Result<(), String> {
+        let mut family: Vec<Vec<usize>> = self.conflicts.clone();
+        let mut work = HIT_NODES;
+        let no_reading = |b: usize, f: &[Vec<usize>]| {
+            format!(
+                "the inconsistent detection sets {f:?} cannot all be hit by {b} detections: more false detections than max_outliers allows"
+            )
+        };
+        loop {
+            let h = match minimum(&family, &[], self.budget, &mut work) {
+                Hit::Found(h) => h,
+                Hit::None => return Err(no_reading(self.budget, &family)),
+                Hit::Unknown => return Ok(()),
+            };
+            if h.len() < self.budget {
+                match self.grow(&mut family, &h) {
+                    Some(true) => continue,
+                    _ => return Ok(()),
+                }
+            }
+            let mut proved = None;
+            for &x in &h {
+                let mut ban = vec![false; self.proved_false.len()];
+                ban[x] = true;
+                let refuted = loop {
+                    match hitting_set(&family, &ban, self.budget, &mut work) {
+                        Hit::None => break true,
+                        Hit::Unknown => return Ok(()),
+                        Hit::Found(other) => match self.grow(&mut family, &other) {
+                            Some(true) => {}
+                            Some(false) => break false,
+                            None => return Ok(()),
+                        },
+                    }
+                };
+                if refuted {
+                    proved = Some(x);
+                    break;
+                }
+            }
+            let Some(x) = proved else {
+                return Ok(());
+            };
+            self.budget -= 1;
+            self.proved_false[x] = true;
+            family.retain(|c| !c.contains(&x));
+            if let Some(i) = self.conflicts.iter().position(|c| c.contains(&x)) {
+                let c = self.conflicts.remove(i);
+                self.rest.extend(c.into_iter().filter(|&j| j != x));
+            }
+            self.rest.retain(|&j| j != x);
+            let rank = &self.rank;
+            self.rest.sort_by_key(|&j| rank[j]);
+            self.positions = None;
+            if self.budget == 0 {
+                let keep = self.keep_of(&self.pool());
+                match self.s.solve(&keep) {
+                    Some((true, _)) => return Err(no_reading(0, &family)),
+                    Some((false, pos)) => self.positions = Some(pos),
+                    None => {}
+                }
+                return Ok(());
+            }
+        }
+    }
+
+    /// One step of Reiter's loop: when the open detections outside the
+    /// hitting set `h` are proved infeasible, a conflict shrunk out of them
+    /// (unhit by `h`) joins `family`: `Some(true)`. `Some(false)`: they are
+    /// not; `None`: the cap.
+    fn grow(&mut self, family: &mut Vec<Vec<usize>>, h: &[usize]) -> Option<bool> {
+        let mut t: Vec<usize> = self.pool().into_iter().filter(|j| !h.contains(j)).collect();
+        // The filter keeps the earliest detections it can: start each
+        // search elsewhere in time (a golden-ratio sequence), so that the
+        // conflicts spread over the mission.
+        let frac = (family.len() as u64).wrapping_mul(0x9E37_79B9) & 0xFFFF_FFFF;
+        let turn = (frac * t.len() as u64 >> 32) as usize;
+        t.rotate_left(turn);
+        if !self.s.infeasible(&t)? {
+            return Some(false);
+        }
+        let c = self.s.shrink(&t)?;
+        family.push(c);
+        Some(true)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
