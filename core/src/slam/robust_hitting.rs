@@ -217,8 +217,11 @@ mod tests {
     fn the_cap_proves_nothing() {
         let family: Vec<Vec<usize>> = (0..12).map(|i| vec![2 * i, 2 * i + 1]).collect();
         let mut work = 5;
-        assert_eq!(hitting_set(&family, &[], 11, &mut work), Hit::Unknown);
+        assert_eq!(hitting_set(&family, &[], 12, &mut work), Hit::Unknown);
         let mut work = u64::MAX;
+        assert!(matches!(hitting_set(&family, &[], 12, &mut work), Hit::Found(h) if h.len() == 12));
+        // The lower bound alone: 12 disjoint conflicts need 12.
+        let mut work = 1;
         assert_eq!(hitting_set(&family, &[], 11, &mut work), Hit::None);
     }
 }
