@@ -43,7 +43,11 @@ fn planted_drops_are_a_hitting_set_so_no_true_detection_is_proved_false() {
         // Detection numbers: small, or 2^16 and up (the
         // indices must not size anything but the flags).
         let k = 2 + below(&mut rng, 40) as usize;
-        let base = if case % 7 == 0 { 1usize << 16 } else { 0 };
+        let base = if case.is_multiple_of(7) {
+            1usize << 16
+        } else {
+            0
+        };
         let q = below(&mut rng, 11) as usize;
         let mut falses: Vec<usize> = (0..k).filter(|_| below(&mut rng, 4) == 0).collect();
         falses.truncate(q);
@@ -76,7 +80,10 @@ fn planted_drops_are_a_hitting_set_so_no_true_detection_is_proved_false() {
             ban[x] = true;
             let mut work = 1_000_000;
             if hitting_set(&family, &ban, q, &mut work) == Hit::None {
-                assert!(falses.contains(&x), "case {case}: true {x} proved false by {family:?}, q {q}, planted {falses:?}");
+                assert!(
+                    falses.contains(&x),
+                    "case {case}: true {x} proved false by {family:?}, q {q}, planted {falses:?}"
+                );
                 proved += 1;
             }
         }
@@ -127,7 +134,9 @@ fn short_paper_missions_with_up_to_ten_false_detections() {
         for _ in 0..3 {
             let s = at(&mut rng);
             let p = &positions[s];
-            dets.push(json!({"step": s, "range": range(libm::hypot(ghost[0] - p[0], ghost[1] - p[1]))}));
+            dets.push(
+                json!({"step": s, "range": range(libm::hypot(ghost[0] - p[0], ghost[1] - p[1]))}),
+            );
         }
         truth_of.extend([None; 6]);
         let q = own + 6;
@@ -146,7 +155,10 @@ fn short_paper_missions_with_up_to_ten_false_detections() {
                 ..
             } => {
                 for (j, t) in truth_of.iter().enumerate() {
-                    assert!(!(proved_false[j] && t.is_some()), "{what}: true {j} proved false");
+                    assert!(
+                        !(proved_false[j] && t.is_some()),
+                        "{what}: true {j} proved false"
+                    );
                     refuted += usize::from(proved_false[j]);
                 }
                 if let Some(pos) = pos {
@@ -159,16 +171,26 @@ fn short_paper_missions_with_up_to_ten_false_detections() {
             }
         }
         let s = solve_robust(&m, q, &options, &mut |_| {}, &cancel);
-        assert!(!matches!(s.status, SolveStatus::Infeasible(_)), "{what}: {:?}", s.status);
+        assert!(
+            !matches!(s.status, SolveStatus::Infeasible(_)),
+            "{what}: {:?}",
+            s.status
+        );
         for (i, x) in positions.iter().enumerate() {
             for (a, &c) in x.iter().enumerate() {
-                assert!(s.model.pos[i * 2 + a].contains(c), "{what}: solve: step {i} axis {a}");
+                assert!(
+                    s.model.pos[i * 2 + a].contains(c),
+                    "{what}: solve: step {i} axis {a}"
+                );
             }
         }
         for g in &s.matching {
             let first = truth_of[g[0]];
             assert!(first.is_some(), "{what}: false {} grouped {g:?}", g[0]);
-            assert!(g.iter().all(|&j| truth_of[j] == first), "{what}: group {g:?}");
+            assert!(
+                g.iter().all(|&j| truth_of[j] == first),
+                "{what}: group {g:?}"
+            );
         }
     }
     eprintln!("{refuted} false detections proved false");

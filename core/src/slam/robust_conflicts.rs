@@ -562,7 +562,7 @@ impl State<'_> {
         // search elsewhere in time (a golden-ratio sequence), so that the
         // conflicts spread over the mission.
         let frac = (family.len() as u64).wrapping_mul(0x9E37_79B9) & 0xFFFF_FFFF;
-        let turn = (frac * t.len() as u64 >> 32) as usize;
+        let turn = ((frac * t.len() as u64) >> 32) as usize;
         t.rotate_left(turn);
         if !self.s.infeasible(&t)? {
             return Some(false);

@@ -188,7 +188,7 @@ mod tests {
                     c
                 })
                 .collect();
-            let forbidden: Vec<bool> = (0..k).map(|_| rng.bits() % 5 == 0).collect();
+            let forbidden: Vec<bool> = (0..k).map(|_| rng.bits().is_multiple_of(5)).collect();
             let want = brute(&family, &forbidden, k);
             for s in 0..=k {
                 let mut work = u64::MAX;
