@@ -49,6 +49,13 @@
 //!    make new conflicts), to a fixpoint. Conflicts plus proved false
 //!    beyond the budget: no reading exists.
 //!
+//! 5. *Overlapping conflicts* ([`State::hit`], when the packing does not
+//!    account for the budget): conflicts may share detections; their
+//!    minimum hitting set ([`super::robust_hitting`], exact) bounds every
+//!    reading's drops, and a detection in every hitting set of at most b
+//!    is proved false (docs/outliers.md, "Overlapping conflicts"). At
+//!    most [`HIT_SOLVES`] propagations, within [`HIT_WORK`].
+//!
 //! What is returned: the detections proved false; the unresolved
 //! conflicts, each holding one drop of every reading
 //! ([`super::kept::kept_with_conflicts`] counts them with P, their
