@@ -49,7 +49,7 @@
 //!    make new conflicts), to a fixpoint. Conflicts plus proved false
 //!    beyond the budget: no reading exists.
 //!
-//! 5. *Overlapping conflicts* ([`State::hit`], when the packing does not
+//! 5. *Overlapping conflicts* (`State::hit`, when the packing does not
 //!    account for the budget): conflicts may share detections; their
 //!    minimum hitting set ([`super::robust_hitting`], exact) bounds every
 //!    reading's drops, and a detection in every hitting set of at most b
