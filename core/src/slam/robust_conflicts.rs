@@ -452,7 +452,7 @@ impl State<'_> {
 }
 
 /// Most ordinary propagations once the overlapping conflicts are searched
-/// ([`State::hit`]), the packing's included.
+/// (`State::hit`), the packing's included.
 pub const HIT_SOLVES: usize = 1500;
 
 /// Most (steps + detections) x [`HIT_SOLVES`] for the overlapping
@@ -464,7 +464,7 @@ pub const HIT_WORK: u64 = 16_000_000;
 /// ([`super::robust_hitting`]).
 pub const HIT_NODES: u64 = 2_000_000;
 
-/// Whether [`State::hit`]'s propagations fit [`HIT_WORK`].
+/// Whether `State::hit`'s propagations fit [`HIT_WORK`].
 pub fn within_hit_work(steps: usize, detections: usize) -> bool {
     (steps as u64)
         .saturating_add(detections as u64)
