@@ -21,8 +21,11 @@ lint:
 	cargo clippy --workspace --all-targets -- -D warnings
 	cargo clippy -p nvector-core -p nvector-web -p nvector-web-radar --target wasm32-unknown-unknown -- -D warnings
 
+# `cargo test --workspace`, with the test executables run two at a time
+# (scripts/test_rust.py: same build, same tests; the long ones no longer
+# leave a core idle).
 test-rust: web
-	cargo test --workspace
+	scripts/test_rust.py
 
 test-web: web
 	scripts/web.sh test

@@ -51,7 +51,7 @@ fn wait_running(s: &Server, id: &str) -> Value {
 }
 
 fn a_killed_service_finishes_its_job_after_restart(b: &Backend) {
-    let s = Server::start_on(b, &["--workers", "1", "--job-lease", "1"]);
+    let s = Server::start_on(b, &["--workers", "1", "--job-lease", "3"]);
     let (mid, mission, ids) = long_jobs(&s, 3);
     let first = wait_running(&s, &ids[0]);
     let workers = s.worker_pids();
@@ -70,7 +70,7 @@ fn a_killed_service_finishes_its_job_after_restart(b: &Backend) {
         );
         std::thread::sleep(Duration::from_millis(20));
     }
-    let s = Server::start_with(dir, db, &["--workers", "1", "--job-lease", "1"]);
+    let s = Server::start_with(dir, db, &["--workers", "1", "--job-lease", "3"]);
     for id in &ids {
         let j = s.wait_job(id, Duration::from_secs(120));
         assert_eq!(j["state"], "done", "{j}");
@@ -174,7 +174,7 @@ fn two_processes_share_the_queue_on_postgres() {
 fn a_live_process_takes_over_the_job_of_a_killed_one() {
     common::pg::with_cluster(|c| {
         let db = c.create_db();
-        let flags = ["--workers", "1", "--job-lease", "1"];
+        let flags = ["--workers", "1", "--job-lease", "3"];
         let mut a = Server::start_with(common::temp_dir("a"), db.clone(), &flags);
         let (_, _, ids) = long_jobs(&a, 1);
         let first = wait_running(&a, &ids[0]);

@@ -116,7 +116,7 @@ fn a_killed_worker_is_retried_then_its_job_fails(b: &Backend) {
         "--job-attempts",
         "2",
         "--job-lease",
-        "1",
+        "3",
     ];
     let s = Server::start_on(b, &flags);
     let long = simulated(&s, 200_000);

@@ -61,6 +61,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         4,
         "relative poses from the odometry alone",
     ),
+    (
+        "odometry::scan_pose",
+        4,
+        "a step's detections, position and heading over heading pieces",
+    ),
     ("outline", 5, "outlines of shapes and regions for drawing"),
     ("slam::mission", 5, "the typed, validated mission"),
     ("tdoa::problem", 5, "the typed, validated TDOA problem"),
@@ -107,6 +112,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "slam::association::scan_map",
         8,
         "scan registration against the closed-world map",
+    ),
+    (
+        "slam::association::scan_pose",
+        8,
+        "the scan pose in the passes",
     ),
     ("tdoa::shell_step", 8, "the shapes step of the TDOA rounds"),
     ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),

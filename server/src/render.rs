@@ -348,12 +348,6 @@ fn legend<DB: DrawingBackend>(
                     .map_err(err)?;
                 }
             }
-            Kind::Path => area
-                .draw(&PathElement::new(
-                    vec![(x0, y + 8), (x1, y + 8)],
-                    c.stroke_width(layer.line_width.ceil() as u32),
-                ))
-                .map_err(err)?,
             Kind::Points => area
                 .draw(&Circle::new((25, y + 8), 5, c.filled()))
                 .map_err(err)?,
@@ -370,7 +364,8 @@ fn legend<DB: DrawingBackend>(
                 area.draw(&PathElement::new(outline, c.stroke_width(1)))
                     .map_err(err)?;
             }
-            Kind::Polygons => area
+            // A line: paths, and polygons drawn unfilled.
+            Kind::Path | Kind::Polygons => area
                 .draw(&PathElement::new(
                     vec![(x0, y + 8), (x1, y + 8)],
                     c.stroke_width(layer.line_width.ceil() as u32),

@@ -60,4 +60,40 @@ fn errors_name_the_path() {
         .map(message)
         .unwrap();
     assert!(err.contains("layout"), "{err}");
+    // The solver's module reads a mission with the format layer's
+    // path-tracking reader (core/src/format/tracked.rs): the path and the
+    // message in full, as formats.md words them.
+    let run = |mission: &str| {
+        nv.run(mission, "none", &js_sys::Function::new_no_args(""))
+            .err()
+            .map(message)
+            .unwrap()
+    };
+    let mission = |inputs: &str, detections: &str| {
+        format!(
+            r#"{{"format": "nvector-mission/1", "model": "unicycle2d", "dt": 1, "steps": 1,
+            "initial_position": [[0, 0], [0, 0]], "inputs": {inputs}, "detections": {detections}}}"#
+        )
+    };
+    assert_eq!(
+        run(&mission(
+            r#"{"speed": {"value": [1], "eror": 0.1}, "heading": {"value": [0], "error": 0}}"#,
+            "[]"
+        )),
+        "inputs.speed.eror: unknown field `eror` (expected one of: value, error, lo, hi)"
+    );
+    assert_eq!(
+        run(&mission(
+            r#"{"speed": {"value": [1], "error": 0}, "heading": {"value": [0], "error": 0}}"#,
+            r#"[{"step": 1, "range": [1, 2]}, {"step": 0, "range": [3, 2]}]"#
+        )),
+        "detections[1].range: lower bound 3 is above upper bound 2"
+    );
+    assert_eq!(
+        run(&mission(
+            r#"{"speed": {"value": [1, "x"], "error": 0}}"#,
+            "[]"
+        )),
+        "inputs.speed.value[1]: expected a finite number, found a string"
+    );
 }

@@ -44,6 +44,7 @@ pub mod mission;
 #[cfg(feature = "openapi")]
 pub mod openapi;
 pub mod tdoa;
+mod tracked;
 
 use crate::error::InputError;
 use serde::de::{DeserializeOwned, IgnoredAny};
@@ -75,7 +76,8 @@ pub fn from_str<T: DeserializeOwned>(text: &str) -> Result<T, InputError> {
             if let Err(s) = serde_json::from_str::<IgnoredAny>(text) {
                 return Err(syntax(text, &s));
             }
-            Err(data_error(&e))
+            let path = e.path().to_string();
+            Err(data_error(path, e.inner()))
         }
     }
 }
@@ -87,13 +89,28 @@ pub fn from_str<T: DeserializeOwned>(text: &str) -> Result<T, InputError> {
 /// [`from_str`]). On wasm32 it is read once, tracked: each format type's
 /// reader is then compiled once instead of twice (untracked and tracked),
 /// which keeps the page's download under its budget (scripts/web.sh); the
-/// result and every message are the same.
+/// result and every message are the same. The tracked read is
+/// [`tracked`]'s (the paths serde_path_to_error gives, without its
+/// per-visitor wrappers).
 pub fn from_value<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
     #[cfg(not(target_arch = "wasm32"))]
     if let Ok(t) = T::deserialize(v) {
         return Ok(t);
     }
-    serde_path_to_error::deserialize::<_, T>(v).map_err(|e| data_error(&e))
+    let track = tracked::Track::default();
+    let r = T::deserialize(tracked::Tracked::root(v, &track));
+    r.map_err(|e| data_error(track.path(), &e))
+}
+
+/// [`from_value`] as it was before [`tracked`]: serde_path_to_error over
+/// serde_json's `&Value`. Native only, for the differential test
+/// (`core/tests/format_paths.rs`) that holds the two to the same results
+/// and messages; never in a wasm module.
+#[cfg(not(target_arch = "wasm32"))]
+#[doc(hidden)]
+pub fn from_value_reference<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
+    serde_path_to_error::deserialize::<_, T>(v)
+        .map_err(|e| data_error(e.path().to_string(), e.inner()))
 }
 
 fn invalid_json(e: &serde_json::Error) -> InputError {
@@ -110,10 +127,10 @@ fn syntax(text: &str, e: &serde_json::Error) -> InputError {
     }
 }
 
-fn data_error(e: &serde_path_to_error::Error<serde_json::Error>) -> InputError {
-    let path = e.path().to_string();
+/// A data error at `path` (serde_path_to_error's "." for the root is the
+/// empty path), without serde_json's position, in the project's words.
+fn data_error(path: String, inner: &serde_json::Error) -> InputError {
     let path = if path == "." { String::new() } else { path };
-    let inner = e.inner();
     let mut msg = inner.to_string();
     if inner.line() > 0 {
         let at = format!(" at line {} column {}", inner.line(), inner.column());

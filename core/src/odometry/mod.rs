@@ -24,5 +24,6 @@ pub mod angle;
 pub mod chain;
 pub mod pair_heading;
 pub mod relative;
+pub mod scan_pose;
 pub mod sector;
 pub mod sensor;

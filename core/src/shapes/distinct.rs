@@ -148,23 +148,10 @@ impl Distinct {
         }
         for _ in 0..MAX_PASSES {
             let adj = self.graph(uf)?;
-            let mut e = Enum {
-                adj: &adj,
-                depth: n - 1,
-                nodes: 0,
-                budget: node_budget,
-                merged: Uf::new(k),
-                infeasible: None,
-                common: Vec::new(),
-                scratch: Vec::new(),
-            };
             let roots: Vec<u32> = (0..k as u32)
                 .filter(|&r| !adj[r as usize].is_empty())
                 .collect();
-            // A clique holds at most n - 1 of the k roots: n itself is an
-            // input number (up to u32::MAX) that k does not bound.
-            let mut clique = Vec::with_capacity(n.min(k));
-            e.extend(&mut clique, &roots);
+            let mut e = clique_pass(&adj, n - 1, node_budget, &roots);
             if let Some(reason) = e.infeasible {
                 return Err(reason);
             }
@@ -189,6 +176,30 @@ impl Distinct {
     }
 }
 
+/// One pass of the clique rule: the (`depth` = n-1)-cliques of the group
+/// graph `adj` over `roots`, enumerated within `budget` nodes.
+fn clique_pass<'a>(adj: &'a [Vec<u32>], depth: usize, budget: usize, roots: &[u32]) -> Enum<'a> {
+    let k = adj.len();
+    let mut e = Enum {
+        adj,
+        depth,
+        nodes: 0,
+        budget,
+        merged: Uf::new(k),
+        infeasible: None,
+        common: Vec::new(),
+        nexts: Vec::new(),
+        commons: Vec::new(),
+        mark: Vec::new(),
+        epoch: 0,
+    };
+    // A clique holds at most n - 1 of the k roots: n itself is an input
+    // number (up to u32::MAX) that k does not bound.
+    let mut clique = Vec::with_capacity(depth.saturating_add(1).min(k));
+    e.extend(&mut clique, roots);
+    e
+}
+
 /// Enumeration of the (n-1)-cliques of the group graph.
 struct Enum<'a> {
     adj: &'a [Vec<u32>],
@@ -200,7 +211,25 @@ struct Enum<'a> {
     merged: Uf,
     infeasible: Option<String>,
     common: Vec<u32>,
-    scratch: Vec<u32>,
+    /// Buffers of the candidate lists, by clique size (reused from node to
+    /// node; grown with the recursion's depth, which k bounds, not n).
+    nexts: Vec<Vec<u32>>,
+    /// `commons[d]` (d >= 1): the common neighbours of the clique's first
+    /// d + 1 roots, kept while they are on the clique, so that a full
+    /// clique intersects one more list instead of all of its own.
+    commons: Vec<Vec<u32>>,
+    /// `mark[r] == epoch`: root r is a common neighbour of the clique
+    /// being closed ([`Enum::mark_all`]; empty until first used).
+    mark: Vec<u32>,
+    epoch: u32,
+}
+
+/// `bufs[d]`, grown to hold it, taken out (put it back after use).
+fn take_buf(bufs: &mut Vec<Vec<u32>>, d: usize) -> Vec<u32> {
+    if bufs.len() <= d {
+        bufs.resize_with(d + 1, Vec::new);
+    }
+    std::mem::take(&mut bufs[d])
 }
 
 impl Enum<'_> {
@@ -215,42 +244,104 @@ impl Enum<'_> {
             self.close(clique);
             return;
         }
+        let d = clique.len();
+        let mut next = take_buf(&mut self.nexts, d);
         for (i, &v) in cands.iter().enumerate() {
             if self.nodes >= self.budget || self.infeasible.is_some() {
-                return;
+                break;
             }
-            let mut next = Vec::new();
             intersect_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
-            if clique.len() + 1 + next.len() < self.depth {
+            if d + 1 + next.len() < self.depth {
                 continue;
             }
             clique.push(v);
+            if d >= 1 && d + 1 < self.depth {
+                // The common neighbours of the clique so far (see
+                // `commons`); a full clique's are found in `close`.
+                let mut common = take_buf(&mut self.commons, d);
+                intersect_sorted(
+                    self.common_of(clique, d - 1),
+                    &self.adj[v as usize],
+                    &mut common,
+                );
+                self.commons[d] = common;
+            }
             self.extend(clique, &next);
             clique.pop();
+        }
+        self.nexts[d] = next;
+    }
+
+    /// The common neighbours of `clique[..=d]`: the adjacency of its
+    /// first root, or `commons[d]`.
+    fn common_of(&self, clique: &[u32], d: usize) -> &[u32] {
+        if d == 0 {
+            &self.adj[clique[0] as usize]
+        } else {
+            &self.commons[d]
         }
     }
 
     /// Common neighbours of a full (n-1)-clique: one landmark.
     fn close(&mut self, clique: &[u32]) {
         let mut common = std::mem::take(&mut self.common);
-        common.clear();
-        common.extend_from_slice(&self.adj[clique[0] as usize]);
-        for &c in &clique[1..] {
-            let mut out = std::mem::take(&mut self.scratch);
-            intersect_sorted(&common, &self.adj[c as usize], &mut out);
-            self.scratch = std::mem::replace(&mut common, out);
+        let last = clique.len() - 1;
+        if last == 0 {
+            common.clear();
+            common.extend_from_slice(&self.adj[clique[0] as usize]);
+        } else {
+            intersect_sorted(
+                self.common_of(clique, last - 1),
+                &self.adj[clique[last] as usize],
+                &mut common,
+            );
         }
         self.close_common(clique, &common);
         self.common = common;
+    }
+
+    /// Marks the members of `common` (a new epoch of `mark`).
+    fn mark_all(&mut self, common: &[u32]) {
+        if self.mark.len() != self.adj.len() {
+            self.mark = vec![0; self.adj.len()];
+        }
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.mark.fill(0);
+            self.epoch = 1;
+        }
+        for &c in common {
+            self.mark[c as usize] = self.epoch;
+        }
     }
 
     fn close_common(&mut self, clique: &[u32], common: &[u32]) {
         if common.len() < 2 {
             return;
         }
+        let adj = self.adj;
+        let mut marked = false;
         for (i, &a) in common.iter().enumerate() {
-            let na = &self.adj[a as usize];
-            if let Some(&b) = common[i + 1..].iter().find(|b| na.binary_search(b).is_ok()) {
+            let na = &adj[a as usize];
+            let rest = &common[i + 1..];
+            // The first b of `rest` adjacent to a (both lists increasing):
+            // by binary searches in a's list when `rest` is short, else by
+            // a scan of a's list for the marked members of `common` (the
+            // same b: the least member of `rest` in a's list).
+            let found = if rest.len() * 8 <= na.len() {
+                rest.iter().find(|b| na.binary_search(b).is_ok()).copied()
+            } else {
+                if !marked {
+                    self.mark_all(common);
+                    marked = true;
+                }
+                let from = na.partition_point(|&x| x <= a);
+                na[from..]
+                    .iter()
+                    .find(|&&x| self.mark[x as usize] == self.epoch)
+                    .copied()
+            };
+            if let Some(b) = found {
                 let mut named: Vec<u32> = clique.to_vec();
                 named.extend([a, b]);
                 named.sort_unstable();
@@ -296,6 +387,129 @@ mod tests {
         // With n = 5 nothing follows.
         let mut uf = Uf::new(6);
         assert!(d.infer(&mut uf, 5, 1000).unwrap().is_empty());
+    }
+
+    /// The enumeration before issue 18's buffers (a new candidate list per
+    /// node, a full clique's lists all intersected, the 5-clique check by
+    /// binary searches): the reference of
+    /// `the_clique_pass_matches_the_plain_enumeration`.
+    struct Plain<'a> {
+        adj: &'a [Vec<u32>],
+        depth: usize,
+        nodes: usize,
+        budget: usize,
+        merged: Uf,
+        infeasible: Option<(Vec<u32>, u32, u32)>,
+    }
+
+    impl Plain<'_> {
+        fn extend(&mut self, clique: &mut Vec<u32>, cands: &[u32]) {
+            if self.infeasible.is_some() || self.nodes >= self.budget {
+                return;
+            }
+            self.nodes += 1;
+            if clique.len() == self.depth {
+                let mut common = self.adj[clique[0] as usize].clone();
+                for &c in &clique[1..] {
+                    let mut out = Vec::new();
+                    intersect_sorted(&common, &self.adj[c as usize], &mut out);
+                    common = out;
+                }
+                for (i, &a) in common.iter().enumerate() {
+                    let na = &self.adj[a as usize];
+                    if let Some(&b) = common[i + 1..].iter().find(|b| na.binary_search(b).is_ok()) {
+                        self.infeasible = Some((clique.clone(), a, b));
+                        return;
+                    }
+                }
+                if common.len() >= 2 {
+                    for &x in &common[1..] {
+                        self.merged.union(common[0] as usize, x as usize);
+                    }
+                }
+                return;
+            }
+            for (i, &v) in cands.iter().enumerate() {
+                if self.nodes >= self.budget || self.infeasible.is_some() {
+                    return;
+                }
+                let mut next = Vec::new();
+                intersect_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
+                if clique.len() + 1 + next.len() < self.depth {
+                    continue;
+                }
+                clique.push(v);
+                self.extend(clique, &next);
+                clique.pop();
+            }
+        }
+    }
+
+    /// Random graphs (dense and sparse, hubs with long lists), n from 2 to
+    /// 6, budgets that stop the search or not: the pass finds the same
+    /// merges, the same node count and the same 5-clique (named the same)
+    /// as the plain enumeration.
+    #[test]
+    fn the_clique_pass_matches_the_plain_enumeration() {
+        let mut rng = crate::rng::Rng::new(18);
+        let mut infeasible = 0;
+        for case in 0..600 {
+            let k = 5 + (rng.next_u64() % 60) as usize;
+            let density = rng.unit() * if case % 3 == 0 { 0.9 } else { 0.4 };
+            let hubs = (rng.next_u64() % 4) as usize;
+            let mut adj = vec![Vec::new(); k];
+            for a in 0..k {
+                for b in a + 1..k {
+                    let p = if a < hubs { 0.95 } else { density };
+                    if rng.unit() < p {
+                        adj[a].push(b as u32);
+                        adj[b].push(a as u32);
+                    }
+                }
+            }
+            for l in &mut adj {
+                l.sort_unstable();
+            }
+            let roots: Vec<u32> = (0..k as u32)
+                .filter(|&r| !adj[r as usize].is_empty())
+                .collect();
+            let depth = 1 + (rng.next_u64() % 5) as usize;
+            let budget = [10, 200, 100_000][case % 3];
+            let mut e = clique_pass(&adj, depth, budget, &roots);
+            let mut p = Plain {
+                adj: &adj,
+                depth,
+                nodes: 0,
+                budget,
+                merged: Uf::new(k),
+                infeasible: None,
+            };
+            p.extend(&mut Vec::new(), &roots);
+            assert_eq!(e.nodes, p.nodes, "case {case}");
+            match &p.infeasible {
+                Some((clique, a, b)) => {
+                    infeasible += 1;
+                    let mut named = clique.clone();
+                    named.extend([*a, *b]);
+                    named.sort_unstable();
+                    let reason = e.infeasible.clone().expect("infeasible as the plain one");
+                    assert!(
+                        reason.contains(&format!("{named:?}")),
+                        "case {case}: {reason}"
+                    );
+                }
+                None => {
+                    assert_eq!(e.infeasible, None, "case {case}");
+                    for r in 0..k {
+                        assert_eq!(e.merged.find(r), p.merged.find(r), "case {case} root {r}");
+                    }
+                }
+            }
+        }
+        assert!(
+            infeasible > 20 && infeasible < 580,
+            "{infeasible} infeasible cases"
+        );
     }
 
     #[test]

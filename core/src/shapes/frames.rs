@@ -176,6 +176,28 @@ impl Frames {
         Ok(work)
     }
 
+    /// The pieces of every group, (re)built as [`Frames::pairs`] does, but
+    /// no pair tested (the pieces stay untested): for a round that needs
+    /// the pieces and none of their pairs. The work done; Err as
+    /// [`Frames::pairs`].
+    pub fn build(
+        &mut self,
+        dets: &[Sighting],
+        dim: usize,
+        sums: &ChainSums,
+        heading_at: &[Interval],
+        uf: &mut Uf,
+        opts: &FrameOptions,
+    ) -> Result<u64, String> {
+        let view = View {
+            dets,
+            sums,
+            heading_at,
+            dim,
+        };
+        self.rebuild(&view, uf, opts)
+    }
+
     /// The pieces of every group, (re)built when the group changed (its
     /// size); the work done.
     fn rebuild(&mut self, v: &View, uf: &mut Uf, opts: &FrameOptions) -> Result<u64, String> {

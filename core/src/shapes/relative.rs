@@ -58,8 +58,40 @@ pub fn relative_pairs(
     max_ahead: usize,
     out: &mut Vec<(u32, u32)>,
 ) {
+    relative_pairs_where(
+        dets,
+        order,
+        dim,
+        sums,
+        (pos, det, heading_at),
+        max_ahead,
+        &mut |_, _| true,
+        out,
+    );
+}
+
+/// [`relative_pairs`] on the pairs (i, j) for which `wanted(i, j)` holds
+/// (the others are not tested, and give no pair): the same pairs as
+/// [`relative_pairs`] among the wanted ones, the same shape tests.
+/// `(pos, det, heading_at)` as in [`relative_pairs`].
+#[allow(clippy::too_many_arguments)]
+pub fn relative_pairs_where(
+    dets: &[Sighting],
+    order: &[usize],
+    dim: usize,
+    sums: &ChainSums,
+    (pos, det, heading_at): (&[Interval], &[IntervalBox], &[Interval]),
+    max_ahead: usize,
+    wanted: &mut dyn FnMut(usize, usize) -> bool,
+    out: &mut Vec<(u32, u32)>,
+) {
     let pbox = |t: usize| &pos[t * dim..(t + 1) * dim];
     for (oi, &i) in order.iter().enumerate() {
+        let ahead = &order[oi + 1..order.len().min(oi + 1 + max_ahead)];
+        if !ahead.iter().any(|&j| wanted(i, j)) {
+            // No pair wanted: the shape of i is not built.
+            continue;
+        }
         let s = dets[i].step;
         let origin = pbox(s);
         let mut cut_i = [Interval::ZERO; MAX_DIM];
@@ -78,7 +110,10 @@ pub fn relative_pairs(
         if shape_i.is_empty() {
             continue;
         }
-        for &j in order[oi + 1..].iter().take(max_ahead) {
+        for &j in ahead {
+            if !wanted(i, j) {
+                continue;
+            }
             let t = dets[j].step;
             let target = pbox(t);
             let mut delta = sums.delta(s, t);

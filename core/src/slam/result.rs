@@ -115,7 +115,9 @@ pub fn result_json(mission: &Mission, options: &SolveOptions, s: &Solution) -> V
 /// Writes the result JSON to `w` without building it in memory (a 10^6-step
 /// trajectory as a `Value` takes hundreds of megabytes): the same bytes as
 /// `serde_json::to_writer(w, &result_json(..))` with `metrics.elapsed_ms`
-/// set to `elapsed_ms`.
+/// set to `elapsed_ms`. Native only (serde_json's `std`, which the wasm
+/// modules leave out).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn write_result<W: std::io::Write>(
     w: W,
     mission: &Mission,

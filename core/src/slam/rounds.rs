@@ -62,6 +62,7 @@
 //! trajectory and landmarks stay inside.
 
 use super::association::scan_map::ScanMap;
+use super::association::scan_pose::{scan_pose_step, ScanPoseMemo};
 use super::association::separation::separation_unions;
 use super::association::sequential::SeparationGrid;
 use super::association::tracks::{track_unions, TrackOptions};
@@ -137,6 +138,8 @@ struct Propagation<'a> {
     grid: Option<SeparationGrid>,
     /// The closed-world map of the pass ([`ScanMap`]), with the grid.
     scan_map: Option<ScanMap>,
+    /// What the scan pose left at each step ([`ScanPoseMemo`]).
+    pose_memo: ScanPoseMemo,
 }
 
 impl<'a> Propagation<'a> {
@@ -208,6 +211,7 @@ impl<'a> Propagation<'a> {
                 .then(|| mission.seen_from_position()),
             grid: None,
             scan_map: None,
+            pose_memo: ScanPoseMemo::default(),
         }
     }
 
@@ -442,7 +446,7 @@ impl<'a> Propagation<'a> {
     /// th(step) and d(j). Returns whether p(step) or th(step) moved by more
     /// than the tolerance (both are swept along the chain).
     fn contract_offset_detections(&mut self, s: usize) -> Result<bool, Halt> {
-        let moved = self.offset_detections_once(s)?;
+        let moved = self.offset_detections_once(s)? | self.scan_pose(s)?;
         let merged = self.separate_in_pass(s)? | self.scan_map_in_pass(s)?;
         if !self.pair_headings(s)? && !merged {
             return Ok(moved);
@@ -453,6 +457,28 @@ impl<'a> Propagation<'a> {
             self.offset_detections_once(s)?;
         }
         Ok(true)
+    }
+
+    /// The step's detections, p and th contracted together
+    /// ([`scan_pose_step`]), with the rounds' condition of the grid.
+    fn scan_pose(&mut self, s: usize) -> Result<bool, Halt> {
+        if self.grid.is_none() {
+            return Ok(false);
+        }
+        let at = &self.order[self.starts[s]..self.starts[s + 1]];
+        let (moved, pose) = scan_pose_step(
+            self.mission,
+            &mut self.model,
+            &mut self.matching,
+            &mut self.pose_memo,
+            at,
+            self.steps[s],
+            self.tol,
+        )
+        .map_err(Halt::Infeasible)?;
+        self.contractions += 1;
+        moved.iter().for_each(|&j| self.moving[j] = true);
+        Ok(pose)
     }
 
     /// The grid of [`SeparationGrid`] for a pass: odometry2d with a

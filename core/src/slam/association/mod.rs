@@ -22,7 +22,10 @@
 //!    distinct landmarks; so do a detection and a region its branch
 //!    excluded (step 4). With n known, [`Distinct::infer`](crate::shapes::distinct::Distinct::infer) merges the
 //!    common neighbours of every n-1 pairwise-distinct groups and proves
-//!    infeasibility from n+1 of them.
+//!    infeasibility from n+1 of them. With at most n groups (every
+//!    detection named by the operator, say) only the pairs inside a group
+//!    are looked for at once, those between groups when the witness
+//!    search needs them (`pairs.rs` gives why no box can change).
 //! 3. **Witnesses.** Items are the groups' regions and the shapes of the
 //!    detections in no group. [`find_witnesses`](crate::shapes::witnesses::find_witnesses) looks for n + 1 pairwise
 //!    disjoint (or proved distinct) items: n + 1 is infeasible (the items'
@@ -84,6 +87,7 @@ mod regions;
 mod registration;
 mod round;
 pub mod scan_map;
+pub mod scan_pose;
 pub mod separation;
 pub mod sequential;
 mod state;
@@ -178,7 +182,7 @@ impl ShapesState {
         sums: &ChainSums,
     ) -> Result<(), String> {
         self.distinct_pairs(round, n, order, sums)?;
-        if let Some(mut w) = self.witness_regions(round, n)? {
+        if let Some(mut w) = self.witness_regions(round, n, order, sums)? {
             // An infeasible group ends the round at once (the witness
             // regions and the pairs found are dropped: the mission is
             // infeasible).

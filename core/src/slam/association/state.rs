@@ -167,6 +167,22 @@ pub struct ShapesState {
     /// when it last ran ([`ShapesState::group_signature`]); the step is
     /// skipped for the group while they stay the same.
     pub(super) group_seen: Vec<Option<Vec<u64>>>,
+    /// The distinct pairs between different groups were not looked for
+    /// this round (the relative pairs of round 1, the frames' tests): the
+    /// groups number at most n, so they could serve the witness search
+    /// alone ([`ShapesState::distinct_pairs`]); it looks for them when it
+    /// finds fewer than n witnesses without them.
+    pub(super) cross_deferred: CrossDeferred,
+}
+
+/// What the distinct pairs between different groups left undone in a
+/// round (see [`ShapesState::cross_deferred`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct CrossDeferred {
+    /// The relative pairs between different groups (round 1's).
+    pub relative: bool,
+    /// The frames' tests (this round's).
+    pub frames: bool,
 }
 
 /// The inputs of one registration (see [`RegKey::close`]).
@@ -236,6 +252,7 @@ impl ShapesState {
             stored_sums: None,
             full_work: false,
             group_seen: vec![None; k],
+            cross_deferred: CrossDeferred::default(),
         }
     }
 

@@ -11,9 +11,11 @@
 //! Complexity: O(k log k + 64² + k n) for the search, O(k · n · m · d) at
 //! most for the branches (m boxes per region).
 
+use super::pairs::roots;
 use super::round::Round;
-use super::state::ShapesState;
+use super::state::{CrossDeferred, ShapesState};
 use crate::shapes::branch::branch;
+use crate::shapes::chain_sums::ChainSums;
 use crate::shapes::region::Paving;
 use crate::shapes::shape::Shape;
 use crate::shapes::witnesses::{find_witnesses, Item};
@@ -64,12 +66,24 @@ impl ShapesState {
     /// Step 3: the witnesses. Err: more than n (infeasible); None: fewer
     /// than n (no branch this round); else the n witness regions, taken
     /// out of the state until [`ShapesState::restore`].
+    /// `order` and `sums` serve the pairs between groups left undone by
+    /// [`ShapesState::distinct_pairs`], looked for when fewer than n
+    /// witnesses are found without them while the groups number n.
     pub(super) fn witness_regions(
         &mut self,
         round: &mut Round,
         n: usize,
+        order: &[usize],
+        sums: &ChainSums,
     ) -> Result<Option<Witnesses>, String> {
-        let chosen = self.choose_witnesses(round, n)?;
+        let mut chosen = self.choose_witnesses(round, n)?;
+        if chosen.len() < n
+            && self.cross_deferred != CrossDeferred::default()
+            && roots(&mut round.uf) >= n
+            && self.deferred_pairs(round, order, sums)?
+        {
+            chosen = self.choose_witnesses(round, n)?;
+        }
         round.out.contractions += 1;
         if chosen.len() > n {
             let mut named: Vec<usize> = chosen.clone();
