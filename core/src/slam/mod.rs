@@ -23,6 +23,7 @@ pub mod mission;
 pub mod model;
 pub mod outliers;
 pub mod result;
+pub mod robust_cliques;
 pub mod robust_conflicts;
 pub mod robust_hitting;
 pub mod robust_regions;

@@ -89,8 +89,10 @@
 //! before the cap is kept (conflicts proved are conflicts). Memory: a few
 //! keep vectors, O(k), and one positions vector, O(N · d).
 
-use super::kept::stripped;
+use super::kept::kept_only;
 use super::mission::Mission;
+use super::model::Model;
+use super::robust_cliques::clique_conflicts;
 use super::robust_hitting::{hitting_set, minimum, Hit};
 use super::rounds::rounds;
 use super::types::{Progress, SolveOptions, SolveStatus};
@@ -160,7 +162,7 @@ impl Solver<'_> {
             return None;
         }
         self.solves += 1;
-        let sub = stripped(self.mission, keep);
+        let sub = kept_only(self.mission, keep);
         let s = rounds(&sub, self.options, &mut |_: &Progress| {}, self.cancel);
         self.contractions += s.contractions;
         Some((matches!(s.status, SolveStatus::Infeasible(_)), s.model.pos))
@@ -257,7 +259,17 @@ pub fn pack(
     for (r, &j) in order.iter().enumerate() {
         st.rank[j] = r;
     }
-    loop {
+    // Step 0: the conflicts that cost no propagation (n + 1 detections
+    // pairwise distinct), and what their hitting sets prove.
+    let open: Vec<bool> = proved_false.iter().map(|&f| !f).collect();
+    let mut free = clique_conflicts(mission, &Model::new(mission), &open, order);
+    if let Err(reason) = st.free(&mut free) {
+        return Packing::Infeasible(reason);
+    }
+    // With free conflicts the disjoint packing is not needed: the
+    // overlapping conflicts start from them.
+    let packed = free.is_empty() || st.budget == 0 || !within_hit_work(mission.steps, k);
+    while packed {
         match st.pack_rest() {
             Err(()) => return Packing::Infeasible(infeasible_reason(&st.conflicts, q, p)),
             Ok(false) => break,
@@ -271,7 +283,7 @@ pub fn pack(
     }
     if st.conflicts.len() < st.budget && within_hit_work(mission.steps, k) {
         st.s.cap = HIT_SOLVES;
-        if let Err(reason) = st.hit() {
+        if let Err(reason) = st.hit(free) {
             return Packing::Infeasible(reason);
         }
     }
@@ -493,8 +505,9 @@ impl State<'_> {
     /// budget and the conflicts holding it leave F; on to a fixpoint. Err:
     /// no reading exists. The cap (solves or nodes) stops it with what is
     /// proved so far.
-    fn hit(&mut self) -> Result<(), String> {
+    fn hit(&mut self, free: Vec<Vec<usize>>) -> Result<(), String> {
         let mut family: Vec<Vec<usize>> = self.conflicts.clone();
+        family.extend(free);
         let mut work = HIT_NODES;
         let no_reading = |b: usize, f: &[Vec<usize>]| {
             format!(
@@ -557,6 +570,47 @@ impl State<'_> {
                 return Ok(());
             }
         }
+    }
+
+    /// Step 0: the detections that every hitting set of at most b of the
+    /// free conflicts `family` holds are proved false (docs/outliers.md,
+    /// "Overlapping conflicts", step 2), to a fixpoint; no propagation.
+    /// Err: no set of at most b hits the family (no reading exists).
+    fn free(&mut self, family: &mut Vec<Vec<usize>>) -> Result<(), String> {
+        let mut work = HIT_NODES;
+        while !family.is_empty() {
+            let h = match minimum(family, &[], self.budget, &mut work) {
+                Hit::Found(h) => h,
+                Hit::None => {
+                    return Err(format!(
+                        "the sets of detections {family:?}, each pairwise proved to see distinct landmarks and one more than landmark_count, cannot all be hit by {} detections: more false detections than max_outliers allows",
+                        self.budget
+                    ))
+                }
+                Hit::Unknown => return Ok(()),
+            };
+            let mut ban = vec![false; self.proved_false.len()];
+            let mut proved = None;
+            for &x in &h {
+                ban[x] = true;
+                match hitting_set(family, &ban, self.budget, &mut work) {
+                    Hit::None => {
+                        proved = Some(x);
+                        break;
+                    }
+                    Hit::Unknown => return Ok(()),
+                    Hit::Found(_) => ban[x] = false,
+                }
+            }
+            let Some(x) = proved else {
+                return Ok(());
+            };
+            self.budget -= 1;
+            self.proved_false[x] = true;
+            family.retain(|c| !c.contains(&x));
+            self.rest.retain(|&j| j != x);
+        }
+        Ok(())
     }
 
     /// One step of Reiter's loop: when the open detections outside the
