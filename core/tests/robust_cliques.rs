@@ -93,7 +93,9 @@ fn planted(case: u64, rng: &mut Rng) -> (Mission, Vec<Option<usize>>, Vec<Vec<f6
     for _ in 0..3 {
         let s = at(rng);
         let p = &positions[s];
-        dets.push(json!({"step": s, "range": range(libm::hypot(ghost[0] - p[0], ghost[1] - p[1]))}));
+        dets.push(
+            json!({"step": s, "range": range(libm::hypot(ghost[0] - p[0], ghost[1] - p[1]))}),
+        );
     }
     let mut extra = 6;
     // A true detection's bearing turned by 0.2 rad (a copy: the true one
@@ -123,7 +125,10 @@ fn cliques_always_hold_a_false_detection() {
         found += check_cliques(&m, &truth, &format!("case {case}"));
     }
     eprintln!("{found} cliques");
-    assert!(found > 0, "no clique was ever found: the test proves nothing");
+    assert!(
+        found > 0,
+        "no clique was ever found: the test proves nothing"
+    );
 }
 
 #[test]
@@ -190,7 +195,14 @@ fn measure_cliques() {
         let phantoms: Vec<usize> = (0..k).filter(|&j| truth[j].is_none()).collect();
         let per: Vec<usize> = phantoms.iter().map(|&j| with[j]).collect();
         let t0 = std::time::Instant::now();
-        let r = pack(&m, m.max_outliers, &vec![false; k], &order, &options, &cancel);
+        let r = pack(
+            &m,
+            m.max_outliers,
+            &vec![false; k],
+            &order,
+            &options,
+            &cancel,
+        );
         let secs = t0.elapsed().as_secs_f64();
         let summary = match r {
             Packing::Proved {

@@ -27,9 +27,9 @@
 //! # Soundness
 //!
 //! The boxes the pairs are tested in enclose every solution of every
-//! reading keeping the detection (the robust propagation's positions and
-//! detection boxes; the displacement boxes and headings are inputs, true
-//! in every reading), and a disjointness proved by [`relative_pairs`] is
+//! reading keeping the detection (the caller passes the mission's initial
+//! domains, [`Model::new`]; the displacement boxes and headings are
+//! inputs, true in every reading), and a disjointness proved by [`relative_pairs`] is
 //! outward rounded ([`crate::shapes::relative`]). Only detections with a
 //! known heading and no sensor offset are tested (`plain_detections`);
 //! detections proved false (empty boxes) take no part. Tested by
