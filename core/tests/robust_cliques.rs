@@ -169,8 +169,11 @@ fn ten_simulated_phantoms_keep_the_truth() {
     }
 }
 
+// A measurement on the user's mission files, with the time it took: the
+// one I/O and clock of this test file, outside every checked test.
 #[test]
 #[ignore]
+#[allow(clippy::disallowed_methods)]
 fn measure_cliques() {
     let Ok(list) = std::env::var("NVECTOR_CLIQUE_MISSIONS") else {
         return;

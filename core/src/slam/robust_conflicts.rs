@@ -268,17 +268,9 @@ pub fn pack(
     }
     // With free conflicts the disjoint packing is not needed: the
     // overlapping conflicts start from them.
-    let packed = free.is_empty() || st.budget == 0 || !within_hit_work(mission.steps, k);
-    while packed {
-        match st.pack_rest() {
-            Err(()) => return Packing::Infeasible(infeasible_reason(&st.conflicts, q, p)),
-            Ok(false) => break,
-            Ok(true) => {}
-        }
-        match st.resolve_one() {
-            Err(reason) => return Packing::Infeasible(reason),
-            Ok(false) => break,
-            Ok(true) => {}
+    if free.is_empty() || st.budget == 0 || !within_hit_work(mission.steps, k) {
+        if let Err(reason) = st.pack_and_resolve(q, p) {
+            return Packing::Infeasible(reason);
         }
     }
     if st.conflicts.len() < st.budget && within_hit_work(mission.steps, k) {
@@ -322,6 +314,20 @@ struct State<'a> {
 }
 
 impl State<'_> {
+    /// Steps 3 and 4 to a fixpoint (or the cap); Err: no reading exists.
+    fn pack_and_resolve(&mut self, q: usize, p: usize) -> Result<(), String> {
+        loop {
+            match self.pack_rest() {
+                Err(()) => return Err(infeasible_reason(&self.conflicts, q, p)),
+                Ok(false) => return Ok(()),
+                Ok(true) => {}
+            }
+            if !self.resolve_one()? {
+                return Ok(());
+            }
+        }
+    }
+
     /// Step 3: conflicts shrunk out of `rest` until it is feasible. Ok:
     /// whether the packing is complete (false: the cap); Err: more
     /// conflicts than the budget.
