@@ -533,7 +533,15 @@ impl State<'_> {
                 }
             }
             let mut proved = None;
-            for &x in &h {
+            // The candidates: h, then the members of each hitting set H'
+            // found consistent (the open detections outside it are not
+            // proved infeasible): its drops are the likely false ones
+            // (a heuristic: which x are tried decides only what is proved).
+            let mut cands = h;
+            let mut next = 0;
+            while next < cands.len() {
+                let x = cands[next];
+                next += 1;
                 let mut ban = vec![false; self.proved_false.len()];
                 ban[x] = true;
                 let refuted = loop {
@@ -542,7 +550,14 @@ impl State<'_> {
                         Hit::Unknown => return Ok(()),
                         Hit::Found(other) => match self.grow(&mut family, &other) {
                             Some(true) => {}
-                            Some(false) => break false,
+                            Some(false) => {
+                                for y in other {
+                                    if !cands.contains(&y) {
+                                        cands.push(y);
+                                    }
+                                }
+                                break false;
+                            }
                             None => return Ok(()),
                         },
                     }
