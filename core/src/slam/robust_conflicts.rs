@@ -480,14 +480,14 @@ impl State<'_> {
 /// Most ordinary propagations once the overlapping conflicts are searched
 /// (`State::hit`), the packing's included: with the free conflicts and
 /// the propagations of the kept detections only, the paper scenario with
-/// 10 false detections needs 20-250 (a few ms to 70 ms each); 1,500 (qhit)
-/// let one run spend 108 s.
-pub const HIT_SOLVES: usize = 200;
+/// 10 false detections needs 20-400 (a few ms to 70 ms each: 200 left
+/// 4 line runs of 10 unproved); 1,500 (qhit) let one run spend 108 s.
+pub const HIT_SOLVES: usize = 400;
 
 /// Most (steps + detections) x [`HIT_SOLVES`] for the overlapping
 /// conflicts: the paper scenario's 10,000 steps fit, CMU Plaza 1 and the
 /// 2,000,000-step missions do not.
-pub const HIT_WORK: u64 = 2_200_000;
+pub const HIT_WORK: u64 = 4_400_000;
 
 /// Most branch-and-bound nodes of the hitting-set searches of one packing
 /// ([`super::robust_hitting`]).
