@@ -553,25 +553,8 @@ impl State<'_> {
             while next < cands.len() {
                 let x = cands[next];
                 next += 1;
-                let mut ban = vec![false; self.proved_false.len()];
-                ban[x] = true;
-                let refuted = loop {
-                    match hitting_set(&family, &ban, self.budget, &mut work) {
-                        Hit::None => break true,
-                        Hit::Unknown => return Ok(()),
-                        Hit::Found(other) => match self.grow(&mut family, &other) {
-                            Some(true) => {}
-                            Some(false) => {
-                                for y in other {
-                                    if !cands.contains(&y) {
-                                        cands.push(y);
-                                    }
-                                }
-                                break false;
-                            }
-                            None => return Ok(()),
-                        },
-                    }
+                let Some(refuted) = self.refute(&mut family, x, &mut work, &mut cands) else {
+                    return Ok(());
                 };
                 if refuted {
                     proved = Some(x);
@@ -643,6 +626,37 @@ impl State<'_> {
             self.rest.retain(|&j| j != x);
         }
         Ok(())
+    }
+
+    /// Whether `x` is proved false: no set of at most b detections without
+    /// x hits `family`, which grows while the hitting sets found leave
+    /// infeasible open detections. The members of a hitting set found
+    /// consistent join `cands`. `None`: a cap.
+    fn refute(
+        &mut self,
+        family: &mut Vec<Vec<usize>>,
+        x: usize,
+        work: &mut u64,
+        cands: &mut Vec<usize>,
+    ) -> Option<bool> {
+        let mut ban = vec![false; self.proved_false.len()];
+        ban[x] = true;
+        loop {
+            match hitting_set(family, &ban, self.budget, work) {
+                Hit::None => return Some(true),
+                Hit::Unknown => return None,
+                Hit::Found(other) => {
+                    if !self.grow(family, &other)? {
+                        for y in other {
+                            if !cands.contains(&y) {
+                                cands.push(y);
+                            }
+                        }
+                        return Some(false);
+                    }
+                }
+            }
+        }
     }
 
     /// One step of Reiter's loop: when the open detections outside the
