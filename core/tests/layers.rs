@@ -123,6 +123,16 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("slam::rounds", 9, "the physics-guided rounds"),
     ("tdoa::result", 9, "the TDOA result format and score"),
     ("slam::kept", 10, "what the robust propagation keeps"),
+    (
+        "slam::robust_cliques",
+        10,
+        "conflicts from pairwise distinct detections",
+    ),
+    (
+        "slam::robust_hitting",
+        10,
+        "minimum hitting sets of conflicts",
+    ),
     ("slam::outliers", 11, "the robust propagation"),
     (
         "slam::robust_conflicts",

@@ -49,6 +49,21 @@
 //!    make new conflicts), to a fixpoint. Conflicts plus proved false
 //!    beyond the budget: no reading exists.
 //!
+//! 0. *Free conflicts* (ids hidden, `landmark_count` n): the
+//!    (n + 1)-cliques of pairwise distinct detections
+//!    ([`super::robust_cliques`]) are conflicts found without a
+//!    propagation; what their hitting sets prove comes first, and when
+//!    there are any the disjoint packing (steps 3-4) is not run: step 5
+//!    starts from them. Every conflict test propagates the tested
+//!    detections only ([`super::kept::kept_only`], a relaxation of
+//!    `stripped`).
+//! 5. *Overlapping conflicts* (`State::hit`, when the packing does not
+//!    account for the budget): conflicts may share detections; their
+//!    minimum hitting set ([`super::robust_hitting`], exact) bounds every
+//!    reading's drops, and a detection in every hitting set of at most b
+//!    is proved false (docs/outliers.md, "Overlapping conflicts"). At
+//!    most [`HIT_SOLVES`] propagations, within [`HIT_WORK`].
+//!
 //! What is returned: the detections proved false; the unresolved
 //! conflicts, each holding one drop of every reading
 //! ([`super::kept::kept_with_conflicts`] counts them with P, their
@@ -82,8 +97,11 @@
 //! before the cap is kept (conflicts proved are conflicts). Memory: a few
 //! keep vectors, O(k), and one positions vector, O(N · d).
 
-use super::kept::stripped;
+use super::kept::kept_only;
 use super::mission::Mission;
+use super::model::Model;
+use super::robust_cliques::clique_conflicts;
+use super::robust_hitting::{hitting_set, minimum, Hit};
 use super::rounds::rounds;
 use super::types::{Progress, SolveOptions, SolveStatus};
 use crate::interval::Interval;
@@ -134,6 +152,9 @@ pub enum Packing {
 
 /// The ordinary propagations of one packing, counted against the cap.
 struct Solver<'a> {
+    /// Most propagations ([`MAX_SOLVES`], or [`HIT_SOLVES`] once the
+    /// overlapping conflicts are searched).
+    cap: usize,
     mission: &'a Mission,
     options: &'a SolveOptions,
     cancel: &'a AtomicBool,
@@ -145,11 +166,11 @@ impl Solver<'_> {
     /// `Some(infeasible)`, and the positions when feasible; `None` at the
     /// cap (nothing proved).
     fn solve(&mut self, keep: &[bool]) -> Option<(bool, Vec<Interval>)> {
-        if self.solves >= MAX_SOLVES {
+        if self.solves >= self.cap {
             return None;
         }
         self.solves += 1;
-        let sub = stripped(self.mission, keep);
+        let sub = kept_only(self.mission, keep);
         let s = rounds(&sub, self.options, &mut |_: &Progress| {}, self.cancel);
         self.contractions += s.contractions;
         Some((matches!(s.status, SolveStatus::Infeasible(_)), s.model.pos))
@@ -224,6 +245,7 @@ pub fn pack(
     }
     let mut st = State {
         s: Solver {
+            cap: MAX_SOLVES,
             mission,
             options,
             cancel,
@@ -245,16 +267,24 @@ pub fn pack(
     for (r, &j) in order.iter().enumerate() {
         st.rank[j] = r;
     }
-    loop {
-        match st.pack_rest() {
-            Err(()) => return Packing::Infeasible(infeasible_reason(&st.conflicts, q, p)),
-            Ok(false) => break,
-            Ok(true) => {}
+    // Step 0: the conflicts that cost no propagation (n + 1 detections
+    // pairwise distinct), and what their hitting sets prove.
+    let open: Vec<bool> = proved_false.iter().map(|&f| !f).collect();
+    let mut free = clique_conflicts(mission, &Model::new(mission), &open, order);
+    if let Err(reason) = st.free(&mut free) {
+        return Packing::Infeasible(reason);
+    }
+    // With free conflicts the disjoint packing is not needed: the
+    // overlapping conflicts start from them.
+    if free.is_empty() || st.budget == 0 || !within_hit_work(mission.steps, k) {
+        if let Err(reason) = st.pack_and_resolve(q, p) {
+            return Packing::Infeasible(reason);
         }
-        match st.resolve_one() {
-            Err(reason) => return Packing::Infeasible(reason),
-            Ok(false) => break,
-            Ok(true) => {}
+    }
+    if st.conflicts.len() < st.budget && within_hit_work(mission.steps, k) {
+        st.s.cap = HIT_SOLVES;
+        if let Err(reason) = st.hit(free) {
+            return Packing::Infeasible(reason);
         }
     }
     if st.conflicts.is_empty() && !st.proved_false.contains(&true) {
@@ -292,6 +322,20 @@ struct State<'a> {
 }
 
 impl State<'_> {
+    /// Steps 3 and 4 to a fixpoint (or the cap); Err: no reading exists.
+    fn pack_and_resolve(&mut self, q: usize, p: usize) -> Result<(), String> {
+        loop {
+            match self.pack_rest() {
+                Err(()) => return Err(infeasible_reason(&self.conflicts, q, p)),
+                Ok(false) => return Ok(()),
+                Ok(true) => {}
+            }
+            if !self.resolve_one()? {
+                return Ok(());
+            }
+        }
+    }
+
     /// Step 3: conflicts shrunk out of `rest` until it is feasible. Ok:
     /// whether the packing is complete (false: the cap); Err: more
     /// conflicts than the budget.
@@ -432,6 +476,210 @@ impl State<'_> {
         Ok(false)
     }
 }
+
+/// Most ordinary propagations once the overlapping conflicts are searched
+/// (`State::hit`), the packing's included: with the free conflicts and
+/// the propagations of the kept detections only, the paper scenario with
+/// 10 false detections needs 20-400 (a few ms to 70 ms each: 200 left
+/// 4 line runs of 10 unproved); 1,500 (qhit) let one run spend 108 s.
+pub const HIT_SOLVES: usize = 400;
+
+/// Most (steps + detections) x [`HIT_SOLVES`] for the overlapping
+/// conflicts: the paper scenario's 10,000 steps fit, CMU Plaza 1 and the
+/// 2,000,000-step missions do not.
+pub const HIT_WORK: u64 = 4_400_000;
+
+/// Most branch-and-bound nodes of the hitting-set searches of one packing
+/// ([`super::robust_hitting`]).
+pub const HIT_NODES: u64 = 2_000_000;
+
+/// Whether `State::hit`'s propagations fit [`HIT_WORK`].
+pub fn within_hit_work(steps: usize, detections: usize) -> bool {
+    (steps as u64)
+        .saturating_add(detections as u64)
+        .saturating_mul(HIT_SOLVES as u64)
+        <= HIT_WORK
+}
+
+impl State<'_> {
+    /// The detections still open (neither proved false here nor before),
+    /// in time order.
+    fn pool(&self) -> Vec<usize> {
+        let mut pool: Vec<usize> = self.rest.clone();
+        pool.extend(self.conflicts.iter().flatten());
+        let rank = &self.rank;
+        pool.sort_by_key(|&j| rank[j]);
+        pool
+    }
+
+    /// Overlapping conflicts (docs/outliers.md, "Overlapping conflicts"):
+    /// Reiter's loop grows a family F of conflicts, each shrunk out of the
+    /// open detections minus a hitting set H of F, until a minimum H has b
+    /// members (the budget; more: no reading). Then a member x of H is
+    /// proved false when no set of at most b detections without x hits F:
+    /// while one, H', exists and the open detections minus H' are
+    /// infeasible, a conflict shrunk out of them joins F. x leaves the
+    /// budget and the conflicts holding it leave F; on to a fixpoint. Err:
+    /// no reading exists. The cap (solves or nodes) stops it with what is
+    /// proved so far.
+    fn hit(&mut self, free: Vec<Vec<usize>>) -> Result<(), String> {
+        let mut family: Vec<Vec<usize>> = self.conflicts.clone();
+        family.extend(free);
+        let mut work = HIT_NODES;
+        let no_reading = |b: usize, f: &[Vec<usize>]| {
+            format!(
+                "the inconsistent detection sets {f:?} cannot all be hit by {b} detections: more false detections than max_outliers allows"
+            )
+        };
+        loop {
+            let h = match minimum(&family, &[], self.budget, &mut work) {
+                Hit::Found(h) => h,
+                Hit::None => return Err(no_reading(self.budget, &family)),
+                Hit::Unknown => return Ok(()),
+            };
+            if h.len() < self.budget {
+                match self.grow(&mut family, &h) {
+                    Some(true) => continue,
+                    _ => return Ok(()),
+                }
+            }
+            let mut proved = None;
+            // The candidates: h, then the members of each hitting set H'
+            // found consistent (the open detections outside it are not
+            // proved infeasible): its drops are the likely false ones
+            // (a heuristic: which x are tried decides only what is proved).
+            let mut cands = h;
+            let mut next = 0;
+            while next < cands.len() {
+                let x = cands[next];
+                next += 1;
+                let Some(refuted) = self.refute(&mut family, x, &mut work, &mut cands) else {
+                    return Ok(());
+                };
+                if refuted {
+                    proved = Some(x);
+                    break;
+                }
+            }
+            let Some(x) = proved else {
+                return Ok(());
+            };
+            self.budget -= 1;
+            self.proved_false[x] = true;
+            family.retain(|c| !c.contains(&x));
+            if let Some(i) = self.conflicts.iter().position(|c| c.contains(&x)) {
+                let c = self.conflicts.remove(i);
+                self.rest.extend(c.into_iter().filter(|&j| j != x));
+            }
+            self.rest.retain(|&j| j != x);
+            let rank = &self.rank;
+            self.rest.sort_by_key(|&j| rank[j]);
+            self.positions = None;
+            if self.budget == 0 {
+                let keep = self.keep_of(&self.pool());
+                match self.s.solve(&keep) {
+                    Some((true, _)) => return Err(no_reading(0, &family)),
+                    Some((false, pos)) => self.positions = Some(pos),
+                    None => {}
+                }
+                return Ok(());
+            }
+        }
+    }
+
+    /// Step 0: the detections that every hitting set of at most b of the
+    /// free conflicts `family` holds are proved false (docs/outliers.md,
+    /// "Overlapping conflicts", step 2), to a fixpoint; no propagation.
+    /// Err: no set of at most b hits the family (no reading exists).
+    fn free(&mut self, family: &mut Vec<Vec<usize>>) -> Result<(), String> {
+        let mut work = HIT_NODES;
+        while !family.is_empty() {
+            let h = match minimum(family, &[], self.budget, &mut work) {
+                Hit::Found(h) => h,
+                Hit::None => {
+                    return Err(format!(
+                        "the sets of detections {family:?}, each pairwise proved to see distinct landmarks and one more than landmark_count, cannot all be hit by {} detections: more false detections than max_outliers allows",
+                        self.budget
+                    ))
+                }
+                Hit::Unknown => return Ok(()),
+            };
+            let mut ban = vec![false; self.proved_false.len()];
+            let mut proved = None;
+            for &x in &h {
+                ban[x] = true;
+                match hitting_set(family, &ban, self.budget, &mut work) {
+                    Hit::None => {
+                        proved = Some(x);
+                        break;
+                    }
+                    Hit::Unknown => return Ok(()),
+                    Hit::Found(_) => ban[x] = false,
+                }
+            }
+            let Some(x) = proved else {
+                return Ok(());
+            };
+            self.budget -= 1;
+            self.proved_false[x] = true;
+            family.retain(|c| !c.contains(&x));
+            self.rest.retain(|&j| j != x);
+        }
+        Ok(())
+    }
+
+    /// Whether `x` is proved false: no set of at most b detections without
+    /// x hits `family`, which grows while the hitting sets found leave
+    /// infeasible open detections. The members of a hitting set found
+    /// consistent join `cands`. `None`: a cap.
+    fn refute(
+        &mut self,
+        family: &mut Vec<Vec<usize>>,
+        x: usize,
+        work: &mut u64,
+        cands: &mut Vec<usize>,
+    ) -> Option<bool> {
+        let mut ban = vec![false; self.proved_false.len()];
+        ban[x] = true;
+        loop {
+            match hitting_set(family, &ban, self.budget, work) {
+                Hit::None => return Some(true),
+                Hit::Unknown => return None,
+                Hit::Found(other) => {
+                    if !self.grow(family, &other)? {
+                        for y in other {
+                            if !cands.contains(&y) {
+                                cands.push(y);
+                            }
+                        }
+                        return Some(false);
+                    }
+                }
+            }
+        }
+    }
+
+    /// One step of Reiter's loop: when the open detections outside the
+    /// hitting set `h` are proved infeasible, a conflict shrunk out of them
+    /// (unhit by `h`) joins `family`: `Some(true)`. `Some(false)`: they are
+    /// not; `None`: the cap.
+    fn grow(&mut self, family: &mut Vec<Vec<usize>>, h: &[usize]) -> Option<bool> {
+        let mut t: Vec<usize> = self.pool().into_iter().filter(|j| !h.contains(j)).collect();
+        // The filter keeps the earliest detections it can: start each
+        // search elsewhere in time (a golden-ratio sequence), so that the
+        // conflicts spread over the mission.
+        let frac = (family.len() as u64).wrapping_mul(0x9E37_79B9) & 0xFFFF_FFFF;
+        let turn = ((frac * t.len() as u64) >> 32) as usize;
+        t.rotate_left(turn);
+        if !self.s.infeasible(&t)? {
+            return Some(false);
+        }
+        let c = self.s.shrink(&t)?;
+        family.push(c);
+        Some(true)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

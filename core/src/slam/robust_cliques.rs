@@ -1,0 +1,225 @@
+//! Free conflicts (`max_outliers` = q > 0, ids hidden, `landmark_count`
+//! n): n + 1 detections pairwise proved to see distinct landmarks cannot
+//! all be genuine (docs/outliers.md, "Conflicts from distinct pairs").
+//!
+//! # Constraint
+//!
+//! A *conflict* is a set of detections that no reading with a solution
+//! keeps whole ([`super::robust_conflicts`]); the minimum hitting sets of
+//! a family of conflicts bound every reading's drops
+//! ([`super::robust_hitting`]).
+//!
+//! # Math
+//!
+//! 1. *Distinct pairs.* Two detections i, j at steps s <= t whose shapes
+//!    are disjoint in the frame of p(s) ([`relative_pairs`]: the relative
+//!    displacement p(t) - p(s) is the exact sum of the displacement boxes,
+//!    no drift) cannot see one landmark in any reading keeping both.
+//! 2. *Pigeonhole.* A reading keeping n + 1 detections that are pairwise
+//!    distinct would need n + 1 landmarks; there are at most n. So every
+//!    (n + 1)-clique of the distinct-pair graph is a conflict, found with
+//!    no propagation at all.
+//! 3. *Which cliques.* For each open detection x, cliques holding x whose
+//!    other members are disjoint from those of x's earlier cliques (the
+//!    most a hitting set without x must pay), at most [`PER_DETECTION`].
+//!    Which cliques are kept is a heuristic: every clique is a conflict.
+//!
+//! # Soundness
+//!
+//! The boxes the pairs are tested in enclose every solution of every
+//! reading keeping the detection (the caller passes the mission's initial
+//! domains, [`Model::new`]; the displacement boxes and headings are
+//! inputs, true in every reading), and a disjointness proved by [`relative_pairs`] is
+//! outward rounded ([`crate::shapes::relative`]). Only detections with a
+//! known heading and no sensor offset are tested (`plain_detections`);
+//! detections proved false (empty boxes) take no part. Tested by
+//! `core/tests/robust_cliques.rs` (planted false detections of every
+//! kind: no clique of true detections only, the truth stays inside).
+//!
+//! # Complexity
+//!
+//! O(k · [`MAX_AHEAD`]) shape tests for the pairs, then a depth-first
+//! clique search of at most [`MAX_NODES`] nodes, each O(k) (a sorted
+//! neighbour list merged); memory O(k · [`MAX_AHEAD`]).
+
+use super::mission::Mission;
+use super::model::Model;
+use crate::shapes::chain_sums::ChainSums;
+use crate::shapes::relative::relative_pairs;
+use crate::shapes::shape::Sighting;
+
+/// Detections ahead (time order) each one is tested against.
+pub const MAX_AHEAD: usize = 96;
+
+/// Most nodes of the clique search, over every detection.
+pub const MAX_NODES: u64 = 200_000;
+
+/// Most cliques kept per detection.
+pub const PER_DETECTION: usize = 4;
+
+/// Largest n + 1 searched (a clique of more is rarely complete, and the
+/// search grows with its size).
+pub const MAX_CLIQUE: usize = 9;
+
+/// The (n + 1)-cliques of the distinct-pair graph among the `open`
+/// detections (module doc), each sorted; `order`: the detections in time
+/// order. Empty without `landmark_count`, with offset sensors or unknown
+/// headings, or with n + 1 above [`MAX_CLIQUE`].
+pub fn clique_conflicts(
+    mission: &Mission,
+    model: &Model,
+    open: &[bool],
+    order: &[usize],
+) -> Vec<Vec<usize>> {
+    let Some(n) = mission.landmark_count else {
+        return Vec::new();
+    };
+    if n == 0 || n + 1 > MAX_CLIQUE || !model.plain_detections() {
+        return Vec::new();
+    }
+    let k = mission.detections.len();
+    let sightings: Vec<Sighting> = mission
+        .detections
+        .iter()
+        .map(|d| Sighting {
+            step: d.step.min(model.steps),
+            range: d.range,
+            bearing: d.bearing,
+        })
+        .collect();
+    let steps: Vec<usize> = sightings.iter().map(|s| s.step).collect();
+    let sums = ChainSums::new(&model.disp, model.dim).with_steps(&steps);
+    let live: Vec<usize> = order
+        .iter()
+        .copied()
+        .filter(|&j| open[j] && !model.det[j].is_empty())
+        .collect();
+    let mut pairs = Vec::new();
+    relative_pairs(
+        &sightings,
+        &live,
+        model.dim,
+        &sums,
+        &model.pos,
+        &model.det,
+        &model.heading_at,
+        MAX_AHEAD,
+        &mut pairs,
+    );
+    let mut adj: Vec<Vec<usize>> = vec![Vec::new(); k];
+    for &(a, b) in &pairs {
+        adj[a as usize].push(b as usize);
+        adj[b as usize].push(a as usize);
+    }
+    for row in &mut adj {
+        row.sort_unstable();
+        row.dedup();
+    }
+    let mut search = Search {
+        adj: &adj,
+        size: n + 1,
+        nodes: MAX_NODES,
+    };
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for &x in &live {
+        let mut used = vec![false; k];
+        for _ in 0..PER_DETECTION {
+            let cand: Vec<usize> = adj[x].iter().copied().filter(|&j| !used[j]).collect();
+            let mut clique = vec![x];
+            if !search.extend(&mut clique, &cand) {
+                break;
+            }
+            for &j in &clique[1..] {
+                used[j] = true;
+            }
+            clique.sort_unstable();
+            if !out.contains(&clique) {
+                out.push(clique);
+            }
+        }
+    }
+    out
+}
+
+/// A depth-first search for one clique of `size` members.
+struct Search<'a> {
+    /// Sorted neighbour lists.
+    adj: &'a [Vec<usize>],
+    size: usize,
+    /// Nodes left.
+    nodes: u64,
+}
+
+impl Search<'_> {
+    /// Extends `clique` (pairwise adjacent) by members of `cand` (sorted,
+    /// each adjacent to every member) to `size`; whether it did (else
+    /// `clique` is as given).
+    fn extend(&mut self, clique: &mut Vec<usize>, cand: &[usize]) -> bool {
+        if clique.len() == self.size {
+            return true;
+        }
+        for (i, &v) in cand.iter().enumerate() {
+            if clique.len() + cand.len() - i < self.size {
+                return false;
+            }
+            let Some(left) = self.nodes.checked_sub(1) else {
+                return false;
+            };
+            self.nodes = left;
+            let next = meet(&cand[i + 1..], &self.adj[v]);
+            clique.push(v);
+            if self.extend(clique, &next) {
+                return true;
+            }
+            clique.pop();
+        }
+        false
+    }
+}
+
+/// The sorted intersection of two sorted lists.
+fn meet(a: &[usize], b: &[usize]) -> Vec<usize> {
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => {
+                out.push(a[i]);
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_search_finds_a_clique_only_where_there_is_one() {
+        // A 4-cycle has no triangle; add a chord and it has two.
+        let mut adj = vec![vec![1, 3], vec![0, 2], vec![1, 3], vec![0, 2]];
+        let mut s = Search {
+            adj: &adj,
+            size: 3,
+            nodes: 1000,
+        };
+        let mut c = vec![0];
+        assert!(!s.extend(&mut c, &[1, 3]));
+        assert_eq!(c, vec![0]);
+        adj[0] = vec![1, 2, 3];
+        adj[2] = vec![0, 1, 3];
+        let mut s = Search {
+            adj: &adj,
+            size: 3,
+            nodes: 1000,
+        };
+        let mut c = vec![0];
+        assert!(s.extend(&mut c, &[1, 2, 3]));
+        assert_eq!(c, vec![0, 1, 2]);
+        assert_eq!(meet(&[1, 3, 5, 7], &[2, 3, 7, 9]), vec![3, 7]);
+    }
+}
