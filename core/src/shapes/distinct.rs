@@ -192,8 +192,7 @@ fn clique_pass<'a>(adj: &'a [Vec<u32>], depth: usize, budget: usize, roots: &[u3
         commons: Vec::new(),
         mark: Vec::new(),
         epoch: 0,
-        closed: std::collections::HashSet::new(),
-        closed_roots: 0,
+        closed: Closed::default(),
     };
     // A clique holds at most n - 1 of the k roots: n itself is an input
     // number (up to u32::MAX) that k does not bound.
@@ -229,13 +228,53 @@ struct Enum<'a> {
     /// closed sets repeat one closed before in the pass; the graph does not
     /// change during a pass, so the check finds no edge again and the
     /// merge is already made): skipped. At most [`MAX_CLOSED`] roots held.
-    closed: std::collections::HashSet<Vec<u32>>,
-    closed_roots: usize,
+    closed: Closed,
 }
 
 /// Most roots held by [`Enum::closed`] (a bound on its memory; beyond it
 /// sets are checked again, as before).
 const MAX_CLOSED: usize = 1 << 22;
+
+/// Sets of roots, found by a 64-bit hash of their members and compared
+/// whole (sets of one hash chained): a map of `u64` to `usize`, the one
+/// the paper's contractor already uses, keeps the page's wasm small.
+#[derive(Default)]
+struct Closed {
+    /// The last set stored under each hash.
+    heads: std::collections::HashMap<u64, usize>,
+    /// (the set stored before it under the same hash or `usize::MAX`, the set).
+    sets: Vec<(usize, Vec<u32>)>,
+    roots: usize,
+}
+
+impl Closed {
+    fn hash(set: &[u32]) -> u64 {
+        set.iter().fold(set.len() as u64, |h, &x| {
+            (h ^ u64::from(x)).wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(29)
+        })
+    }
+
+    fn contains(&self, set: &[u32]) -> bool {
+        let mut at = self.heads.get(&Self::hash(set)).copied().unwrap_or(usize::MAX);
+        while let Some((next, member)) = self.sets.get(at) {
+            if member == set {
+                return true;
+            }
+            at = *next;
+        }
+        false
+    }
+
+    /// Stores `set` while at most [`MAX_CLOSED`] roots are held.
+    fn insert(&mut self, set: &[u32]) {
+        if self.roots + set.len() > MAX_CLOSED {
+            return;
+        }
+        self.roots += set.len();
+        let next = self.heads.insert(Self::hash(set), self.sets.len());
+        self.sets.push((next.unwrap_or(usize::MAX), set.to_vec()));
+    }
+}
 
 /// `bufs[d]`, grown to hold it, taken out (put it back after use).
 fn take_buf(bufs: &mut Vec<Vec<u32>>, d: usize) -> Vec<u32> {
@@ -369,16 +408,31 @@ impl Enum<'_> {
         for &x in &common[1..] {
             self.merged.union(common[0] as usize, x as usize);
         }
-        if self.closed_roots + common.len() <= MAX_CLOSED {
-            self.closed_roots += common.len();
-            self.closed.insert(common.to_vec());
-        }
+        self.closed.insert(common);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn closed_sets_are_found_exactly_when_stored() {
+        // Short sets over few roots: many repeats, prefixes and permuted
+        // look-alikes, checked against a plain set.
+        let mut rng = crate::test_rng::Lcg::new(7);
+        let mut closed = Closed::default();
+        let mut plain = std::collections::BTreeSet::new();
+        for _ in 0..20_000 {
+            let len = (rng.bits() % 5) as usize;
+            let set: Vec<u32> = (0..len).map(|_| (rng.bits() % 6) as u32).collect();
+            assert_eq!(closed.contains(&set), plain.contains(&set), "{set:?}");
+            if rng.bits() % 2 == 0 {
+                closed.insert(&set);
+                plain.insert(set);
+            }
+        }
+    }
 
     #[test]
     fn common_neighbours_of_a_triangle_merge_with_n_4() {
