@@ -250,12 +250,18 @@ struct Closed {
 impl Closed {
     fn hash(set: &[u32]) -> u64 {
         set.iter().fold(set.len() as u64, |h, &x| {
-            (h ^ u64::from(x)).wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(29)
+            (h ^ u64::from(x))
+                .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+                .rotate_left(29)
         })
     }
 
     fn contains(&self, set: &[u32]) -> bool {
-        let mut at = self.heads.get(&Self::hash(set)).copied().unwrap_or(usize::MAX);
+        let mut at = self
+            .heads
+            .get(&Self::hash(set))
+            .copied()
+            .unwrap_or(usize::MAX);
         while let Some((next, member)) = self.sets.get(at) {
             if member == set {
                 return true;
