@@ -433,7 +433,7 @@ mod tests {
             let len = (rng.bits() % 5) as usize;
             let set: Vec<u32> = (0..len).map(|_| (rng.bits() % 6) as u32).collect();
             assert_eq!(closed.contains(&set), plain.contains(&set), "{set:?}");
-            if rng.bits() % 2 == 0 {
+            if rng.bits().is_multiple_of(2) {
                 closed.insert(&set);
                 plain.insert(set);
             }
