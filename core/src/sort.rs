@@ -204,6 +204,24 @@ pub fn total_by_key<T, K: Ord>(v: &mut [T], key: impl FnMut(&T) -> K) {
     sort_by_key(v, key);
 }
 
+/// The items of both sorted lists `a` and `b` (increasing, no repeats),
+/// in order, into `out` (cleared first): a merge, O(|a| + |b|).
+pub fn meet_sorted<T: Ord + Copy>(a: &[T], b: &[T], out: &mut Vec<T>) {
+    out.clear();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            Ordering::Less => i += 1,
+            Ordering::Greater => j += 1,
+            Ordering::Equal => {
+                out.push(a[i]);
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -49,22 +49,6 @@ pub struct Distinct {
 /// Most passes of [`Distinct::infer`].
 const MAX_PASSES: usize = 32;
 
-fn intersect_sorted(a: &[u32], b: &[u32], out: &mut Vec<u32>) {
-    out.clear();
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        match a[i].cmp(&b[j]) {
-            std::cmp::Ordering::Less => i += 1,
-            std::cmp::Ordering::Greater => j += 1,
-            std::cmp::Ordering::Equal => {
-                out.push(a[i]);
-                i += 1;
-                j += 1;
-            }
-        }
-    }
-}
-
 impl Distinct {
     /// Records pairs (i, j) proved to see distinct landmarks.
     pub fn add(&mut self, pairs: impl IntoIterator<Item = (u32, u32)>) {
@@ -308,7 +292,7 @@ impl Enum<'_> {
             if self.nodes >= self.budget || self.infeasible.is_some() {
                 break;
             }
-            intersect_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
+            crate::sort::meet_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
             if d + 1 + next.len() < self.depth {
                 continue;
             }
@@ -317,7 +301,7 @@ impl Enum<'_> {
                 // The common neighbours of the clique so far (see
                 // `commons`); a full clique's are found in `close`.
                 let mut common = take_buf(&mut self.commons, d);
-                intersect_sorted(
+                crate::sort::meet_sorted(
                     self.common_of(clique, d - 1),
                     &self.adj[v as usize],
                     &mut common,
@@ -348,7 +332,7 @@ impl Enum<'_> {
             common.clear();
             common.extend_from_slice(&self.adj[clique[0] as usize]);
         } else {
-            intersect_sorted(
+            crate::sort::meet_sorted(
                 self.common_of(clique, last - 1),
                 &self.adj[clique[last] as usize],
                 &mut common,
@@ -489,7 +473,7 @@ mod tests {
                 let mut common = self.adj[clique[0] as usize].clone();
                 for &c in &clique[1..] {
                     let mut out = Vec::new();
-                    intersect_sorted(&common, &self.adj[c as usize], &mut out);
+                    crate::sort::meet_sorted(&common, &self.adj[c as usize], &mut out);
                     common = out;
                 }
                 for (i, &a) in common.iter().enumerate() {
@@ -511,7 +495,7 @@ mod tests {
                     return;
                 }
                 let mut next = Vec::new();
-                intersect_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
+                crate::sort::meet_sorted(&cands[i + 1..], &self.adj[v as usize], &mut next);
                 if clique.len() + 1 + next.len() < self.depth {
                     continue;
                 }

@@ -119,10 +119,15 @@ pub const MAX_WORK: u64 = 7_000_000;
 
 /// Whether the rule's propagations fit [`MAX_WORK`].
 pub fn within_work(steps: usize, detections: usize) -> bool {
+    fits(steps, detections, MAX_SOLVES, MAX_WORK)
+}
+
+/// Whether (steps + detections) x `solves` is at most `work`.
+fn fits(steps: usize, detections: usize, solves: usize, work: u64) -> bool {
     (steps as u64)
         .saturating_add(detections as u64)
-        .saturating_mul(MAX_SOLVES as u64)
-        <= MAX_WORK
+        .saturating_mul(solves as u64)
+        <= work
 }
 
 /// What [`pack`] proves.
@@ -507,10 +512,7 @@ pub const HIT_NODES: u64 = 2_000_000;
 
 /// Whether `State::hit`'s propagations fit [`HIT_WORK`].
 pub fn within_hit_work(steps: usize, detections: usize) -> bool {
-    (steps as u64)
-        .saturating_add(detections as u64)
-        .saturating_mul(HIT_SOLVES as u64)
-        <= HIT_WORK
+    fits(steps, detections, HIT_SOLVES, HIT_WORK)
 }
 
 impl State<'_> {
