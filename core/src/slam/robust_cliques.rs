@@ -112,7 +112,7 @@ pub fn clique_conflicts(
         adj[b as usize].push(a as usize);
     }
     for row in &mut adj {
-        row.sort_unstable();
+        crate::sort::natural(row);
         row.dedup();
     }
     let mut search = Search {
@@ -132,7 +132,7 @@ pub fn clique_conflicts(
             for &j in &clique[1..] {
                 used[j] = true;
             }
-            clique.sort_unstable();
+            crate::sort::natural(&mut clique);
             if !out.contains(&clique) {
                 out.push(clique);
             }

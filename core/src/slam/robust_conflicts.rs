@@ -522,7 +522,7 @@ impl State<'_> {
         let mut pool: Vec<usize> = self.rest.clone();
         pool.extend(self.conflicts.iter().flatten());
         let rank = &self.rank;
-        pool.sort_by_key(|&j| rank[j]);
+        crate::sort::stable_by_key(&mut pool, |&j| rank[j]);
         pool
     }
 
@@ -587,7 +587,7 @@ impl State<'_> {
             }
             self.rest.retain(|&j| j != x);
             let rank = &self.rank;
-            self.rest.sort_by_key(|&j| rank[j]);
+            crate::sort::stable_by_key(&mut self.rest, |&j| rank[j]);
             self.positions = None;
             if self.budget == 0 {
                 let keep = self.keep_of(&self.pool());

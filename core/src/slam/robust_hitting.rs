@@ -65,7 +65,7 @@ pub fn hitting_set(family: &[Vec<usize>], forbidden: &[bool], s: usize, work: &m
     let mut picked = Vec::new();
     match search(family, &mut banned, &mut chosen, &mut picked, s, work) {
         Some(true) => {
-            picked.sort_unstable();
+            crate::sort::natural(&mut picked);
             Hit::Found(picked)
         }
         Some(false) => Hit::None,
@@ -110,7 +110,7 @@ fn search(
         .enumerate()
         .map(|(i, c)| (allowed(c), i))
         .collect();
-    order.sort_unstable();
+    crate::sort::natural(&mut order);
     if order[0].0 == 0 || picked.len() >= s {
         return Some(false);
     }
