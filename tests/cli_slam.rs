@@ -311,6 +311,11 @@ fn cmu_plaza_with_planted_false_ranges_keeps_the_truth() {
             .filter(|x| x.is_null())
             .count();
         assert_eq!(nulls, 71);
+        // Every planted range is false: it misses every beacon's true
+        // distance at its step (one that held it would be a true detection).
+        let (not_false, planted) = nvector_tests::planted_ranges_not_false(&mission);
+        assert_eq!(planted, 71);
+        assert!(not_false.is_empty(), "{not_false:?}");
         assert_eq!(mission["detections"].as_array().unwrap().len(), 3529 + 71);
         let r = temp_file(&format!("cmu-false-{operator}-result.json"));
         let out = run(&["run", m.to_str().unwrap(), "--out", r.to_str().unwrap()]);

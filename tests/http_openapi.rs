@@ -544,3 +544,55 @@ fn issue_11_shapes_is_a_job_contractor() {
     assert!(msg.contains("shapes or best"), "{msg}");
     assert!(!msg.contains("exact"), "{msg}");
 }
+
+/// `heading_drift` (an odometry2d mission's windows): the document and the
+/// service agree on a woods mission with windows (one longer than N), and
+/// on the windows they refuse (k = 0, a negative bound, an unknown field),
+/// the service naming the field.
+#[test]
+fn heading_drift_agrees_between_the_document_and_the_service() {
+    let s = Server::start(&["--workers", "1"]);
+    let (_, doc) = s.get("/api/v1/openapi.json");
+    let schema = json!({"$ref": "#/components/schemas/Mission"});
+    let (st, sim) = s.post(
+        "/api/v1/simulate",
+        &json!({"scenario": "woods", "seed": 3, "steps": 120, "landmarks": 6}),
+    );
+    assert_eq!(st, 201, "{sim}");
+    let (_, mut m) = s.get(&format!("/api/v1/missions/{}", sim["id"].as_str().unwrap()));
+    if m.get("mission").is_some() {
+        m = m["mission"].clone();
+    }
+    assert_eq!(m["model"], "odometry2d");
+    let cases = [
+        (
+            json!([{"steps": 30, "error": 0.1}, {"steps": 100000, "error": 0}]),
+            None,
+        ),
+        (
+            json!([{"steps": 0, "error": 0.1}]),
+            Some("heading_drift[0].steps"),
+        ),
+        (
+            json!([{"steps": 5, "error": -0.1}]),
+            Some("heading_drift[0].error"),
+        ),
+        (
+            json!([{"steps": 5, "error": 0.1, "k": 1}]),
+            Some("heading_drift[0].k"),
+        ),
+    ];
+    for (windows, refused) in cases {
+        let mut body = m.clone();
+        body["heading_drift"] = windows.clone();
+        let valid = validate(&doc, &schema, &body).is_empty();
+        let (st, v) = s.post("/api/v1/missions", &body);
+        match refused {
+            None => assert!(valid && st == 201, "{windows}: valid {valid}, {st} {v}"),
+            Some(path) => {
+                assert!(!valid && st == 422, "{windows}: valid {valid}, {st} {v}");
+                assert_eq!(v["error"]["path"], path, "{v}");
+            }
+        }
+    }
+}

@@ -52,6 +52,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "the odometry2d pieces (angle, chain, sensor, sector)",
     ),
     (
+        "odometry::drift",
+        4,
+        "the heading drift bound over windows of k steps",
+    ),
+    (
         "odometry::pair_heading",
         4,
         "the heading from two detections of one step",
@@ -72,6 +77,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
     ("tdoa::arrival", 5, "the arrival constraint (TDOA)"),
     ("tdoa::cuts", 5, "altitude and region cuts (TDOA)"),
     ("slam::model", 6, "the domains"),
+    (
+        "slam::codec",
+        6,
+        "the validated mission as a binary stream (the page's solver)",
+    ),
     ("slam::simulate", 6, "mission writer (beside the pipeline)"),
     (
         "slam::simulate_schema",

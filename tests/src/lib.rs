@@ -154,6 +154,51 @@ pub fn read_json(p: &Path) -> Value {
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
+/// The planted detections of an imported mission (`truth.matching` null)
+/// that are not false: a planted range is false when its interval misses,
+/// for every landmark of `truth.landmarks`, the true distance from the
+/// true position at its step by more than |`sensor_offset`| (where the
+/// sensor may be). Returns `(index, why)` for each one that is not, and
+/// the count of planted detections checked.
+pub fn planted_ranges_not_false(m: &Value) -> (Vec<(usize, String)>, usize) {
+    let point = |v: &Value| Some((v[0].as_f64()?, v[1].as_f64()?));
+    let o = point(&m["sensor_offset"]).map_or(0.0, |(x, y)| f64::hypot(x, y));
+    let landmarks: Vec<(f64, f64)> = m["truth"]["landmarks"]
+        .as_array()
+        .expect("truth.landmarks")
+        .iter()
+        .map(|l| point(l).expect("a true landmark"))
+        .collect();
+    let mut bad = Vec::new();
+    let mut planted = 0;
+    let matching = m["truth"]["matching"].as_array().expect("truth.matching");
+    for (i, d) in m["detections"].as_array().unwrap().iter().enumerate() {
+        if !matching[i].is_null() {
+            continue;
+        }
+        planted += 1;
+        let step = d["step"].as_u64().unwrap() as usize;
+        let (lo, hi) = (
+            d["range"][0].as_f64().unwrap(),
+            d["range"][1].as_f64().unwrap(),
+        );
+        let Some((px, py)) = point(&m["truth"]["positions"][step]) else {
+            bad.push((i, format!("no true position at step {step}")));
+            continue;
+        };
+        for (l, &(lx, ly)) in landmarks.iter().enumerate() {
+            let dist = f64::hypot(lx - px, ly - py);
+            if dist + o >= lo && dist - o <= hi {
+                bad.push((
+                    i,
+                    format!("range [{lo}, {hi}] at step {step} may see landmark {l} ({dist} m)"),
+                ));
+            }
+        }
+    }
+    (bad, planted)
+}
+
 /// A new temporary directory.
 pub fn temp_dir(what: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(

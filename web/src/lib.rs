@@ -7,7 +7,8 @@
 //! `playground` (`contract`, `modes`: atmost_nvector alone, the module the
 //! page fetches first), `figures` (`outlines`, `boundaries`: the drawing
 //! outlines, fetched when the SLAM demo or the missions tab first draws),
-//! `slam` (`run`: the solver) and `simulate` (`simulate`: the simulators),
+//! `slam` (`run`: the solver, a binary mission in) and `simulate`
+//! (`simulate`, `readMission`: the simulators and the mission reader),
 //! both fetched when the SLAM demo first runs. A build with all four (the
 //! default: native, tests) has every method.
 
@@ -17,10 +18,12 @@ mod figures;
 mod slam;
 #[cfg(feature = "figures")]
 pub use figures::{region_boundaries, shape_outlines};
-#[cfg(feature = "slam")]
+#[cfg(all(feature = "slam", feature = "simulate"))]
 pub use slam::run_mission;
+#[cfg(feature = "slam")]
+pub use slam::run_model;
 #[cfg(feature = "simulate")]
-pub use slam::simulate_json;
+pub use slam::{read_mission, simulate_json};
 
 #[cfg(feature = "playground")]
 use nvector_core::nvector::contract::{response_json, ContractRequest};
@@ -31,7 +34,7 @@ use nvector_core::nvector::{atmost_nvector, Contractor};
 use nvector_core::InputError;
 #[cfg(feature = "playground")]
 use serde_json::json;
-#[cfg(any(feature = "playground", feature = "slam", feature = "simulate"))]
+#[cfg(any(feature = "playground", feature = "simulate"))]
 use serde_json::Value;
 use wasm_bindgen::prelude::*;
 
@@ -40,7 +43,7 @@ pub(crate) fn into_error(e: InputError) -> JsError {
     JsError::new(&e.to_string())
 }
 
-#[cfg(any(feature = "playground", feature = "slam", feature = "simulate"))]
+#[cfg(any(feature = "playground", feature = "simulate"))]
 pub(crate) fn parse(text: &str) -> Result<Value, JsError> {
     serde_json::from_str(text).map_err(|e| JsError::new(&format!("invalid JSON: {e}")))
 }

@@ -1,20 +1,23 @@
-//! The SLAM demo's part of the facade: run a mission to the fixpoint
-//! (feature `slam`, the solver module) and simulate one (feature
-//! `simulate`, the simulators' module): two modules, a step toward each
-//! within issue 17's 160,000 bytes of brotli (the solver's is not yet:
-//! BENCHMARKS.md, "The page's wasm transfer").
+//! The SLAM demo's part of the facade: simulate a mission and read one
+//! (JSON, validated as every front end does) into its binary form
+//! (feature `simulate`, the simulators' module), and run a binary mission
+//! to the fixpoint (feature `slam`, the solver's module, which has no JSON
+//! reader: within issue 17's 160,000 bytes of brotli; BENCHMARKS.md, "The
+//! page's wasm transfer").
 
-use crate::{into_error, parse, Nvector};
+#[cfg(feature = "simulate")]
+use crate::parse;
+use crate::{into_error, Nvector};
 #[cfg(feature = "simulate")]
 use nvector_core::format::{self, Object};
-#[cfg(feature = "slam")]
-use nvector_core::slam::mission::Mission;
 #[cfg(feature = "simulate")]
 use nvector_core::slam::simulate::{simulate, SimulateLimits, SimulateRequest};
 #[cfg(feature = "slam")]
 use nvector_core::slam::solve::solve;
 #[cfg(feature = "slam")]
 use nvector_core::slam::types::{Association, Progress, SolveOptions};
+#[cfg(any(feature = "slam", feature = "simulate"))]
+use nvector_core::slam::{codec, mission::Mission};
 use nvector_core::InputError;
 use serde_json::Value;
 #[cfg(feature = "slam")]
@@ -22,14 +25,13 @@ use std::sync::atomic::AtomicBool;
 use wasm_bindgen::prelude::*;
 
 #[cfg(feature = "slam")]
-/// Runs a mission (JSON) to the fixpoint with a contractor name (`none`,
-/// `nvalue`, `projection`, `independent`, `shapes`, `best`).
-pub fn run_mission(
-    mission: &Value,
+/// Runs a validated mission to the fixpoint with a contractor name
+/// (`none`, `nvalue`, `projection`, `independent`, `shapes`, `best`).
+pub fn run_model(
+    m: &Mission,
     contractor: &str,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Value, InputError> {
-    let m = Mission::from_value(mission)?;
     let association = Association::parse(contractor).ok_or_else(|| {
         InputError::new("contractor", format!("unknown contractor \"{contractor}\""))
     })?;
@@ -37,7 +39,31 @@ pub fn run_mission(
         association,
         ..SolveOptions::default()
     };
-    Ok(solve(&m, &options, progress, &AtomicBool::new(false)))
+    Ok(solve(m, &options, progress, &AtomicBool::new(false)))
+}
+
+#[cfg(all(feature = "slam", feature = "simulate"))]
+/// Runs a mission (JSON) as the page does: read and validated
+/// ([`read_mission`], the simulators' module), handed over as its binary
+/// form, run ([`run_model`] of [`codec::decode`], the solver's module).
+pub fn run_mission(
+    mission: &Value,
+    contractor: &str,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Value, InputError> {
+    run_model(
+        &codec::decode(&read_mission(mission)?)?,
+        contractor,
+        progress,
+    )
+}
+
+#[cfg(feature = "simulate")]
+/// A mission (JSON) read and validated as every front end does
+/// ([`Mission::from_value`]: the same errors, with JSON paths), in the
+/// binary form the solver's module reads ([`codec::encode`]).
+pub fn read_mission(mission: &Value) -> Result<Vec<u8>, InputError> {
+    Ok(codec::encode(&Mission::from_value(mission)?))
 }
 
 #[cfg(feature = "simulate")]
@@ -61,16 +87,24 @@ impl Nvector {
             .map(|v| v.to_string())
             .map_err(into_error)
     }
+
+    /// A mission (JSON text) read and validated, in the binary form `run`
+    /// takes (errors name the JSON path).
+    #[wasm_bindgen(js_name = readMission)]
+    pub fn read_mission(&self, mission: &str) -> Result<Vec<u8>, JsError> {
+        read_mission(&parse(mission)?).map_err(into_error)
+    }
 }
 
 #[cfg(feature = "slam")]
 #[wasm_bindgen]
 impl Nvector {
-    /// Runs a mission; `progress(round, max_diameter, fraction)` is called
-    /// after each round.
+    /// Runs a mission given in the binary form of `readMission` (the
+    /// simulators' module); `progress(round, max_diameter, fraction)` is
+    /// called after each round.
     pub fn run(
         &self,
-        mission: &str,
+        mission: &[u8],
         contractor: &str,
         progress: &js_sys::Function,
     ) -> Result<String, JsError> {
@@ -82,7 +116,8 @@ impl Nvector {
                 &JsValue::from(p.fraction),
             );
         };
-        run_mission(&parse(mission)?, contractor, &mut cb)
+        codec::decode(mission)
+            .and_then(|m| run_model(&m, contractor, &mut cb))
             .map(|v| v.to_string())
             .map_err(into_error)
     }

@@ -24,9 +24,11 @@ fn same_bits_as_native() {
         let got = match case["kind"].as_str().unwrap() {
             "contract" => nv.contract(input).ok().unwrap(),
             "simulate" => nv.simulate(input).ok().unwrap(),
+            // As the page runs a mission: read by the simulators' module,
+            // handed to the solver's in binary.
             "run" => nv
                 .run(
-                    input,
+                    &nv.read_mission(input).ok().unwrap(),
                     case["contractor"].as_str().unwrap(),
                     &js_sys::Function::new_no_args(""),
                 )
@@ -60,15 +62,10 @@ fn errors_name_the_path() {
         .map(message)
         .unwrap();
     assert!(err.contains("layout"), "{err}");
-    // The solver's module reads a mission with the format layer's
-    // path-tracking reader (core/src/format/tracked.rs): the path and the
-    // message in full, as formats.md words them.
-    let run = |mission: &str| {
-        nv.run(mission, "none", &js_sys::Function::new_no_args(""))
-            .err()
-            .map(message)
-            .unwrap()
-    };
+    // The simulators' module reads a mission for the solver's with the
+    // format layer's path-tracking reader (core/src/format/tracked.rs):
+    // the path and the message in full, as formats.md words them.
+    let run = |mission: &str| nv.read_mission(mission).err().map(message).unwrap();
     let mission = |inputs: &str, detections: &str| {
         format!(
             r#"{{"format": "nvector-mission/1", "model": "unicycle2d", "dt": 1, "steps": 1,
@@ -96,4 +93,11 @@ fn errors_name_the_path() {
         )),
         "inputs.speed.value[1]: expected a finite number, found a string"
     );
+    // The solver's module refuses what is not a binary mission.
+    let err = nv
+        .run(b"{}", "none", &js_sys::Function::new_no_args(""))
+        .err()
+        .map(message)
+        .unwrap();
+    assert!(err.starts_with("mission: invalid binary mission"), "{err}");
 }

@@ -50,7 +50,7 @@ init().then(() => {
     contract: (r) => nv.contract(r),
     modes: () => nv.modes(),
     simulate: (o) => loaded('sim').simulate(o),
-    run: (m, c, p) => loaded('slam').run(m, c, p),
+    run: (m, c, p) => loaded('slam').run(loaded('sim').readMission(m), c, p),
     outlines: (s) => loaded('figures').outlines(s),
     boundaries: (r) => loaded('figures').boundaries(r),
   };

@@ -3,7 +3,7 @@
 // (pkg-figures/: the outlines and region boundaries draw.js draws),
 // fetched the first time the SLAM demo or the missions tab draws; the SLAM
 // demo's two modules (pkg-slam/: the solver, `run`; pkg-sim/: the
-// simulators, `simulate`), fetched together the first time the SLAM demo
+// simulators, `simulate`, and the mission reader, `readMission`), fetched together the first time the SLAM demo
 // runs. The module fetched with the page (pkg/, app.js)
 // is the playground's atmost_nvector alone.
 import { useCore } from './draw.js';
@@ -33,7 +33,10 @@ export function loadFigures() {
 /**
  * The SLAM demo's handle: `simulate` (the simulators' module) and `run`
  * (the solver's), both modules fetched at once, with the figures module
- * loaded too.
+ * loaded too. `run` takes the mission's JSON text: the simulators' module
+ * reads and validates it (`readMission`, the errors naming the JSON path)
+ * and hands the solver's module its binary form (the solver's module has
+ * no JSON reader).
  */
 export function loadSlam() {
   return Promise.all([
@@ -42,6 +45,6 @@ export function loadSlam() {
     loadFigures(),
   ]).then(([solver, sim]) => ({
     simulate: (o) => sim.simulate(o),
-    run: (m, c, p) => solver.run(m, c, p),
+    run: (m, c, p) => solver.run(sim.readMission(m), c, p),
   }));
 }

@@ -87,6 +87,16 @@ pub struct MissionDoc {
     /// odometry2d: per-step heading error (default 0). Rule: odometry2d
     /// only.
     pub heading_error: Option<PerStep>,
+    /// odometry2d: bounds on the heading drift over windows of k steps
+    /// (optional): for every window and every i with i + k <= N,
+    /// `|th(i+k) - th(i) - sum_{j=i}^{i+k-1} dt turn_rate(j)| <= error`.
+    /// Rule: odometry2d only; `steps` >= 1 (a window longer than N
+    /// constrains nothing), `error` >= 0.
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Option<Vec<HeadingDriftDoc>>, max_items = 1000)
+    )]
+    pub heading_drift: Option<List<HeadingDriftDoc>>,
     /// Where the sensor sits in the body frame, `[forward, left]` metres
     /// (default `[0, 0]`). Rule: 2-D models only.
     #[cfg_attr(
@@ -269,6 +279,30 @@ pub struct DetectionDoc {
     pub scan: Option<Integer>,
 }
 
+/// One heading drift window of an odometry2d mission: over any `steps`
+/// consecutive steps the heading's residual against the integrated turn
+/// rate is at most `error` (radians).
+#[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = HeadingDriftWindow))]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+pub struct HeadingDriftDoc {
+    /// k, the window's length in steps. Rule: >= 1.
+    #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = u64, minimum = 1, maximum = 18446744073709551615u64, required = true)
+    )]
+    pub steps: Option<Integer>,
+    /// b, the bound on the residual over the window (radians). Rule: >= 0.
+    #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = f64, minimum = 0, required = true)
+    )]
+    pub error: Option<Finite>,
+}
+
 /// Ground truth of a simulated mission (scoring and drawing only).
 ///
 /// Rules: `positions` has `steps + 1` points, `matching` one entry per
@@ -326,4 +360,5 @@ object_only!(MissionDoc);
 object_only!(InputsDoc);
 object_only!(ChannelDoc);
 object_only!(DetectionDoc);
+object_only!(HeadingDriftDoc);
 object_only!(TruthDoc);

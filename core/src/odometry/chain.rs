@@ -42,6 +42,7 @@
 use crate::contractors::motion_chain::{shrinkage, Sweep};
 use crate::interval::Interval;
 use crate::odometry::angle::contract_heading;
+use crate::odometry::drift::HeadingDrift;
 
 /// The inputs of an odometry2d chain of N steps, precomputed as intervals.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +53,9 @@ pub struct OdometryChain {
     turn: Vec<Interval>,
     /// `[-e(i), e(i)]`, i < N.
     error: Vec<Interval>,
+    /// The heading drift windows (`heading_drift`), when the mission has
+    /// any that constrain ([`OdometryChain::with_drift`]).
+    drift: Option<HeadingDrift>,
 }
 
 /// p(k) of flat positions (2 intervals per state).
@@ -115,7 +119,88 @@ impl OdometryChain {
             }
             error.push(symmetric(per_step(motion_error, i)));
         }
-        OdometryChain { step, turn, error }
+        OdometryChain {
+            step,
+            turn,
+            error,
+            drift: None,
+        }
+    }
+
+    /// The chain with the heading drift windows `(k, b)` of the mission
+    /// (`heading_drift`; [`HeadingDrift`]), over the same `dt` and
+    /// `turn_rate` as [`OdometryChain::new`].
+    pub fn with_drift(
+        mut self,
+        dt: f64,
+        turn_rate: &[Interval],
+        windows: &[(u64, f64)],
+    ) -> OdometryChain {
+        let n = self.steps();
+        self.drift = HeadingDrift::new(dt, &turn_rate[..n.min(turn_rate.len())], windows);
+        self
+    }
+
+    /// The heading drift windows, when any constrain.
+    pub fn drift(&self) -> Option<&HeadingDrift> {
+        self.drift.as_ref()
+    }
+
+    /// The heading drift windows over th(0..=N) ([`HeadingDrift::contract`],
+    /// one forward and one backward sweep per window), then the chain
+    /// swept forward and backward from every state whose heading moved by
+    /// more than `tol` (stopping like [`OdometryChain::sweep_forward_flat`]),
+    /// on flat positions. `Ok(work)`: the window steps and chain steps
+    /// visited (0 without windows); `Err`: the step whose domain emptied.
+    /// O(N) per window, plus the sweeps (O(N)); one allocation of N + 1
+    /// flags when a window moved a heading.
+    pub fn drift_flat(
+        &self,
+        pos: &mut [Interval],
+        heading: &mut [Interval],
+        tol: f64,
+    ) -> Result<usize, Emptied> {
+        let Some(d) = &self.drift else {
+            return Ok(0);
+        };
+        let n = self.steps();
+        let mut moved = vec![false; n + 1];
+        let mut work = 2 * d.windows().count() * (n + 1);
+        if !d
+            .contract(heading, &mut moved, tol)
+            .map_err(|step| Emptied { step })?
+        {
+            return Ok(work);
+        }
+        let mut s = 0;
+        while s < n {
+            if !moved[s] {
+                s += 1;
+                continue;
+            }
+            match self.sweep_forward_flat(pos, heading, s, n, tol) {
+                Sweep::Empty(step) => return Err(Emptied { step }),
+                // Steps s..s+v-1 done: state s+v's own step is not.
+                Sweep::Done(v) => (work, s) = (work + v, s + v.max(1)),
+            }
+        }
+        // Backward: a moved th(s) is read by the steps s (p(s) from
+        // p(s+1)) and s-1 (th(s-1) from th(s)): sweep from state s+1.
+        let mut s = n + 1;
+        while s > 0 {
+            s -= 1;
+            if !moved[s] {
+                continue;
+            }
+            let from = (s + 1).min(n);
+            match self.sweep_backward_flat(pos, heading, from, 0, tol) {
+                Sweep::Empty(step) => return Err(Emptied { step }),
+                // Steps from-1 down to from-v done: step from-v-1 is not,
+                // so state from-v is looked at again.
+                Sweep::Done(v) => (work, s) = (work + v, s.min(from + 1 - v.min(from))),
+            }
+        }
+        Ok(work)
     }
 
     /// N, the number of steps (N + 1 states).

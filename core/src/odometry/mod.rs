@@ -6,6 +6,8 @@
 //!   of an arc);
 //! - [`chain`]: the odometry2d motion chain (state x, y, heading per step),
 //!   forward and backward;
+//! - [`drift`]: the heading drift bound over windows of k steps
+//!   (`heading_drift`), from prefix sums of the turn inputs;
 //! - [`sensor`]: a range (and bearing) detection measured from a point fixed
 //!   in the body frame (`sensor_offset`) under an uncertain heading;
 //! - [`sector`]: the detection's landmark set with an uncertain heading (an
@@ -22,6 +24,7 @@
 
 pub mod angle;
 pub mod chain;
+pub mod drift;
 pub mod pair_heading;
 pub mod relative;
 pub mod scan_pose;

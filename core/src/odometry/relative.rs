@@ -95,6 +95,24 @@ pub fn advance(chain: &OdometryChain, pose: &RelativePose, i: usize) -> Relative
     }
 }
 
+/// The pose of step i + 1 seen from step `from` (<= i): [`advance`],
+/// then the heading change H(i+1) = θ(i+1) - θ(from) intersected with
+/// what the chain's heading drift windows of exactly i + 1 - from steps
+/// say of it ([`crate::odometry::drift::HeadingDrift::relative_heading`];
+/// sound: the same constraint, read between two steps).
+pub fn advance_from(
+    chain: &OdometryChain,
+    pose: &RelativePose,
+    from: usize,
+    i: usize,
+) -> RelativePose {
+    let mut next = advance(chain, pose, i);
+    if let Some(d) = chain.drift() {
+        next.h = next.h.intersect(d.relative_heading(from, i + 1 - from));
+    }
+    next
+}
+
 /// `o + m` in the body frame: the landmark of a detection (range `r`,
 /// bearing `beta`) seen from its robot's position with the sensor at `o`,
 /// with the body turned by `turn` (`R(turn)(o + m)`, module doc).

@@ -4,7 +4,7 @@
 
 use crate::error::InputError;
 use crate::format::leaf::{wrong_count, Finite, Numbers, PointsIn};
-use crate::format::mission::{ChannelDoc, DetectionDoc, MissionDoc, TruthDoc};
+use crate::format::mission::{ChannelDoc, DetectionDoc, HeadingDriftDoc, MissionDoc, TruthDoc};
 use crate::format::{self, leaf::List};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
@@ -200,6 +200,11 @@ pub struct Mission {
     /// odometry2d: per-step heading integration error bound (N entries;
     /// empty for the other models).
     pub heading_error: Vec<f64>,
+    /// odometry2d: the heading drift windows `(k, b)` (`heading_drift`:
+    /// `|th(i+k) - th(i) - sum dt turn_rate| <= b`), k >= 1 (possibly
+    /// above N: no constraint), b >= 0; empty when none (always for the
+    /// other models).
+    pub heading_drift: Vec<(u64, f64)>,
     /// Where the sensor sits in the body frame, metres forward and left of
     /// p (2-D models; `None` is `[0, 0]`).
     pub sensor_offset: Option<[f64; 2]>,
@@ -354,6 +359,34 @@ struct Headings {
     initial: Option<Interval>,
     last: Option<Interval>,
     error: Vec<f64>,
+    drift: Vec<(u64, f64)>,
+}
+
+/// `heading_drift`: each window's `steps` >= 1 (any size: a window longer
+/// than N is kept and constrains nothing; nothing is sized by it) and
+/// `error` >= 0.
+fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<(u64, f64)>, InputError> {
+    let mut out = Vec::with_capacity(list.0.len());
+    for (x, w) in list.0.into_iter().enumerate() {
+        let path = format!("heading_drift[{x}]");
+        let steps_path = field_path(&path, "steps");
+        let k = need(w.steps, &path, "steps")?.at_most(u64::MAX, &steps_path)?;
+        if k == 0 {
+            return Err(err(
+                steps_path,
+                "a window must span at least 1 step, found 0",
+            ));
+        }
+        let b = need(w.error, &path, "error")?.0;
+        if b.is_nan() || b < 0.0 {
+            return Err(err(
+                field_path(&path, "error"),
+                format!("the drift bound must be >= 0, found {b}"),
+            ));
+        }
+        out.push((k, b));
+    }
+    Ok(out)
 }
 
 fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings, InputError> {
@@ -362,6 +395,7 @@ fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings
             ("initial_heading", doc.initial_heading.is_some()),
             ("final_heading", doc.final_heading.is_some()),
             ("heading_error", doc.heading_error.is_some()),
+            ("heading_drift", doc.heading_drift.is_some()),
         ] {
             if present {
                 return Err(err(
@@ -374,6 +408,7 @@ fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings
             initial: None,
             last: None,
             error: Vec::new(),
+            drift: Vec::new(),
         });
     }
     Ok(Headings {
@@ -383,6 +418,12 @@ fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings
             None => vec![0.0; steps],
             Some(e) => e.non_negative("heading_error", steps, "the heading error")?,
         },
+        drift: doc
+            .heading_drift
+            .take()
+            .map(heading_drift)
+            .transpose()?
+            .unwrap_or_default(),
     })
 }
 
@@ -587,6 +628,7 @@ impl Mission {
             initial_heading: heading.initial,
             final_heading: heading.last,
             heading_error: heading.error,
+            heading_drift: heading.drift,
             sensor_offset,
             landmark_min_separation: lm.min_separation,
         })
@@ -629,6 +671,14 @@ impl Mission {
                 "heading_error".into(),
                 serde_json::json!(self.heading_error),
             );
+            if !self.heading_drift.is_empty() {
+                let w: Vec<Value> = self
+                    .heading_drift
+                    .iter()
+                    .map(|&(k, b)| serde_json::json!({"steps": k, "error": b}))
+                    .collect();
+                o.insert("heading_drift".into(), Value::Array(w));
+            }
         }
         if let Some(s) = self.sensor_offset {
             o.insert("sensor_offset".into(), serde_json::json!(s));
@@ -1292,6 +1342,20 @@ mod tests {
         let m = Mission::from_value(&v).unwrap();
         assert_eq!(m.heading_error, vec![0.0, 0.0]);
         assert_eq!(m.final_heading, Some(Interval::point(0.5)));
+        assert!(m.heading_drift.is_empty());
+        assert!(m.to_value().get("heading_drift").is_none());
+        // heading_drift: windows kept as given, a window longer than N
+        // (even huge) included; written back.
+        let mut v = odometry();
+        v["heading_drift"] = json!([
+            {"steps": 1, "error": 0.0},
+            {"steps": 2, "error": 0.25},
+            {"steps": 18446744073709551615u64, "error": 3}
+        ]);
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.heading_drift, vec![(1, 0.0), (2, 0.25), (u64::MAX, 3.0)]);
+        assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
+        assert_eq!(Mission::from_json(&v.to_string()).unwrap(), m);
         // sensor_offset on unicycle2d: parsed.
         let mut v = small();
         v["sensor_offset"] = json!([0.2, -0.1]);
@@ -1386,6 +1450,41 @@ mod tests {
                 "truth.landmarks[1]: expected an array, found null",
             ),
             (
+                |v| {
+                    v["heading_drift"] =
+                        json!([{"steps": 10, "error": 0.1}, {"steps": 0, "error": 0.1}])
+                },
+                "heading_drift[1].steps: a window must span at least 1 step, found 0",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": -3, "error": 0.1}]),
+                "heading_drift[0].steps: expected a non-negative integer, found -3",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": 2.5, "error": 0.1}]),
+                "heading_drift[0].steps: expected a non-negative integer, found 2.5",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": 2, "error": -0.1}]),
+                "heading_drift[0].error: the drift bound must be >= 0, found -0.1",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": 2, "error": "NaN"}]),
+                "heading_drift[0].error: expected a finite number, found a string",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": 2}]),
+                "heading_drift[0].error: missing",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": 2, "error": 1, "k": 3}]),
+                "heading_drift[0].k: unknown field",
+            ),
+            (
+                |v| v["heading_drift"] = json!({"steps": 2, "error": 1}),
+                "heading_drift: expected an array, found an object",
+            ),
+            (
                 |v| v["model"] = json!("odometry3d"),
                 "model: expected \"unicycle2d\", \"auv3d\" or \"odometry2d\", found \"odometry3d\"",
             ),
@@ -1398,6 +1497,10 @@ mod tests {
             (
                 |v| v["heading_error"] = json!(0),
                 "heading_error: heading_error is only for odometry2d missions",
+            ),
+            (
+                |v| v["heading_drift"] = json!([]),
+                "heading_drift: heading_drift is only for odometry2d missions",
             ),
             (
                 |v| v["truth"] = json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]], "matching": [0], "headings": [0, 0, 0]}),

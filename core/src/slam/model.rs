@@ -207,6 +207,11 @@ impl Model {
             if let Sweep::Empty(s) = chain.sweep_backward_flat(pos, heading, n, 0, 0.0) {
                 return Err(chain_empty(s));
             }
+            // The heading drift windows (heading_drift), and the chain
+            // again from what they moved.
+            if let Err(e) = chain.drift_flat(pos, heading, 0.0) {
+                return Err(format!("heading_drift: the heading of step {} is empty (the windows cannot join the initial and final headings)", e.step));
+            }
             self.refresh_displacements();
             return Ok(());
         }
@@ -310,7 +315,8 @@ fn initial_headings(m: &Mission) -> (Vec<Interval>, Option<OdometryChain>) {
         &m.inputs[1],
         &m.heading_error,
         &m.motion_error,
-    );
+    )
+    .with_drift(m.dt, &m.inputs[1], &m.heading_drift);
     (h, Some(chain))
 }
 

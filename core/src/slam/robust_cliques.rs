@@ -71,12 +71,100 @@ pub fn clique_conflicts(
     open: &[bool],
     order: &[usize],
 ) -> Vec<Vec<usize>> {
+    clique_conflicts_with(mission, model, open, order, &Limits::default())
+}
+
+/// The work limits of [`clique_conflicts_with`] (any values are sound:
+/// they decide only which cliques are found).
+#[derive(Debug, Clone)]
+pub struct Limits {
+    /// Detections ahead (time order) each one is tested against.
+    pub ahead: usize,
+    /// Most cliques kept per detection.
+    pub per_detection: usize,
+    /// Most nodes of the search, over every detection.
+    pub nodes: u64,
+    /// Most nodes of the search from one detection.
+    pub nodes_each: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            ahead: MAX_AHEAD,
+            per_detection: PER_DETECTION,
+            nodes: MAX_NODES,
+            nodes_each: MAX_NODES,
+        }
+    }
+}
+
+/// [`clique_conflicts`] with the given work limits.
+pub fn clique_conflicts_with(
+    mission: &Mission,
+    model: &Model,
+    open: &[bool],
+    order: &[usize],
+    limits: &Limits,
+) -> Vec<Vec<usize>> {
     let Some(n) = mission.landmark_count else {
         return Vec::new();
     };
     if n == 0 || n + 1 > MAX_CLIQUE || !model.plain_detections() {
         return Vec::new();
     }
+    let k = mission.detections.len();
+    let live: Vec<usize> = order
+        .iter()
+        .copied()
+        .filter(|&j| open[j] && !model.det[j].is_empty())
+        .collect();
+    let adj = distinct_graph(mission, model, &live, limits.ahead);
+    let mut search = Search {
+        adj: &adj,
+        size: n + 1,
+        nodes: 0,
+    };
+    let mut total = limits.nodes;
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    let mut seen = std::collections::BTreeSet::new();
+    let mut used = vec![false; k];
+    for &x in &live {
+        if adj[x].len() < n {
+            continue;
+        }
+        search.nodes = limits.nodes_each.min(total);
+        let before = search.nodes;
+        for &j in &adj[x] {
+            used[j] = false;
+        }
+        for _ in 0..limits.per_detection {
+            let cand: Vec<usize> = adj[x].iter().copied().filter(|&j| !used[j]).collect();
+            let mut clique = vec![x];
+            if !search.extend(&mut clique, &cand) {
+                break;
+            }
+            for &j in &clique[1..] {
+                used[j] = true;
+            }
+            crate::sort::natural(&mut clique);
+            if seen.insert(clique.clone()) {
+                out.push(clique);
+            }
+        }
+        total -= before - search.nodes;
+    }
+    out
+}
+
+/// The distinct-pair graph among the `live` detections (time order):
+/// sorted neighbour lists, indexed by detection (module doc, step 1).
+fn distinct_graph(
+    mission: &Mission,
+    model: &Model,
+    live: &[usize],
+    ahead: usize,
+) -> Vec<Vec<usize>> {
     let k = mission.detections.len();
     let sightings: Vec<Sighting> = mission
         .detections
@@ -89,21 +177,16 @@ pub fn clique_conflicts(
         .collect();
     let steps: Vec<usize> = sightings.iter().map(|s| s.step).collect();
     let sums = ChainSums::new(&model.disp, model.dim).with_steps(&steps);
-    let live: Vec<usize> = order
-        .iter()
-        .copied()
-        .filter(|&j| open[j] && !model.det[j].is_empty())
-        .collect();
     let mut pairs = Vec::new();
     relative_pairs(
         &sightings,
-        &live,
+        live,
         model.dim,
         &sums,
         &model.pos,
         &model.det,
         &model.heading_at,
-        MAX_AHEAD,
+        ahead,
         &mut pairs,
     );
     let mut adj: Vec<Vec<usize>> = vec![Vec::new(); k];
@@ -115,30 +198,7 @@ pub fn clique_conflicts(
         crate::sort::natural(row);
         row.dedup();
     }
-    let mut search = Search {
-        adj: &adj,
-        size: n + 1,
-        nodes: MAX_NODES,
-    };
-    let mut out: Vec<Vec<usize>> = Vec::new();
-    for &x in &live {
-        let mut used = vec![false; k];
-        for _ in 0..PER_DETECTION {
-            let cand: Vec<usize> = adj[x].iter().copied().filter(|&j| !used[j]).collect();
-            let mut clique = vec![x];
-            if !search.extend(&mut clique, &cand) {
-                break;
-            }
-            for &j in &clique[1..] {
-                used[j] = true;
-            }
-            crate::sort::natural(&mut clique);
-            if !out.contains(&clique) {
-                out.push(clique);
-            }
-        }
-    }
-    out
+    adj
 }
 
 /// A depth-first search for one clique of `size` members.

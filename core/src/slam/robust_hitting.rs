@@ -36,6 +36,8 @@
 //! Exponential in s in the worst case (set cover); each node costs
 //! O(|F| · c) for conflicts of at most c members; at most `work` nodes.
 
+use crate::union_find::Uf;
+
 /// The answer of [`hitting_set`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Hit {
@@ -84,6 +86,124 @@ pub fn minimum(family: &[Vec<usize>], forbidden: &[bool], s: usize, work: &mut u
         }
     }
     Hit::None
+}
+
+/// The conflicts of `family` grouped into *components*: two conflicts are
+/// in one component when a chain of conflicts sharing members joins them.
+/// Each component as the sorted indices of its conflicts, the components
+/// in the order of their first conflict. O(Σ|c| α) (union-find over the
+/// members, indexed in a map: detection numbers size nothing).
+pub fn components(family: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    let mut uf = Uf::new(family.len());
+    let mut owner = std::collections::BTreeMap::new();
+    for (i, c) in family.iter().enumerate() {
+        for &j in c {
+            if let Some(&o) = owner.get(&j) {
+                uf.union(o, i);
+            } else {
+                owner.insert(j, i);
+            }
+        }
+    }
+    let mut slot: Vec<Option<usize>> = vec![None; family.len()];
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for i in 0..family.len() {
+        let r = uf.find(i);
+        let at = *slot[r].get_or_insert_with(|| {
+            out.push(Vec::new());
+            out.len() - 1
+        });
+        out[at].push(i);
+    }
+    out
+}
+
+/// A true lower bound of the minimum hitting set size of `family`: the
+/// count of conflicts, picked greedily smallest first, whose members are
+/// pairwise disjoint (each needs its own member). An empty conflict
+/// cannot be hit: `None`.
+pub fn packing_bound(family: &[Vec<usize>]) -> Option<usize> {
+    if family.iter().any(Vec::is_empty) {
+        return None;
+    }
+    let mut order: Vec<(usize, usize)> = family
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (c.len(), i))
+        .collect();
+    crate::sort::natural(&mut order);
+    let mut used = std::collections::BTreeSet::new();
+    let mut bound = 0;
+    for (_, i) in order {
+        if family[i].iter().all(|j| !used.contains(j)) {
+            bound += 1;
+            used.extend(family[i].iter().copied());
+        }
+    }
+    Some(bound)
+}
+
+/// What [`forced`] proves of a family of conflicts and a budget b.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Forced {
+    /// No set of at most b detections hits every conflict.
+    NoReading,
+    /// Detections that every hitting set of at most b holds (sorted; the
+    /// work cap may leave some out: what is listed is proved).
+    Members(Vec<usize>),
+}
+
+/// The detections held by every hitting set of at most `b` of `family`,
+/// decided component by component (docs/outliers.md, "Free conflicts on
+/// large missions"): with D a hitting set, |D| is at least the sum over
+/// the components of what each needs, since components share no member.
+/// So x of component C is forced when no hitting set of C without x has
+/// at most b minus the other components' lower bounds; a component whose
+/// exact minimum the cap leaves unknown counts its packing bound (a true
+/// lower bound) and proves nothing of its own members. `work`: search
+/// nodes left, decremented; one pass (the caller iterates after removing
+/// what is forced).
+pub fn forced(family: &[Vec<usize>], b: usize, work: &mut u64) -> Forced {
+    let comps = components(family);
+    let mut fams: Vec<Vec<Vec<usize>>> = Vec::with_capacity(comps.len());
+    // Per component: its lower bound, and a minimum hitting set if known.
+    let mut lows: Vec<(usize, Option<Vec<usize>>)> = Vec::with_capacity(comps.len());
+    for comp in &comps {
+        let fam: Vec<Vec<usize>> = comp.iter().map(|&i| family[i].clone()).collect();
+        let Some(low) = packing_bound(&fam) else {
+            return Forced::NoReading;
+        };
+        if low > b {
+            return Forced::NoReading;
+        }
+        let exact = match minimum(&fam, &[], b, work) {
+            Hit::Found(h) => (h.len(), Some(h)),
+            Hit::None => return Forced::NoReading,
+            Hit::Unknown => (low, None),
+        };
+        lows.push(exact);
+        fams.push(fam);
+    }
+    let total: usize = lows.iter().map(|l| l.0).sum();
+    if total > b {
+        return Forced::NoReading;
+    }
+    let mut out = Vec::new();
+    for (fam, (low, h)) in fams.iter().zip(&lows) {
+        let Some(h) = h else { continue };
+        // What a hitting set of this component may cost within b.
+        let room = b - (total - low);
+        let mut ban = vec![false; h.iter().map(|&j| j + 1).max().unwrap_or(0)];
+        for &x in h {
+            ban[x] = true;
+            if hitting_set(fam, &ban, room, work) == Hit::None {
+                out.push(x);
+            }
+            ban[x] = false;
+        }
+    }
+    crate::sort::natural(&mut out);
+    Forced::Members(out)
 }
 
 /// The branch and bound (module doc): `Some(true)` with `picked` a hitting
@@ -211,6 +331,91 @@ mod tests {
                 Hit::Unknown => panic!("no cap"),
             }
         }
+    }
+
+    /// Random families over k <= 12 detections, in several components
+    /// (members drawn from one of a few disjoint pools, some shared).
+    fn family_of(rng: &mut Lcg, k: usize) -> Vec<Vec<usize>> {
+        let pools = 1 + (rng.bits() % 3) as usize;
+        let f = (rng.bits() % 10) as usize;
+        (0..f)
+            .map(|_| {
+                let pool = (rng.bits() % pools as u64) as usize;
+                let mut c: Vec<usize> = (0..1 + rng.bits() % 4)
+                    .map(|_| {
+                        let j = (rng.bits() % k as u64) as usize;
+                        // Mostly within the pool: j ≡ pool (mod pools).
+                        if rng.bits().is_multiple_of(6) {
+                            j
+                        } else {
+                            (j - j % pools + pool).min(k - 1)
+                        }
+                    })
+                    .collect();
+                c.sort_unstable();
+                c.dedup();
+                c
+            })
+            .collect()
+    }
+
+    #[test]
+    fn forced_members_are_in_every_hitting_set_and_components_share_nothing() {
+        let mut rng = Lcg::new(0x18f0);
+        let mut claimed = 0;
+        for _ in 0..4000 {
+            let k = 1 + (rng.bits() % 12) as usize;
+            let family = family_of(&mut rng, k);
+            let comps = components(&family);
+            let mut seen = vec![false; family.len()];
+            for (a, ca) in comps.iter().enumerate() {
+                for &i in ca {
+                    assert!(!seen[i]);
+                    seen[i] = true;
+                }
+                for cb in &comps[a + 1..] {
+                    for &i in ca {
+                        for &j in cb {
+                            assert!(
+                                !family[i].iter().any(|x| family[j].contains(x)),
+                                "{family:?}: {comps:?}"
+                            );
+                        }
+                    }
+                }
+            }
+            assert!(seen.iter().all(|&s| s));
+            let none = vec![false; k];
+            let min = brute(&family, &none, k);
+            if let Some(low) = packing_bound(&family) {
+                assert!(Some(low) <= min, "{family:?}: bound {low} over {min:?}");
+            }
+            for b in 0..=k {
+                let capped = rng.bits().is_multiple_of(4);
+                let mut work = if capped { 3 } else { u64::MAX };
+                match forced(&family, b, &mut work) {
+                    Forced::NoReading => assert!(min.is_none_or(|m| m > b), "{family:?} b {b}"),
+                    Forced::Members(xs) => {
+                        // Under the cap "no reading" may go unseen.
+                        assert!(
+                            capped || min.is_some_and(|m| m <= b),
+                            "{family:?} b {b}: {xs:?}"
+                        );
+                        for &x in &xs {
+                            let mut ban = none.clone();
+                            ban[x] = true;
+                            let without = brute(&family, &ban, k);
+                            assert!(
+                                without.is_none_or(|m| m > b),
+                                "{family:?} b {b}: {x} forced, yet a hitting set of {without:?} avoids it"
+                            );
+                            claimed += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(claimed > 500, "{claimed}");
     }
 
     #[test]

@@ -228,6 +228,7 @@ impl<'a> Propagation<'a> {
             }
             self.round += 1;
             self.moving.fill(false);
+            self.drift()?;
             self.pass(Direction::Forward)?;
             self.pass(Direction::Backward)?;
             self.tell("association", 0)?;
@@ -258,6 +259,26 @@ impl<'a> Propagation<'a> {
             TrackOptions::default(),
         );
         self.contractions += u.len() as u64;
+    }
+
+    /// odometry2d with `heading_drift`: the windows over the headings, and
+    /// the chain swept from every heading they moved
+    /// ([`OdometryChain::drift_flat`]), once per round (O(N) per window).
+    fn drift(&mut self) -> Result<(), Halt> {
+        let Some(chain) = &self.model.odometry else {
+            return Ok(());
+        };
+        let (pos, heading) = (&mut self.model.pos, &mut self.model.heading);
+        match chain.drift_flat(pos, heading, self.tol) {
+            Ok(work) => {
+                self.contractions += work as u64;
+                Ok(())
+            }
+            Err(e) => Err(Halt::Infeasible(format!(
+                "heading_drift: the heading or position of step {} is empty",
+                e.step
+            ))),
+        }
     }
 
     /// p(0..=N) from the initial position forward, and back from the final

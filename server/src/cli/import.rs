@@ -321,7 +321,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         generic(&a)?
     };
     if a.false_detections > 0 {
-        plant_false_ranges(&mut mission, a.false_detections, a.seed);
+        plant_false_ranges(&mut mission, a.false_detections, a.seed)?;
     }
     // Whatever was built must be a valid mission.
     nvector_core::slam::mission::Mission::from_value(&mission)
@@ -334,7 +334,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
 /// span of the real ranges, and no operator label; `truth.matching` is null
 /// for them, and `count` is added to `max_outliers`. Detections stay in step
 /// order. Deterministic for a seed.
-pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) {
+///
+/// A planted range is *false* (formats.md: no landmark there): a draw is
+/// drawn again while its interval holds, or may hold, a landmark's true
+/// distance from the sensor at its step ([`may_see_a_landmark`]); a range
+/// that holds one would be a true detection of that landmark, labelled
+/// false. An error when [`MAX_DRAWS`] draws a range do not find one.
+pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) -> Result<(), CliError> {
     let mut rng = nvector_core::slam::simulate::Rng::new(seed);
     let steps = mission["steps"].as_u64().unwrap_or(0) as usize;
     let empty = Vec::new();
@@ -361,8 +367,18 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) {
         (lo_min, lo_max, width) = (0.0, 10.0, 1.0);
     }
     for x in 0..count {
-        let step = ((rng.unit() * (steps + 1) as f64) as usize).min(steps);
-        let lo = lo_min + (lo_max - lo_min) * rng.unit();
+        let (step, lo) = (0..MAX_DRAWS)
+            .map(|_| {
+                let step = ((rng.unit() * (steps + 1) as f64) as usize).min(steps);
+                (step, lo_min + (lo_max - lo_min) * rng.unit())
+            })
+            .find(|&(step, lo)| !may_see_a_landmark(mission, step, lo, lo + width))
+            .ok_or_else(|| {
+                CliError(format!(
+                    "--false-detections: no false range found in {MAX_DRAWS} draws \
+                     (every draw holds a landmark's true distance, or the truth is unknown)"
+                ))
+            })?;
         let d = json!({"step": step, "range": [lo, lo + width]});
         all.push((step, dets.len() + x, d, Value::Null));
     }
@@ -389,6 +405,33 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) {
     if let Some(name) = mission["name"].as_str() {
         mission["name"] = json!(format!("{name}-false-{count}"));
     }
+    Ok(())
+}
+
+/// Most draws for one planted range.
+const MAX_DRAWS: usize = 10_000;
+
+/// Whether the range interval [lo, hi] at `step` holds, or may hold, the
+/// true distance from the sensor to a landmark of `truth.landmarks`: the
+/// sensor is within |`sensor_offset`| of the true position, so a distance
+/// d from the position is [d - |o|, d + |o|] from the sensor. True where
+/// the truth cannot tell (no true position at that step, no landmarks).
+fn may_see_a_landmark(mission: &Value, step: usize, lo: f64, hi: f64) -> bool {
+    let point = |v: &Value| -> Option<(f64, f64)> { Some((v[0].as_f64()?, v[1].as_f64()?)) };
+    let Some((px, py)) = point(&mission["truth"]["positions"][step]) else {
+        return true;
+    };
+    let Some(landmarks) = mission["truth"]["landmarks"].as_array() else {
+        return true;
+    };
+    let o = point(&mission["sensor_offset"]).map_or(0.0, |(x, y)| x.hypot(y));
+    landmarks.iter().any(|l| match point(l) {
+        Some((lx, ly)) => {
+            let d = (lx - px).hypot(ly - py);
+            d + o >= lo && d - o <= hi
+        }
+        None => true,
+    })
 }
 
 /// Bounds of the CMU import (docs/cmu-plaza1.md explains each).

@@ -61,6 +61,13 @@ pub mod bounds {
     pub const INITIAL_POSITION_ERROR: f64 = 0.01;
     /// Half-width of the initial heading around the truth (rad).
     pub const INITIAL_HEADING_ERROR: f64 = 0.01;
+    /// The heading drift windows (steps): a geometric ladder, chosen by
+    /// measuring the truth's k-step residuals (docs/utias-woods.md).
+    pub const DRIFT_WINDOWS: [usize; 6] = [30, 100, 300, 1000, 3000, 10000];
+    /// Factor on a window's largest residual.
+    pub const DRIFT_FACTOR: f64 = 1.1;
+    /// Margin on a window's bound (rad), after the factor.
+    pub const DRIFT_MARGIN: f64 = 0.02;
 }
 
 /// `a` taken into (-pi, pi].
@@ -368,6 +375,54 @@ fn woods_motion(log: &WoodsLog, c: &Completed) -> WoodsMotion {
     }
 }
 
+/// One heading drift window: k, the truth's largest k-step residual at
+/// valid pairs (both ends valid) and over the completed truth, and the
+/// bound.
+struct DriftWindow {
+    steps: usize,
+    valid_max: f64,
+    completed_max: f64,
+    error: f64,
+}
+
+/// The heading drift windows (`heading_drift`): for each k of
+/// [`bounds::DRIFT_WINDOWS`] up to N, the largest
+/// `|th(i+k) - th(i) - sum dt om|` of the truth over the pairs whose ends
+/// are both valid, and over the truth completed across its gaps (which
+/// the gap checks of tests/cli_woods.rs hold the mission to), the larger
+/// one × [`bounds::DRIFT_FACTOR`] + [`bounds::DRIFT_MARGIN`]. The
+/// integral from prefix sums of `dt om` (a rounding of ~1e-13 rad, far
+/// below the margin). O(N) per window.
+fn woods_drift(log: &WoodsLog, c: &Completed) -> Vec<DriftWindow> {
+    use bounds::*;
+    let mut prefix = Vec::with_capacity(log.n + 1);
+    prefix.push(0.0);
+    for &w in &log.om {
+        prefix.push(prefix.last().copied().unwrap_or(0.0) + log.dt * w);
+    }
+    DRIFT_WINDOWS
+        .iter()
+        .filter(|&&k| k <= log.n)
+        .map(|&k| {
+            let (mut valid_max, mut completed_max) = (0.0f64, 0.0f64);
+            for i in 0..=log.n - k {
+                let turn = prefix[i + k] - prefix[i];
+                if let (Some(a), Some(b)) = (log.heading[i], log.heading[i + k]) {
+                    valid_max = valid_max.max((b - a - turn).abs());
+                }
+                let r = c.heading[i + k] - c.heading[i] - turn;
+                completed_max = completed_max.max(r.abs());
+            }
+            DriftWindow {
+                steps: k,
+                valid_max,
+                completed_max,
+                error: valid_max.max(completed_max) * DRIFT_FACTOR + DRIFT_MARGIN,
+            }
+        })
+        .collect()
+}
+
 /// The tubes, indexed by their label, and the smallest true distance
 /// between two of them.
 fn woods_landmarks(f: &WoodsFiles) -> Result<(Vec<[f64; 2]>, f64), CliError> {
@@ -591,6 +646,17 @@ pub fn utias_woods(dir: &Path, operator: bool, outlier_share: f64) -> Result<Val
     let mut m = woods_document(operator, &log, &completed, &motion, detections);
     woods_meta(&mut m["meta"], &dets, &bands, separation);
     m["meta"]["truth_gaps"] = json!(completed.gaps);
+    let drift = woods_drift(&log, &completed);
+    m["heading_drift"] = drift
+        .iter()
+        .map(|w| json!({"steps": w.steps, "error": w.error}))
+        .collect();
+    m["meta"]["heading_drift"] = json!({
+        "method": "per window of k steps: the largest |th(i+k) - th(i) - sum_{j=i}^{i+k-1} dt om(j)| of the truth over the pairs with both ends valid and over the truth completed across its gaps (linear interpolation), the larger one x factor + margin",
+        "factor": bounds::DRIFT_FACTOR,
+        "margin": bounds::DRIFT_MARGIN,
+        "windows": drift.iter().map(|w| json!({"steps": w.steps, "valid_max": w.valid_max, "completed_max": w.completed_max, "error": w.error})).collect::<Vec<_>>(),
+    });
     m["landmark_count"] = json!(landmarks.len());
     m["landmark_min_separation"] = json!(separation - bounds::SEPARATION_MARGIN);
     m["truth"]["landmarks"] = json!(landmarks);

@@ -66,7 +66,7 @@
 use crate::interval::Interval;
 use crate::odometry::chain::OdometryChain;
 use crate::odometry::pair_heading::{contract_pair_heading, Seen};
-use crate::odometry::relative::{advance, body_point, gap, norm_above, RelativePose};
+use crate::odometry::relative::{advance_from, body_point, gap, norm_above, RelativePose};
 use crate::slam::mission::Mission;
 use crate::union_find::Uf;
 
@@ -136,7 +136,7 @@ pub fn track_unions(
                 break;
             }
             while at < j {
-                pose = advance(chain, &pose, at);
+                pose = advance_from(chain, &pose, i, at);
                 at += 1;
             }
             if pose.position_width() >= 2.0 * s {
@@ -255,7 +255,7 @@ impl Bridge<'_> {
                     break;
                 }
                 while at < j {
-                    odo = advance(self.chain, &odo, at);
+                    odo = advance_from(self.chain, &odo, i, at);
                     at += 1;
                 }
                 let Some(pose) = self.pose_from_groups(uf, r, r2, &odo) else {
