@@ -175,8 +175,9 @@ def mission_rules(m):
 
 
 def heading_rules(m, model, steps):
-    """odometry2d's headings (initial_heading required, final_heading and
-    heading_error optional, refused for the other models) and
+    """odometry2d's headings (initial_heading required, final_heading,
+    heading_error and heading_drift optional, refused for the other
+    models) and
     sensor_offset (2-D models only)."""
     odometry = model == "odometry2d"
     if odometry and absent(m, "initial_heading"):
@@ -190,6 +191,16 @@ def heading_rules(m, model, steps):
         if not odometry:
             raise Broken("heading_error: odometry2d only")
         per_step(m["heading_error"], "heading_error", steps)
+    if not absent(m, "heading_drift"):
+        # Even an empty list is refused for the other models: the field
+        # itself is odometry2d's.
+        if not odometry:
+            raise Broken("heading_drift: odometry2d only")
+        for i, w in enumerate(m["heading_drift"]):
+            if w["steps"] < 1:
+                raise Broken(f"heading_drift[{i}].steps: below 1")
+            if w["error"] < 0:
+                raise Broken(f"heading_drift[{i}].error: negative")
     if not absent(m, "sensor_offset") and DIMENSIONS[model] != 2:
         raise Broken("sensor_offset: 2-D models only")
 
