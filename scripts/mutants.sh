@@ -129,14 +129,20 @@ git ls-files -z --cached --others --exclude-standard |
 # left in the target directory by an earlier run, so cargo rebuilds them)
 cd "$copy"
 
+# The test executable of core/tests/NAME.rs: interval_props alone, every
+# other file a module of `integration` (core/tests/main.rs).
+test_exe() {
+  if [ "$1" = interval_props ]; then echo interval_props; else echo integration; fi
+}
+
 # The targets of a mutation that exist (it may name a test file another
-# branch adds), as cargo arguments for a build: --lib, --test NAME.
+# branch adds), as cargo arguments for a build: --lib, --test EXECUTABLE.
 build_args() {
   local out=() t
   for t in $1; do
     case $t in
       lib:*) out+=(--lib) ;;
-      *) [ -f "core/tests/$t.rs" ] && out+=(--test "$t") ;;
+      *) [ -f "core/tests/$t.rs" ] && out+=(--test "$(test_exe "$t")") ;;
     esac
   done
   echo "${out[*]}"
@@ -150,7 +156,11 @@ run_targets() {
     case $t in
       lib:*) cargo test -q -p nvector-core --lib -- "${t#lib:}" || return $? ;;
       *) [ -f "core/tests/$t.rs" ] || continue
-         cargo test -q -p nvector-core --test "$t" || return $? ;;
+         if [ "$t" = interval_props ]; then
+           cargo test -q -p nvector-core --test interval_props || return $?
+         else
+           cargo test -q -p nvector-core --test integration -- "$t::" || return $?
+         fi ;;
     esac
   done
 }

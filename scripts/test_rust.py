@@ -26,21 +26,18 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 
 # Measured in the cold CI run of 2026-11-24 (seconds, `cargo test`'s own
-# "finished in"): the order in which to start the executables, so that a long
-# one does not start last. A name missing here only starts later.
+# "finished in"), core's integration tests since merged into one executable
+# (`integration`: the files' times summed, about 175 s of CPU, run on two
+# threads by libtest): the order in which to start the executables, so that
+# a long one does not start last. A name missing here only starts later.
 KNOWN_SECONDS = {
-    "odometry_solve": 60,
+    "integration": 175,
     "browser": 54,
-    "robust_regions": 24,
     "huge_fields": 16,
-    "shapes_props": 15,
     "cli_slam": 14,
     "http_durability": 14,
-    "shapes_schedule": 11,
     "cli_figures": 10,
     "interval_props": 10,
-    "woods_bridges": 8,
-    "propagation_planted": 6,
     "nvector_core": 5,
 }
 

@@ -14,7 +14,7 @@ use proptest::prelude::*;
 use serde_json::json;
 use std::sync::atomic::AtomicBool;
 
-mod common;
+use crate::common;
 use common::planted;
 use common::Rng;
 

@@ -19,7 +19,7 @@ use nvector_core::slam::association::sightings;
 use nvector_core::slam::model::Model;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 use common::planted::{self, PlantedMission};
 use common::{holds, rat, Rng};
 

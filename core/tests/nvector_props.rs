@@ -23,7 +23,7 @@ use nvector_core::nvector::{atmost_nvector, atmost_nvector_with, Contractor, Sta
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 /// Default 3000 cases (`PROPTEST_CASES`), divided by `div` for the slower
 /// properties.

@@ -21,7 +21,7 @@ use nvector_core::odometry::sensor::OffsetDetection;
 use nvector_core::Interval;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 use common::Rng;
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;

@@ -23,7 +23,7 @@ use proptest::test_runner::RngSeed;
 use serde_json::{json, Value};
 use std::sync::atomic::AtomicBool;
 
-mod common;
+use crate::common;
 
 fn cases() -> u32 {
     std::env::var("NVECTOR_PROPTEST_CASES")

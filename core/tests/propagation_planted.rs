@@ -16,7 +16,7 @@ use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
 use std::sync::atomic::AtomicBool;
 
-mod common;
+use crate::common;
 use common::planted::{self, PlantedMission};
 use common::Rng;
 

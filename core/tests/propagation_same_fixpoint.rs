@@ -10,7 +10,7 @@
 //! `best` has gained contractors since (the detection shapes of issue 11):
 //! there the new boxes lie in the old ones and the old groups in new ones.
 
-mod propagation_reference;
+use crate::propagation_reference;
 
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::fixpoint::propagate;

@@ -15,7 +15,7 @@ use nvector_core::shapes::registration::{register, LocalGroup, RegisterOptions};
 use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 use common::Rng;
 
 /// A box holding the true values enclosed by `x` (when `exact`; else a

@@ -28,7 +28,7 @@ use nvector_core::{Interval, IntervalBox};
 use proptest::prelude::*;
 use serde_json::json;
 
-mod common;
+use crate::common;
 use common::planted::bearing_enclosure;
 use common::world::{random_world, Planted, World};
 use common::Rng;
@@ -155,27 +155,11 @@ fn planted(seed: u64, dim: usize, layout: Layout, bearings: bool) -> Planted {
     }
 }
 
-impl Planted {
-    fn truth_inside(&self) -> Result<(), String> {
-        for (t, p) in self.truth_pos.iter().enumerate() {
-            for a in 0..self.dim {
-                if !self.pos[t * self.dim + a].contains(p[a]) {
-                    return Err(format!(
-                        "p({t}) lost: {:?} not in {:?}",
-                        p,
-                        &self.pos[t * self.dim..(t + 1) * self.dim]
-                    ));
-                }
-            }
-        }
-        for (j, b) in self.det.iter().enumerate() {
-            if !b.contains(&self.landmarks[self.matching[j]]) {
-                return Err(format!("d({j}) lost"));
-            }
-        }
-        Ok(())
-    }
+trait PlantedShape {
+    fn shape(&self, j: usize) -> Shape;
+}
 
+impl PlantedShape for Planted {
     fn shape(&self, j: usize) -> Shape {
         let d = &self.mission.detections[j];
         let t = d.step;
@@ -185,51 +169,6 @@ impl Planted {
             d.bearing.map(|b| (self.heading_at[j], b)),
             self.det[j].clone(),
         )
-    }
-
-    /// The propagator's part, as in a round: each detection's own
-    /// constraints, sweeps; then the groups' boxes intersected.
-    fn own_constraints(&mut self, groups: &[Vec<usize>]) -> Result<(), String> {
-        let dim = self.dim;
-        for (j, d) in self.mission.detections.iter().enumerate() {
-            let t = d.step;
-            let p = &mut self.pos[t * dim..(t + 1) * dim];
-            let mut r = d.range;
-            let ok = nvector_core::contractors::distance::contract_distance(
-                p,
-                self.det[j].axes_mut(),
-                &mut r,
-            ) && d.bearing.is_none_or(|b| {
-                nvector_core::contractors::bearing::contract_bearing(
-                    p,
-                    self.det[j].axes_mut(),
-                    self.heading_at[j],
-                    b,
-                    r,
-                )
-            });
-            if !ok {
-                return Err(format!("detection {j} emptied"));
-            }
-            for s in [
-                sweep_forward(&mut self.pos, &self.disp, dim, t, 1e-9),
-                sweep_backward(&mut self.pos, &self.disp, dim, t, 1e-9),
-            ] {
-                if let Sweep::Empty(s) = s {
-                    return Err(format!("chain emptied at {s}"));
-                }
-            }
-        }
-        for g in groups {
-            let mut c = self.det[g[0]].clone();
-            for &j in &g[1..] {
-                c.intersect_with(&self.det[j]);
-            }
-            for &j in g {
-                self.det[j] = c.clone();
-            }
-        }
-        Ok(())
     }
 }
 

@@ -15,7 +15,7 @@ use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
 use std::sync::atomic::AtomicBool;
 
-mod common;
+use crate::common;
 
 fn run(mission: &Mission, mode: Contractor) -> serde_json::Value {
     let options = SolveOptions {

@@ -18,7 +18,7 @@ use nvector_core::shapes::shape::distance_between;
 use nvector_core::Interval;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 use common::planted::bearing_enclosure;
 use common::{enclose, holds, rat, taylor};
 

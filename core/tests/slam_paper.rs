@@ -6,7 +6,7 @@ use nvector_core::slam::mission::Mission;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::types::Association;
 
-mod common;
+use crate::common;
 
 use common::{solve_json, ASSOCIATIONS};
 

@@ -11,7 +11,7 @@ use proptest::prelude::*;
 
 use common::{solve_json, ASSOCIATIONS};
 
-mod common;
+use crate::common;
 
 proptest! {
     #![proptest_config(common::config_div(3000, 15, 10))]

@@ -25,7 +25,7 @@ use nvector_core::tdoa::{solve_tdoa, solve_tdoa_with, TdoaOptions};
 use proptest::prelude::*;
 use serde_json::{json, Value};
 
-mod common;
+use crate::common;
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     let s: f64 = (0..3).map(|i| (a[i] - b[i]) * (a[i] - b[i])).sum();

@@ -35,7 +35,7 @@ use nvector_core::tdoa::{solve_tdoa, TdoaOptions};
 use proptest::prelude::*;
 use serde_json::Value;
 
-mod common;
+use crate::common;
 use common::Rng;
 
 /// A box kind around a true value: 0 point, 1 tight, 2 wide, 3 unbounded

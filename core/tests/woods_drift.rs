@@ -20,7 +20,7 @@ use nvector_core::slam::mission::Mission;
 use nvector_core::Interval;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 use common::{floor_f64, rat, Rng};
 
 fn config() -> ProptestConfig {

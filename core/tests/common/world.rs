@@ -3,6 +3,9 @@
 //! around), and the planted instance those tests build from it.
 
 use super::Rng;
+use nvector_core::contractors::bearing::contract_bearing;
+use nvector_core::contractors::distance::contract_distance;
+use nvector_core::contractors::motion_chain::{sweep_backward, sweep_forward, Sweep};
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::simulate::Layout;
 use nvector_core::{Interval, IntervalBox};
@@ -72,5 +75,64 @@ pub fn random_world(rng: &mut Rng, dim: usize, layout: Layout, extra_steps: usiz
         landmarks,
         truth_pos,
         headings,
+    }
+}
+
+impl Planted {
+    /// The truth is in every position box and every detection's landmark box.
+    pub fn truth_inside(&self) -> Result<(), String> {
+        for (t, p) in self.truth_pos.iter().enumerate() {
+            for a in 0..self.dim {
+                if !self.pos[t * self.dim + a].contains(p[a]) {
+                    return Err(format!(
+                        "p({t}) lost: {:?} not in {:?}",
+                        p,
+                        &self.pos[t * self.dim..(t + 1) * self.dim]
+                    ));
+                }
+            }
+        }
+        for (j, b) in self.det.iter().enumerate() {
+            if !b.contains(&self.landmarks[self.matching[j]]) {
+                return Err(format!("d({j}) lost"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The propagator's part, as in a round: each detection's own
+    /// constraints, sweeps; then the groups' boxes intersected.
+    pub fn own_constraints(&mut self, groups: &[Vec<usize>]) -> Result<(), String> {
+        let dim = self.dim;
+        for (j, d) in self.mission.detections.iter().enumerate() {
+            let t = d.step;
+            let p = &mut self.pos[t * dim..(t + 1) * dim];
+            let mut r = d.range;
+            let ok = contract_distance(p, self.det[j].axes_mut(), &mut r)
+                && d.bearing.is_none_or(|b| {
+                    contract_bearing(p, self.det[j].axes_mut(), self.heading_at[j], b, r)
+                });
+            if !ok {
+                return Err(format!("detection {j} emptied"));
+            }
+            for s in [
+                sweep_forward(&mut self.pos, &self.disp, dim, t, 1e-9),
+                sweep_backward(&mut self.pos, &self.disp, dim, t, 1e-9),
+            ] {
+                if let Sweep::Empty(s) = s {
+                    return Err(format!("chain emptied at {s}"));
+                }
+            }
+        }
+        for g in groups {
+            let mut c = self.det[g[0]].clone();
+            for &j in &g[1..] {
+                c.intersect_with(&self.det[j]);
+            }
+            for &j in g {
+                self.det[j] = c.clone();
+            }
+        }
+        Ok(())
     }
 }
