@@ -8,6 +8,7 @@
 #     far its interval misses every beacon's true distance from the true position), and
 #     whether the clean run's boxes refute it one by one (its interval meets no distance from
 #     the position box of its step to any box of any landmark region);
+#     the same for the tight bands' outside ranges (--outlier-share 0.01, 0.02);
 #  3. the density the ordinary propagation needs: the clean mission with every B-th range
 #     kept (B = 2, 3, 4, 8, 72; 72 = q + 1 interleaved blocks), q = 0, max/mean diameter;
 #  4. what the clean run's first proofs need: the ranges before step T only (T = 600, 1200),
@@ -48,6 +49,16 @@ for s in seeds:
     print(f'seed {s}: {len(margins)} false ranges; truth margin min {margins[0]:.2f} median {statistics.median(margins):.2f} m; '
           f'counts {over}; clean position box at their steps median {statistics.median(widths):.1f} m; '
           f'refuted one by one with the clean boxes: {refuted}', flush=True)
+for P in ('0.01', '0.02'):  # the tight bands: the ranges left outside (meta.outlier_share.outside)
+    p = f'{tmp}/share{P}.json'; imp(p, '--outlier-share', P); m = json.load(open(p)); T = m['truth']
+    out = m['meta']['outlier_share']['outside']; margins, refuted = [], 0
+    for j in out:
+        d = m['detections'][j]; t, (lo, hi) = d['step'], d['range']; x, y = T['positions'][t]
+        margins.append(min(max(lo - math.hypot(a - x, b - y), math.hypot(a - x, b - y) - hi) for a, b in T['landmarks']))
+        pb = traj[t]
+        refuted += not any(dl <= hi and dh >= lo for reg in regions for bx in reg for dl, dh in [dist_box(pb[0], pb[1], bx)])
+    print(f"share {P}: q {m['max_outliers']}, {len(out)} outside; margin to every beacon <= 0 (fits another): "
+          f"{sum(1 for g in margins if g <= 0)}, largest {max(margins):.2f} m; refuted one by one with the clean boxes: {refuted}", flush=True)
 mc = json.load(open(clean)); dets = mc['detections']
 order = sorted(range(len(dets)), key=lambda j: (dets[j]['step'], j))
 for B in (2, 3, 4, 8, 72):
