@@ -14,7 +14,12 @@
 #  4. what the clean run's first proofs need: the ranges before step T only (T = 600, 1200),
 #     then the same without the first 71 ranges of one beacon (a reading may drop them): the
 #     groups proved, and the widest position box before T;
-#  5. the smallest family of subsets that every reading keeps one of, for sets of a share
+#  5. the covering of the annuli (a landmark-region rule for range-only data, prototyped here):
+#     the n beacons must lie, between them, in the annuli (from the clean run's position
+#     boxes) of all but q of the ranges before step 1200; 4 m cells; for 15 cells sampled more
+#     than 30 m from every beacon, the ranges covered by that cell and 3 greedy companions (a
+#     configuration the covering cannot exclude when it reaches |W| - q);
+#  6. the smallest family of subsets that every reading keeps one of, for sets of a share
 #     rho of the ranges: C(k, q) / C(k - rho k, q) (each set is avoided by that many drops).
 import json, math, os, subprocess, sys, statistics
 N, DIR = sys.argv[1], sys.argv[2]
@@ -82,7 +87,28 @@ for T in (600, 1200):
         print(f"ranges before step {T}, {what} ({len(keep)}): {len(r['matching'])} groups, "
               f"{r['metrics']['matched_detections']} matched, {r['score']['matching_errors']} errors; "
               f"widest position box before {T}: {w:.1f} m", flush=True)
+import random
+pk = json.load(open(f'{tmp}/p{seeds[0]}.json')); Wr = [(d['step'], d['range']) for d in pk['detections'] if d['step'] < 1200]
+h, R = 4.0, 100; cells = [(x, y) for x in range(-R, R, 4) for y in range(-R, R, 4)]
+def covered(x, y):
+    cb, st = ((x, x + h), (y, y + h)), set()
+    for j, (t, (lo, hi)) in enumerate(Wr):
+        dl, dh = dist_box(traj[t][0], traj[t][1], cb)
+        if dl <= hi and dh >= lo:
+            st.add(j)
+    return st
+sets = [covered(x, y) for x, y in cells]
+def greedy(first):
+    got = set(sets[first])
+    for _ in range(3):
+        got |= max(sets, key=lambda st: len(st - got))
+    return len(got)
+Lk = pk['truth']['landmarks']
+far = [i for i, (x, y) in enumerate(cells) if min(math.hypot(x + h / 2 - a, y + h / 2 - b) for a, b in Lk) > 30]
+random.seed(1); cov = sorted(greedy(i) for i in random.sample(far, 15))
+print(f'covering, seed {seeds[0]}, {len(Wr)} ranges before step 1200, q 71: cells > 30 m from every beacon reach '
+      f'{sum(1 for c in cov if c >= len(Wr) - 71)} of 15 (need {len(Wr) - 71}; covered {cov[0]}-{cov[-1]})', flush=True)
 for k, q in ((3600, 71), (3529, 25), (3529, 54)):
     for rho in (0.5, 1 / 3):
         lg = math.log10(math.comb(k, q)) - math.log10(math.comb(k - int(rho * k), q))
-        print(f'k {k} q {q}: a family of sets of {rho:.2f} k that every reading keeps one of has >= 10^{lg:.1f} sets')
+        print(f'k {k} q {q}: a family of sets of {rho:.2f} k that every set of q drops keeps one of has >= 10^{lg:.1f} sets')
