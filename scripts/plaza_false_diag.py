@@ -8,6 +8,8 @@
 #     far its interval misses every beacon's true distance from the true position), and
 #     whether the clean run's boxes refute it one by one (its interval meets no distance from
 #     the position box of its step to any box of any landmark region);
+#     per group of the clean run, how many false ranges could join it (their annulus from the
+#     clean position box meets its landmark region);
 #     the same for the tight bands' outside ranges (--outlier-share 0.01, 0.02);
 #  3. the density the ordinary propagation needs: the clean mission with every B-th range
 #     kept (B = 2, 3, 4, 8, 72; 72 = q + 1 interleaved blocks), q = 0, max/mean diameter;
@@ -49,6 +51,12 @@ for s in seeds:
         margins.append(min(max(lo - math.hypot(a - x, b - y), math.hypot(a - x, b - y) - hi) for a, b in T['landmarks']))
         pb = traj[t]; widths.append(max(pb[0][1] - pb[0][0], pb[1][1] - pb[1][0]))
         refuted += not any(dl <= hi and dh >= lo for reg in regions for bx in reg for dl, dh in [dist_box(pb[0], pb[1], bx)])
+    per = [sum(1 for j, d in enumerate(m['detections']) if T['matching'][j] is None and any(
+        (lambda dl, dh: dl <= d['range'][1] and dh >= d['range'][0])(*dist_box(traj[d['step']][0], traj[d['step']][1], bx))
+        for bx in reg)) for reg in regions]
+    big = sorted(c for c, g in zip(per, rc['matching']) if len(g) >= 100)
+    print(f'seed {s}: per group of the clean run, the false ranges whose annulus meets its landmark region: '
+          f'min {min(per)}, median {statistics.median(per)}, max {max(per)}; groups of 100 or more: {big}', flush=True)
     margins.sort()
     over = ' '.join(f'>{e}:{sum(1 for g in margins if g > e)}' for e in (0.5, 1, 2, 5, 10))
     print(f'seed {s}: {len(margins)} false ranges; truth margin min {margins[0]:.2f} median {statistics.median(margins):.2f} m; '
