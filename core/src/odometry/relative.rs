@@ -227,7 +227,9 @@ pub fn gap_below(
     let ra = ra.intersect(Interval::new(0.0, f64::INFINITY));
     let rb = rb.intersect(Interval::new(0.0, f64::INFINITY));
     let all = [ra, ba, pose.h, rb, bb];
-    if !(n < SPLIT_LIMIT * s) || all.iter().any(|x| x.is_empty() || !x.is_bounded()) {
+    // NaN compares as not below: nothing is proved.
+    let below = |x: f64, y: f64| x.partial_cmp(&y) == Some(std::cmp::Ordering::Less);
+    if !below(n, SPLIT_LIMIT * s) || all.iter().any(|x| x.is_empty() || !x.is_bounded()) {
         return false;
     }
     let m = PIECES;
@@ -244,7 +246,7 @@ pub fn gap_below(
             h: piece(pose.h, k(2), m),
         };
         let v = gap(&a_body, &p, piece(rb, k(3), m), Some(piece(bb, k(4), m)), o);
-        if !(norm_above(&v) < s) {
+        if !below(norm_above(&v), s) {
             return false;
         }
     }
