@@ -28,6 +28,14 @@
 //! lengths). Without a bearing, `m` is the box `[-r, r]²` (the landmark
 //! is somewhere on the circle).
 //!
+//! **Subdivision** ([`gap_below`]): the box of `v` forgets that its
+//! pieces move together (a's point on its arc, b's on its rotated arc), so
+//! its norm bound (the far corner) overestimates `|v|`. The measured
+//! intervals (a's range and bearing, the heading change H(j), b's range
+//! and bearing) are cut into pieces; every true configuration lies in one
+//! combination of pieces, so the largest norm bound over the
+//! combinations bounds `|v|` too, and is tighter.
+//!
 //! # Soundness
 //!
 //! Every operation is outward-rounded interval arithmetic with core's
@@ -41,7 +49,8 @@
 //!
 //! # Complexity
 //!
-//! O(1) per step of [`advance`] and per [`gap`]; no allocation.
+//! O(1) per step of [`advance`] and per [`gap`]; [`gap_below`] O(PIECES^5)
+//! gaps when it subdivides (243), O(1) otherwise; no allocation.
 
 use crate::interval::Interval;
 use crate::odometry::chain::OdometryChain;
@@ -167,6 +176,81 @@ pub fn norm_above(v: &[Interval; 2]) -> f64 {
     } else {
         n
     }
+}
+
+/// Pieces of each measured interval in [`gap_below`]'s subdivision.
+const PIECES: usize = 3;
+
+/// Box bounds at or above this multiple of s are not subdivided (the
+/// subdivision takes off 10-15 % of the bound on the woods log).
+const SPLIT_LIMIT: f64 = 1.35;
+
+/// The `k`-th of `n` equal pieces of `x` (bounded, nonempty): adjacent
+/// pieces share their end, the first starts at `x.lo()` and the last ends
+/// at `x.hi()`, so the pieces cover `x` whatever the rounding of the
+/// inner ends.
+fn piece(x: Interval, k: usize, n: usize) -> Interval {
+    let at = |i: usize| {
+        if i == 0 {
+            x.lo()
+        } else if i == n {
+            x.hi()
+        } else {
+            x.lo() + (x.hi() - x.lo()) * (i as f64 / n as f64)
+        }
+    };
+    Interval::new(at(k), at(k + 1))
+}
+
+/// Whether `|l(a) - l(b)| < s` is proved (module doc, "Subdivision"): a
+/// with range `ra`, bearing `ba` at the earlier step, b with `rb`, `bb`
+/// at the step `pose` gives. The box of [`gap`] first; when its norm
+/// bound is at or above s but below `SPLIT_LIMIT` s, a's range and
+/// bearing, the heading change and b's range and bearing are each cut
+/// into `PIECES` pieces and every combination's box must have a norm
+/// bound below s. Without a bearing only the box test runs.
+pub fn gap_below(
+    (ra, ba): (Interval, Option<Interval>),
+    pose: &RelativePose,
+    (rb, bb): (Interval, Option<Interval>),
+    o: [f64; 2],
+    s: f64,
+) -> bool {
+    let a_body = body_point(ra, ba, o, Interval::ZERO);
+    let n = norm_above(&gap(&a_body, pose, rb, bb, o));
+    if n < s {
+        return true;
+    }
+    let (Some(ba), Some(bb)) = (ba, bb) else {
+        return false;
+    };
+    let ra = ra.intersect(Interval::new(0.0, f64::INFINITY));
+    let rb = rb.intersect(Interval::new(0.0, f64::INFINITY));
+    let all = [ra, ba, pose.h, rb, bb];
+    // NaN compares as not below: nothing is proved.
+    let below = |x: f64, y: f64| x.partial_cmp(&y) == Some(std::cmp::Ordering::Less);
+    if !below(n, SPLIT_LIMIT * s) || all.iter().any(|x| x.is_empty() || !x.is_bounded()) {
+        return false;
+    }
+    let m = PIECES;
+    for code in 0..m.pow(5) {
+        let k = |d: u32| (code / m.pow(d)) % m;
+        let a_body = body_point(
+            piece(ra, k(0), m),
+            Some(piece(ba, k(1), m)),
+            o,
+            Interval::ZERO,
+        );
+        let p = RelativePose {
+            p: pose.p,
+            h: piece(pose.h, k(2), m),
+        };
+        let v = gap(&a_body, &p, piece(rb, k(3), m), Some(piece(bb, k(4), m)), o);
+        if !below(norm_above(&v), s) {
+            return false;
+        }
+    }
+    true
 }
 
 /// Whether the box `v` excludes the origin (then `|v| > 0`: the two
@@ -351,5 +435,104 @@ mod tests {
             [0.0, 0.0],
         );
         assert!(norm_above(&v) < 1e-100, "{v:?}");
+    }
+    /// `gap_below` on planted pairs: a true relative pose inside its
+    /// enclosure, measurements around the truth; two distinct landmarks
+    /// (at least s apart, most just beyond s where the box test is
+    /// borderline) are never proved one, and one landmark seen twice is
+    /// proved one by the subdivision where the box alone does not.
+    #[test]
+    fn planted_gap_below_never_joins_two_landmarks() {
+        let mut rng = Lcg::new(2026);
+        let (mut by_pieces, mut distinct) = (0, 0);
+        for case in 0..40_000 {
+            let scale = match case % 6 {
+                0 => 1e6,
+                1 => 1e-6,
+                _ => 1.0,
+            };
+            let s = scale * (0.5 + unit(&mut rng) * 2.0);
+            let o = if case % 3 == 0 {
+                [0.0, 0.0]
+            } else {
+                [
+                    (unit(&mut rng) - 0.3) * 0.5 * scale,
+                    (unit(&mut rng) - 0.5) * 0.2 * scale,
+                ]
+            };
+            let tp = [
+                (unit(&mut rng) - 0.5) * 2.0 * scale,
+                (unit(&mut rng) - 0.5) * 2.0 * scale,
+            ];
+            let th = (unit(&mut rng) - 0.5) * 40.0;
+            let ang = unit(&mut rng) * 7.0;
+            let dist = (0.5 + unit(&mut rng) * 5.0) * scale;
+            let la = [dist * libm::cos(ang), dist * libm::sin(ang)];
+            let same = case % 2 == 0;
+            let lb = if same {
+                la
+            } else {
+                distinct += 1;
+                let near = if case % 4 == 1 { 0.002 } else { 0.3 };
+                let d = s * (1.0 + unit(&mut rng) * near) * (1.0 + 1e-12);
+                let a2 = unit(&mut rng) * 7.0;
+                [la[0] + d * libm::cos(a2), la[1] + d * libm::sin(a2)]
+            };
+            let (ra, ba) = measure([0.0, 0.0], 0.0, la, o);
+            let (rb, bb) = measure(tp, th, lb, o);
+            // Widths from zero to the largest, on a log scale.
+            let spread = if same {
+                1.0
+            } else {
+                libm::pow(10.0, -3.0 * unit(&mut rng))
+            };
+            let w = |rng: &mut Lcg, x: f64| {
+                if case % 10 == 3 {
+                    0.0
+                } else {
+                    // Each interval's own log-scale factor for the distinct
+                    // pairs: one wide interval among narrow ones.
+                    let own = if same {
+                        1.0
+                    } else {
+                        libm::pow(10.0, -4.0 * unit(rng))
+                    };
+                    unit(rng) * x * spread.max(own)
+                }
+            };
+            let lo_hi = |rng: &mut Lcg, v: f64, x: f64| {
+                Interval::new(
+                    v - w(rng, x) - 1e-9 * v.abs(),
+                    v + w(rng, x) + 1e-9 * v.abs(),
+                )
+            };
+            let pose = RelativePose {
+                p: [
+                    lo_hi(&mut rng, tp[0], 0.2 * s),
+                    lo_hi(&mut rng, tp[1], 0.2 * s),
+                ],
+                h: lo_hi(&mut rng, th, 0.15),
+            };
+            let ma = (
+                lo_hi(&mut rng, ra, 0.15 * s),
+                Some(lo_hi(&mut rng, ba, 0.1)),
+            );
+            let mb = (
+                lo_hi(&mut rng, rb, 0.15 * s),
+                Some(lo_hi(&mut rng, bb, 0.1)),
+            );
+            let proved = gap_below(ma, &pose, mb, o, s);
+            assert!(
+                same || !proved,
+                "case {case}: two landmarks {:.3e} apart (s = {s:.3e}) proved one",
+                libm::hypot(la[0] - lb[0], la[1] - lb[1])
+            );
+            let a_body = body_point(ma.0, ma.1, o, Interval::ZERO);
+            if proved && norm_above(&gap(&a_body, &pose, mb.0, mb.1, o)) >= s {
+                by_pieces += 1;
+            }
+        }
+        assert!(distinct > 5000, "only {distinct} distinct pairs");
+        assert!(by_pieces > 100, "the pieces proved only {by_pieces} pairs");
     }
 }

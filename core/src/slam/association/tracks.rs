@@ -15,7 +15,9 @@
 //! [`gap`] over the relative pose of step j enclosed from the odometry
 //! alone ([`crate::odometry::relative`]), which does not depend on the
 //! absolute heading, however wide it is. When the upper bound of its norm
-//! is below s, the two landmarks are less than s apart, so they are one:
+//! is below s (the box's far corner, or the largest over pieces of the
+//! measured intervals: [`gap_below`]), the two landmarks are less than s
+//! apart, so they are one:
 //! a union. Unions chain through the union-find, so a landmark seen in
 //! consecutive scans becomes one group (a track) as long as it is seen
 //! again within the window. The merged groups then contract the positions
@@ -66,7 +68,7 @@
 use crate::interval::Interval;
 use crate::odometry::chain::OdometryChain;
 use crate::odometry::pair_heading::{contract_pair_heading, Seen};
-use crate::odometry::relative::{advance_from, body_point, gap, norm_above, RelativePose};
+use crate::odometry::relative::{advance_from, body_point, gap_below, RelativePose};
 use crate::slam::mission::Mission;
 use crate::union_find::Uf;
 
@@ -149,8 +151,8 @@ pub fn track_unions(
                     if uf.find(a) == uf.find(b) {
                         continue;
                     }
-                    let v = gap(&body[a], &pose, d.range, d.bearing, o);
-                    if norm_above(&v) < s {
+                    let da = &dets[a];
+                    if gap_below((da.range, da.bearing), &pose, (d.range, d.bearing), o, s) {
                         uf.union(a, b);
                         unions.push((a, b));
                     }
@@ -271,8 +273,9 @@ impl Bridge<'_> {
                         if uf.find(a) == uf.find(b) {
                             continue;
                         }
-                        let v = gap(&self.body[a], &pose, d.range, d.bearing, self.o);
-                        if norm_above(&v) < self.s {
+                        let da = &self.dets[a];
+                        let (ma, mb) = ((da.range, da.bearing), (d.range, d.bearing));
+                        if gap_below(ma, &pose, mb, self.o, self.s) {
                             uf.union(a, b);
                             unions.push((a, b));
                         }
