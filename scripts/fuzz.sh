@@ -42,6 +42,18 @@ if [ -z "$url" ]; then echo "fuzz: the service did not start" >&2; cat "$tmp/err
 curl -fsS "$url/api/v1/openapi.json" -o "$tmp/openapi.json"
 .venv/bin/openapi-spec-validator "$tmp/openapi.json"
 
+# Every field of the judged request bodies must have its rules in the
+# oracle (scripts/fuzz/hooks.py, RULED) before it is fuzzed.
+PYTHONPATH=scripts/fuzz .venv/bin/python - "$tmp/openapi.json" <<'EOF'
+import json, sys
+import hooks
+missing = hooks.unruled(json.load(open(sys.argv[1])))
+if missing:
+    sys.exit("fuzz: these request fields have no rules in scripts/fuzz/hooks.py"
+             " (implement them from docs/formats.md, then list them in RULED): "
+             + ", ".join(missing))
+EOF
+
 seed=${FUZZ_SEED:-$RANDOM}
 echo "fuzz: schemathesis against $url for ${seconds}s (seed $seed)"
 status=0
