@@ -301,6 +301,12 @@ pub struct HeadingDriftDoc {
         schema(value_type = f64, minimum = 0, required = true)
     )]
     pub error: Option<Finite>,
+    /// The steps whose `heading_error` is above this are exempt: each adds
+    /// its own `heading_error` to b instead of counting in it (default:
+    /// none exempt). Rules: >= 0; at most 8 distinct values over the
+    /// windows.
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
+    pub exempt_above: Option<Finite>,
 }
 
 /// Ground truth of a simulated mission (scoring and drawing only).
