@@ -281,7 +281,8 @@ pub struct DetectionDoc {
 
 /// One heading drift window of an odometry2d mission: over any `steps`
 /// consecutive steps the heading's residual against the integrated turn
-/// rate is at most `error` (radians).
+/// rate is at most `error` (radians), plus the `heading_error` of each
+/// step above `exempt_above` when given.
 #[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[cfg_attr(feature = "openapi", schema(as = HeadingDriftWindow))]
