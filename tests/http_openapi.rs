@@ -581,6 +581,18 @@ fn heading_drift_agrees_between_the_document_and_the_service() {
             json!([{"steps": 5, "error": 0.1, "k": 1}]),
             Some("heading_drift[0].k"),
         ),
+        (
+            json!([{"steps": 30, "error": 0.1, "exempt_above": 0.02}, {"steps": 5, "error": 0, "exempt_above": 0}]),
+            None,
+        ),
+        (
+            json!([{"steps": 5, "error": 0.1, "exempt_above": -0.01}]),
+            Some("heading_drift[0].exempt_above"),
+        ),
+        (
+            json!([{"steps": 5, "error": 0.1}, {"steps": 5, "error": 0.1, "exempt_above": "x"}]),
+            Some("heading_drift[1].exempt_above"),
+        ),
     ];
     for (windows, refused) in cases {
         let mut body = m.clone();
@@ -595,4 +607,14 @@ fn heading_drift_agrees_between_the_document_and_the_service() {
             }
         }
     }
+    // A ninth distinct exempt_above: schema-valid (a rule the schema does
+    // not state, docs/formats.md), refused by the service.
+    let mut body = m.clone();
+    body["heading_drift"] = (0..9)
+        .map(|x| json!({"steps": 5, "error": 0.1, "exempt_above": 0.01 * x as f64}))
+        .collect();
+    assert!(validate(&doc, &schema, &body).is_empty());
+    let (st, v) = s.post("/api/v1/missions", &body);
+    assert_eq!(st, 422, "{v}");
+    assert_eq!(v["error"]["path"], "heading_drift[8].exempt_above", "{v}");
 }

@@ -44,6 +44,7 @@ mod tdoa_shell;
 mod unbounded_props;
 mod woods_bridges;
 mod woods_drift;
+mod woods_exempt;
 mod woods_scan_map;
 mod woods_scan_pose;
 mod woods_sequential;

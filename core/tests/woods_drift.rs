@@ -15,7 +15,7 @@
 
 use num_rational::BigRational;
 use nvector_core::odometry::chain::OdometryChain;
-use nvector_core::odometry::drift::HeadingDrift;
+use nvector_core::odometry::drift::{DriftWindow, HeadingDrift};
 use nvector_core::slam::mission::Mission;
 use nvector_core::Interval;
 use proptest::prelude::*;
@@ -122,7 +122,7 @@ fn largest_residual(p: &Planted, k: usize) -> BigRational {
 
 /// Windows for the planted path: 1 to 4, k in 1..=n+3, bound touching
 /// the truth's largest residual (or above it).
-fn windows(rng: &mut Rng, p: &Planted) -> Vec<(u64, f64)> {
+fn windows(rng: &mut Rng, p: &Planted) -> Vec<DriftWindow> {
     let n = p.omega.len();
     (0..1 + rng.below(4))
         .map(|_| {
@@ -133,7 +133,7 @@ fn windows(rng: &mut Rng, p: &Planted) -> Vec<(u64, f64)> {
             } else {
                 b + rng.range(0.0, 0.1)
             };
-            (k as u64, b)
+            DriftWindow::plain(k as u64, b)
         })
         .collect()
 }
@@ -151,7 +151,7 @@ proptest! {
         prop_assume!(p.th.iter().all(|x| x.is_finite()));
         let turn: Vec<Interval> = p.omega.iter().map(|&w| input(&mut rng, w)).collect();
         let w = windows(&mut rng, &p);
-        let Some(d) = HeadingDrift::new(p.dt, &turn, &w) else {
+        let Some(d) = HeadingDrift::new(p.dt, &turn, &[], &w) else {
             return Ok(());
         };
         let mut h: Vec<Interval> = p.th.iter().map(|&t| match rng.below(4) {
@@ -178,7 +178,7 @@ proptest! {
         let n = 1 + rng.below(40);
         let p = planted(&mut rng, n);
         let turn: Vec<Interval> = p.omega.iter().map(|&w| input(&mut rng, w)).collect();
-        let Some(d) = HeadingDrift::new(p.dt, &turn, &[(1, 0.0)]) else {
+        let Some(d) = HeadingDrift::new(p.dt, &turn, &[], &[DriftWindow::plain(1, 0.0)]) else {
             return Ok(());
         };
         let dt = rat(p.dt);
@@ -221,7 +221,7 @@ proptest! {
         // Per-step heading bound: none (NaN reads as no bound), or the
         // exact one-step window.
         let he = if rng.chance(0.5) { vec![f64::NAN] } else { vec![ceil_f64(&largest_residual(&p, 1))] };
-        let chain = OdometryChain::new(p.dt, &speed, &turn, &he, &me).with_drift(p.dt, &turn, &w);
+        let chain = OdometryChain::new(p.dt, &speed, &turn, &he, &me).with_drift(p.dt, &turn, &he, &w);
         let mut flat: Vec<Interval> = vec![Interval::ENTIRE; 2 * (n + 1)];
         flat[0] = Interval::point(pos[0][0]);
         flat[1] = Interval::point(pos[0][1]);
@@ -259,7 +259,7 @@ proptest! {
         let speed = vec![Interval::point(1.0); n];
         let e = rng.range(0.0, 0.05);
         let plain = OdometryChain::new(dt, &speed, &turn, &[e], &[0.01]);
-        let drift = HeadingDrift::new(dt, &turn, &[(1, e)]).unwrap();
+        let drift = HeadingDrift::new(dt, &turn, &[], &[DriftWindow::plain(1, e)]).unwrap();
         let h0 = rng.range(-10.0, 10.0);
         let mut flat = vec![Interval::ENTIRE; 2 * (n + 1)];
         flat[0] = Interval::ZERO;
@@ -282,8 +282,23 @@ proptest! {
 #[test]
 fn windows_longer_than_the_chain_are_vacuous() {
     let turn = vec![Interval::point(0.5); 8];
-    assert!(HeadingDrift::new(0.1, &turn, &[(9, 0.1), (u64::MAX, 0.0)]).is_none());
-    let d = HeadingDrift::new(0.1, &turn, &[(9, 0.1), (8, 0.2)]).unwrap();
+    assert!(HeadingDrift::new(
+        0.1,
+        &turn,
+        &[],
+        &[
+            DriftWindow::plain(9, 0.1),
+            DriftWindow::plain(u64::MAX, 0.0)
+        ]
+    )
+    .is_none());
+    let d = HeadingDrift::new(
+        0.1,
+        &turn,
+        &[],
+        &[DriftWindow::plain(9, 0.1), DriftWindow::plain(8, 0.2)],
+    )
+    .unwrap();
     assert_eq!(d.windows().map(|(k, _)| k).collect::<Vec<_>>(), vec![8]);
 }
 

@@ -64,7 +64,7 @@ RULED = {
     },
     "Inputs": {"speed", "heading", "turn_rate", "roll", "pitch", "yaw", "vx", "vy", "vz"},
     "Detection": {"step", "range", "bearing", "depth", "landmark", "region", "scan"},
-    "HeadingDriftWindow": {"steps", "error"},
+    "HeadingDriftWindow": {"steps", "error", "exempt_above"},
     "Truth": {"positions", "landmarks", "matching", "headings"},
     "MissionUpload": {"file"},
     "ContractRequest": {"format", "boxes", "n", "contractor"},
@@ -267,6 +267,17 @@ def heading_rules(m, model, steps):
                 raise Broken(f"heading_drift[{i}].steps: below 1")
             if w["error"] < 0:
                 raise Broken(f"heading_drift[{i}].error: negative")
+        # exempt_above: optional, >= 0, at most 8 distinct values over
+        # the windows (one prefix array each in the solver).
+        levels = set()
+        for i, w in enumerate(m["heading_drift"]):
+            if absent(w, "exempt_above"):
+                continue
+            if w["exempt_above"] < 0:
+                raise Broken(f"heading_drift[{i}].exempt_above: negative")
+            levels.add(w["exempt_above"])
+            if len(levels) > 8:
+                raise Broken(f"heading_drift[{i}].exempt_above: a ninth distinct value")
     if not absent(m, "sensor_offset") and DIMENSIONS[model] != 2:
         raise Broken("sensor_offset: 2-D models only")
 

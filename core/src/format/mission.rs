@@ -281,7 +281,8 @@ pub struct DetectionDoc {
 
 /// One heading drift window of an odometry2d mission: over any `steps`
 /// consecutive steps the heading's residual against the integrated turn
-/// rate is at most `error` (radians).
+/// rate is at most `error` (radians), plus the `heading_error` of each
+/// step above `exempt_above` when given.
 #[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[cfg_attr(feature = "openapi", schema(as = HeadingDriftWindow))]
@@ -301,6 +302,12 @@ pub struct HeadingDriftDoc {
         schema(value_type = f64, minimum = 0, required = true)
     )]
     pub error: Option<Finite>,
+    /// The steps whose `heading_error` is above this are exempt: each adds
+    /// its own `heading_error` to b instead of counting in it (default:
+    /// none exempt). Rules: >= 0; at most 8 distinct values over the
+    /// windows.
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
+    pub exempt_above: Option<Finite>,
 }
 
 /// Ground truth of a simulated mission (scoring and drawing only).

@@ -42,7 +42,7 @@
 use crate::contractors::motion_chain::{shrinkage, Sweep};
 use crate::interval::Interval;
 use crate::odometry::angle::contract_heading;
-use crate::odometry::drift::HeadingDrift;
+use crate::odometry::drift::{DriftWindow, HeadingDrift};
 
 /// The inputs of an odometry2d chain of N steps, precomputed as intervals.
 #[derive(Debug, Clone, PartialEq)]
@@ -127,17 +127,20 @@ impl OdometryChain {
         }
     }
 
-    /// The chain with the heading drift windows `(k, b)` of the mission
-    /// (`heading_drift`; [`HeadingDrift`]), over the same `dt` and
-    /// `turn_rate` as [`OdometryChain::new`].
+    /// The chain with the heading drift windows of the mission
+    /// (`heading_drift`; [`HeadingDrift`]), over the same `dt`,
+    /// `turn_rate` and `heading_error` as [`OdometryChain::new`] (the
+    /// per-step bounds of the steps a window exempts).
     pub fn with_drift(
         mut self,
         dt: f64,
         turn_rate: &[Interval],
-        windows: &[(u64, f64)],
+        heading_error: &[f64],
+        windows: &[DriftWindow],
     ) -> OdometryChain {
         let n = self.steps();
-        self.drift = HeadingDrift::new(dt, &turn_rate[..n.min(turn_rate.len())], windows);
+        let turn = &turn_rate[..n.min(turn_rate.len())];
+        self.drift = HeadingDrift::new(dt, turn, heading_error, windows);
         self
     }
 

@@ -25,11 +25,12 @@
 use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use crate::odometry::drift::{DriftWindow, MAX_EXEMPT_LEVELS};
 use crate::slam::mission::{Detection, Mission, Model, Points, Truth, MAX_STEPS};
 use serde_json::{Map, Value};
 
 /// The stream's first bytes: a tag and the layout's version.
-const VERSION: [u8; 8] = *b"nvmbin02";
+const VERSION: [u8; 8] = *b"nvmbin03";
 
 /// The error of every malformed stream.
 fn bad(what: &str) -> InputError {
@@ -132,9 +133,10 @@ pub fn encode(m: &Mission) -> Vec<u8> {
     o.option(m.sensor_offset, |o, s| o.floats(&s));
     o.f64(m.landmark_min_separation);
     o.len(m.heading_drift.len());
-    m.heading_drift.iter().for_each(|&(k, b)| {
-        o.u64(k);
-        o.f64(b);
+    m.heading_drift.iter().for_each(|w| {
+        o.u64(w.steps);
+        o.f64(w.error);
+        o.option(w.exempt_above, Out::f64);
     });
     o.0
 }
@@ -329,16 +331,30 @@ fn header(i: &mut In) -> Result<(String, Model, f64, usize), InputError> {
     Ok((name, model, dt, steps))
 }
 
-/// The heading drift windows: a count, then (k >= 1, b >= 0 and not NaN)
-/// pairs of 16 bytes each.
-fn heading_drift(i: &mut In) -> Result<Vec<(u64, f64)>, InputError> {
-    let n = i.count(16)?;
+/// The heading drift windows: a count, then (k >= 1, b >= 0 and not NaN,
+/// an optional `exempt_above` >= 0 and finite) of 17 or 25 bytes each,
+/// at most [`MAX_EXEMPT_LEVELS`] distinct `exempt_above`.
+fn heading_drift(i: &mut In) -> Result<Vec<DriftWindow>, InputError> {
+    let n = i.count(17)?;
     let mut out = Vec::with_capacity(n);
+    let mut levels: Vec<f64> = Vec::new();
     for _ in 0..n {
-        let k = i.u64()?;
-        let b = f64::from_bits(i.u64()?);
-        check(k >= 1 && b >= 0.0, "a heading drift window")?;
-        out.push((k, b));
+        let steps = i.u64()?;
+        let error = i.f64()?;
+        let exempt_above = i.option(In::f64)?;
+        check(steps >= 1 && error >= 0.0, "a heading drift window")?;
+        if let Some(t) = exempt_above {
+            check(t >= 0.0 && t.is_finite(), "a heading drift window")?;
+            if !levels.contains(&t) {
+                levels.push(t);
+            }
+        }
+        check(levels.len() <= MAX_EXEMPT_LEVELS, "heading_drift levels")?;
+        out.push(DriftWindow {
+            steps,
+            error,
+            exempt_above,
+        });
     }
     Ok(out)
 }
@@ -464,7 +480,7 @@ mod tests {
                 "turn_rate": {"lo": [0.2, -0.0], "hi": [0.3, 0.1]}
             },
             "heading_error": [0.001, 0.002], "sensor_offset": [0.3, -0.0],
-            "heading_drift": [{"steps": 1, "error": 0.0}, {"steps": 18446744073709551615u64, "error": 0.25}],
+            "heading_drift": [{"steps": 1, "error": 0.0}, {"steps": 18446744073709551615u64, "error": 0.25, "exempt_above": 0.0015}],
             "detections": [
                 {"step": 1, "range": [2, 3], "bearing": [0.1, 0.2], "scan": 18446744073709551615u64},
                 {"step": 2, "range": 4, "region": [[-9, 9], [0, 1]], "landmark": 2}

@@ -9,6 +9,7 @@ use crate::format::{self, leaf::List};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::json;
+use crate::odometry::drift::{DriftWindow, MAX_EXEMPT_LEVELS};
 use serde::{Serialize, Serializer};
 use serde_json::{Map, Value};
 
@@ -200,11 +201,13 @@ pub struct Mission {
     /// odometry2d: per-step heading integration error bound (N entries;
     /// empty for the other models).
     pub heading_error: Vec<f64>,
-    /// odometry2d: the heading drift windows `(k, b)` (`heading_drift`:
-    /// `|th(i+k) - th(i) - sum dt turn_rate| <= b`), k >= 1 (possibly
-    /// above N: no constraint), b >= 0; empty when none (always for the
-    /// other models).
-    pub heading_drift: Vec<(u64, f64)>,
+    /// odometry2d: the heading drift windows (`heading_drift`:
+    /// `|th(i+k) - th(i) - sum dt turn_rate| <= b + sum of the exempt
+    /// steps' heading_error`), k >= 1 (possibly above N: no constraint),
+    /// b >= 0, `exempt_above` >= 0 when given (at most
+    /// [`MAX_EXEMPT_LEVELS`] distinct values); empty when none (always
+    /// for the other models).
+    pub heading_drift: Vec<DriftWindow>,
     /// Where the sensor sits in the body frame, metres forward and left of
     /// p (2-D models; `None` is `[0, 0]`).
     pub sensor_offset: Option<[f64; 2]>,
@@ -359,14 +362,17 @@ struct Headings {
     initial: Option<Interval>,
     last: Option<Interval>,
     error: Vec<f64>,
-    drift: Vec<(u64, f64)>,
+    drift: Vec<DriftWindow>,
 }
 
 /// `heading_drift`: each window's `steps` >= 1 (any size: a window longer
-/// than N is kept and constrains nothing; nothing is sized by it) and
-/// `error` >= 0.
-fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<(u64, f64)>, InputError> {
-    let mut out = Vec::with_capacity(list.0.len());
+/// than N is kept and constrains nothing; nothing is sized by it),
+/// `error` >= 0, `exempt_above` >= 0 when given, with at most
+/// [`MAX_EXEMPT_LEVELS`] distinct values over the windows (one prefix
+/// array each).
+fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<DriftWindow>, InputError> {
+    let mut out: Vec<DriftWindow> = Vec::with_capacity(list.0.len());
+    let mut levels: Vec<f64> = Vec::new();
     for (x, w) in list.0.into_iter().enumerate() {
         let path = format!("heading_drift[{x}]");
         let steps_path = field_path(&path, "steps");
@@ -384,7 +390,30 @@ fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<(u64, f64)>, InputEr
                 format!("the drift bound must be >= 0, found {b}"),
             ));
         }
-        out.push((k, b));
+        let exempt_above = w.exempt_above.map(|t| t.0);
+        if let Some(t) = exempt_above {
+            let t_path = field_path(&path, "exempt_above");
+            if t.is_nan() || t < 0.0 {
+                return Err(err(
+                    t_path,
+                    format!("the exemption threshold must be >= 0, found {t}"),
+                ));
+            }
+            if !levels.contains(&t) {
+                if levels.len() == MAX_EXEMPT_LEVELS {
+                    return Err(err(
+                        t_path,
+                        format!("at most {MAX_EXEMPT_LEVELS} distinct exempt_above values over the windows (one prefix array each), found a {}th: {t}", MAX_EXEMPT_LEVELS + 1),
+                    ));
+                }
+                levels.push(t);
+            }
+        }
+        out.push(DriftWindow {
+            steps: k,
+            error: b,
+            exempt_above,
+        });
     }
     Ok(out)
 }
@@ -675,7 +704,13 @@ impl Mission {
                 let w: Vec<Value> = self
                     .heading_drift
                     .iter()
-                    .map(|&(k, b)| serde_json::json!({"steps": k, "error": b}))
+                    .map(|w| {
+                        let mut o = serde_json::json!({"steps": w.steps, "error": w.error});
+                        if let Some(t) = w.exempt_above {
+                            o["exempt_above"] = t.into();
+                        }
+                        o
+                    })
                     .collect();
                 o.insert("heading_drift".into(), Value::Array(w));
             }
@@ -1353,9 +1388,32 @@ mod tests {
             {"steps": 18446744073709551615u64, "error": 3}
         ]);
         let m = Mission::from_value(&v).unwrap();
-        assert_eq!(m.heading_drift, vec![(1, 0.0), (2, 0.25), (u64::MAX, 3.0)]);
+        let plain = DriftWindow::plain;
+        assert_eq!(
+            m.heading_drift,
+            vec![plain(1, 0.0), plain(2, 0.25), plain(u64::MAX, 3.0)]
+        );
         assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
         assert_eq!(Mission::from_json(&v.to_string()).unwrap(), m);
+        // exempt_above: kept, written back only when given; eight
+        // distinct values (and repeats of them) accepted.
+        let mut v = odometry();
+        let mut w: Vec<Value> = (0..8)
+            .map(|x| json!({"steps": 2, "error": 0.1, "exempt_above": 0.01 * x as f64}))
+            .collect();
+        w.push(json!({"steps": 3, "error": 0.2, "exempt_above": 0.07}));
+        w.push(json!({"steps": 3, "error": 0.2, "exempt_above": null}));
+        w.push(json!({"steps": 1, "error": 0.2}));
+        v["heading_drift"] = Value::Array(w);
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.heading_drift[1].exempt_above, Some(0.01));
+        assert_eq!(m.heading_drift[8].exempt_above, Some(0.07));
+        assert_eq!(m.heading_drift[9], DriftWindow::plain(3, 0.2));
+        assert_eq!(m.heading_drift[10], DriftWindow::plain(1, 0.2));
+        let back = m.to_value();
+        assert_eq!(back["heading_drift"][3]["exempt_above"], json!(0.03));
+        assert!(back["heading_drift"][10].get("exempt_above").is_none());
+        assert_eq!(Mission::from_value(&back).unwrap(), m);
         // sensor_offset on unicycle2d: parsed.
         let mut v = small();
         v["sensor_offset"] = json!([0.2, -0.1]);
@@ -1483,6 +1541,23 @@ mod tests {
             (
                 |v| v["heading_drift"] = json!({"steps": 2, "error": 1}),
                 "heading_drift: expected an array, found an object",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": 2, "error": 1, "exempt_above": -0.5}]),
+                "heading_drift[0].exempt_above: the exemption threshold must be >= 0, found -0.5",
+            ),
+            (
+                |v| v["heading_drift"] = json!([{"steps": 2, "error": 1, "exempt_above": "NaN"}]),
+                "heading_drift[0].exempt_above: expected a finite number, found a string",
+            ),
+            (
+                |v| {
+                    let w: Vec<Value> = (0..9)
+                        .map(|x| json!({"steps": 2, "error": 1, "exempt_above": x}))
+                        .collect();
+                    v["heading_drift"] = Value::Array(w);
+                },
+                "heading_drift[8].exempt_above: at most 8 distinct exempt_above values over the windows (one prefix array each), found a 9th: 8",
             ),
             (
                 |v| v["model"] = json!("odometry3d"),
