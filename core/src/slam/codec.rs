@@ -315,7 +315,7 @@ fn truth(i: &mut In, model: Model, steps: usize, k: usize) -> Result<Truth, Inpu
 /// The version tag, then `name`, `model`, `dt` (> 0) and `steps` (1 to
 /// [`MAX_STEPS`]).
 fn header(i: &mut In) -> Result<(String, Model, f64, usize), InputError> {
-    check(i.take(VERSION.len())? == VERSION, "not version nvmbin02")?;
+    check(i.take(VERSION.len())? == VERSION, "not version nvmbin03")?;
     let name_len = i.count(1)?;
     let name = String::from_utf8(i.take(name_len)?.to_vec()).map_err(|_| bad("name"))?;
     let model = match i.u8()? {
