@@ -113,8 +113,11 @@ pub fn from_value_reference<T: DeserializeOwned>(v: &Value) -> Result<T, InputEr
         .map_err(|e| data_error(e.path().to_string(), e.inner()))
 }
 
-fn invalid_json(e: &serde_json::Error) -> InputError {
-    InputError::new("", format!("invalid JSON: {e}"))
+fn invalid_json(text: &str, e: &serde_json::Error) -> InputError {
+    InputError::new(
+        syntax_path(text, e.line(), e.column()),
+        format!("invalid JSON: {e}"),
+    )
 }
 
 /// The syntax error of the text, as a parse into a JSON value reports it
@@ -122,9 +125,96 @@ fn invalid_json(e: &serde_json::Error) -> InputError {
 /// makes it the same whatever `T` is). Only on the error path.
 fn syntax(text: &str, e: &serde_json::Error) -> InputError {
     match serde_json::from_str::<Value>(text) {
-        Err(s) => invalid_json(&s),
-        Ok(_) => invalid_json(e),
+        Err(s) => invalid_json(text, &s),
+        Ok(_) => invalid_json(text, e),
     }
+}
+
+/// One level of [`syntax_path`]'s scan: an object (the key being read,
+/// `None` while a key is expected) or an array (the element's index).
+enum Level {
+    Key(Option<String>),
+    Index(usize),
+}
+
+/// The JSON path of the value being read where a syntax error stopped the
+/// parse, `line` and `column` as serde_json reports them (1-based; line 0:
+/// no position, ""): `dt` for `{"dt": NaN}`, `detections[3].range[1]` for
+/// `1e400` there, the enclosing object's path where a key is expected, ""
+/// at the top. So a NaN or Infinity literal, a number out of range or a
+/// truncated body is named by its path like any other bad value. One scan
+/// of the text up to that position (strings and their escapes skipped);
+/// O(length).
+pub fn syntax_path(text: &str, line: usize, column: usize) -> String {
+    let bytes = text.as_bytes();
+    let mut end = bytes.len();
+    if line == 0 {
+        return String::new();
+    }
+    let mut at_line = 1;
+    for (i, &b) in bytes.iter().enumerate() {
+        if at_line == line {
+            end = (i + column.saturating_sub(1)).min(bytes.len());
+            break;
+        }
+        if b == b'\n' {
+            at_line += 1;
+        }
+    }
+    let mut stack: Vec<Level> = Vec::new();
+    let (mut i, mut expect_key) = (0, false);
+    while i < end {
+        match bytes[i] {
+            b'{' => {
+                stack.push(Level::Key(None));
+                expect_key = true;
+            }
+            b'[' => stack.push(Level::Index(0)),
+            b'}' | b']' => {
+                stack.pop();
+            }
+            b',' => match stack.last_mut() {
+                Some(Level::Index(k)) => *k += 1,
+                Some(Level::Key(key)) => {
+                    *key = None;
+                    expect_key = true;
+                }
+                None => {}
+            },
+            b'"' => {
+                let start = i + 1;
+                i += 1;
+                while i < end && bytes[i] != b'"' {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+                if let (true, Some(Level::Key(key))) = (expect_key, stack.last_mut()) {
+                    let s = &bytes[start.min(end)..i.min(end)];
+                    *key = Some(String::from_utf8_lossy(s).into_owned());
+                }
+                expect_key = false;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    let mut path = String::new();
+    for level in &stack {
+        match level {
+            Level::Key(Some(k)) => {
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(k);
+            }
+            Level::Key(None) => break,
+            Level::Index(k) => {
+                path.push('[');
+                path.push_str(&k.to_string());
+                path.push(']');
+            }
+        }
+    }
+    path
 }
 
 /// A data error at `path` (serde_path_to_error's "." for the root is the
@@ -221,6 +311,35 @@ where
 
 #[cfg(test)]
 mod tests {
+    /// A syntax error is named by the path of the value being read: the
+    /// NaN and Infinity literals, a number out of range, a truncated text
+    /// (before, the path was always "").
+    #[test]
+    fn syntax_errors_name_the_value_being_read() {
+        let path = |text: &str| {
+            let e = serde_json::from_str::<Value>(text).unwrap_err();
+            let err = from_str::<Value>(text).unwrap_err();
+            assert!(err.message.starts_with("invalid JSON: "), "{}", err.message);
+            assert_eq!(err.path, syntax_path(text, e.line(), e.column()));
+            err.path
+        };
+        assert_eq!(path(r#"{"format": "x", "dt": NaN}"#), "dt");
+        assert_eq!(path("{\n  \"a\": 1,\n  \"dt\": Infinity\n}"), "dt");
+        assert_eq!(
+            path(r#"{"detections": [{"range": [1, 2]}, {"step": 3, "range": [1, 1e400]}]}"#),
+            "detections[1].range[1]"
+        );
+        assert_eq!(path(r#"{"a\"b": {"c": [0, 1, -]}}"#), "a\\\"b.c[2]");
+        assert_eq!(path(r#"{"meta": {"x": 1,}, "b": 2}"#), "meta");
+        assert_eq!(
+            path(r#"{"inputs": {"speed": {"value": [1, 2"#),
+            "inputs.speed.value[1]"
+        );
+        assert_eq!(path("NaN"), "");
+        assert_eq!(path("[1, 2, nope]"), "[2]");
+        assert_eq!(syntax_path("{\"a\": x}", 0, 0), "");
+    }
+
     use super::*;
 
     #[test]

@@ -106,13 +106,20 @@ impl IntoResponse for AppError {
 
 pub(super) type ApiResult<T> = Result<T, AppError>;
 
+/// A JSON body; a syntax error (a NaN or Infinity literal, a number out
+/// of range, a truncated body) is a 400 whose `path` names the value being
+/// read there (`nvector_core::format::syntax_path`).
 pub(super) fn parse_json(bytes: &[u8]) -> ApiResult<Value> {
     serde_json::from_slice(bytes).map_err(|e| {
+        let path = std::str::from_utf8(bytes).map_or(String::new(), |text| {
+            nvector_core::format::syntax_path(text, e.line(), e.column())
+        });
         AppError::new(
             StatusCode::BAD_REQUEST,
             "invalid_json",
             format!("invalid JSON: {e}"),
         )
+        .at(path)
     })
 }
 
