@@ -352,7 +352,8 @@ fn damaged_cmu_plaza_copies_are_refused_with_a_message() {
         lines.join("\n")
     };
     let truncate = |text: &str| -> String { text[..text.len() / 2].trim_end().to_string() };
-    let cases: [(&str, &dyn Fn(&str) -> String, &str); 5] = [
+    type Damage<'a> = &'a dyn Fn(&str) -> String;
+    let cases: [(&str, Damage, &str); 5] = [
         ("Plaza1_DR.txt", &cut_last_column, "Plaza1_DR.txt:"),
         ("Plaza1_TD.txt", &cut_last_column, "Plaza1_TD.txt:"),
         ("Plaza1_TD.txt", &truncate, "Plaza1_TD.txt:"),
