@@ -513,6 +513,27 @@ def m_drift_exact(m, rng):
     return "heading_drift exact %s" % ks
 
 
+def m_mislabel(m, rng):
+    """1-2 true detections given a wrong operator id, counted in
+    max_outliers; their truth.matching set to null (a dropped detection's
+    box need not hold its landmark), and every false detection labelled."""
+    t = m["truth"]
+    n = m.get("landmark_count") or len(t["landmarks"])
+    idx = [i for i, j in enumerate(t["matching"]) if j is not None]
+    if n < 2 or not idx:
+        return None
+    m["landmark_count"] = n
+    k = min(len(idx), rng.choice([1, 2]))
+    for i in rng.sample(idx, k):
+        m["detections"][i]["landmark"] = (t["matching"][i] + 1 + rng.randrange(n - 1)) % n
+        t["matching"][i] = None
+    for i, j in enumerate(t["matching"]):
+        if j is None and "landmark" not in m["detections"][i]:
+            m["detections"][i]["landmark"] = rng.randrange(n)
+    m["max_outliers"] = m.get("max_outliers", 0) + k
+    return "mislabel %d" % k
+
+
 def m_operator_partial(m, rng):
     t = m["truth"]
     for i, d in enumerate(m["detections"]):
@@ -569,7 +590,7 @@ MUTATIONS = [
     m_identity, m_widen, m_inf, m_huge, m_zero, m_shift, m_scale, m_heading_wrap,
     m_bearing_wrap, m_more_landmarks, m_min_sep, m_null_truth, m_shuffle, m_duplicate,
     m_scans, m_no_scans, m_more_outliers, m_operator_partial, m_motion_array, m_sensor_offset,
-    m_false, m_drift_exact,
+    m_false, m_drift_exact, m_mislabel,
 ]
 
 
