@@ -237,6 +237,12 @@ fn malformed_requests_get_4xx_naming_the_problem(b: &Backend) {
             "{\"detections\": [{\"range\": [1, 2]}, {\"range\": [1, Infinity]}]}",
             "detections[1].range[1]",
         ),
+        // A repeated key: the CLI's typed read refuses it; the service
+        // kept the last value and stored the mission (201).
+        (
+            "{\"format\": \"nvector-mission/1\", \"dt\": 0.1, \"dt\": 0.2}",
+            "dt",
+        ),
     ] {
         let (st, _, b) = s.req(
             "POST",

@@ -217,6 +217,125 @@ pub fn syntax_path(text: &str, line: usize, column: usize) -> String {
     path
 }
 
+/// The JSON path of the first key that appears twice in one object of
+/// `text`, outside the top-level `meta` (free-form): `dt`,
+/// `detections[2].range`. `None` when every object's keys are distinct or
+/// the text is not JSON. A typed read ([`from_str`]) refuses a repeated
+/// field of a format type ("duplicate field"), while a text first read as
+/// a `serde_json::Value` keeps the last value silently: the service
+/// checks this first, so that both refuse the same documents. One pass,
+/// nothing kept but each open object's keys.
+pub fn duplicate_key(text: &str) -> Option<String> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let mut found = None;
+    let seed = DupSeed {
+        path: &mut Vec::new(),
+        found: &mut found,
+    };
+    let _ = serde::de::DeserializeSeed::deserialize(seed, &mut de);
+    found
+}
+
+/// [`duplicate_key`]'s walk: the path so far and what it found.
+struct DupSeed<'a> {
+    path: &'a mut Vec<Level>,
+    found: &'a mut Option<String>,
+}
+
+fn level_path(levels: &[Level]) -> String {
+    let mut path = String::new();
+    for level in levels {
+        match level {
+            Level::Key(Some(k)) => {
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(k);
+            }
+            Level::Key(None) => break,
+            Level::Index(k) => {
+                path.push('[');
+                path.push_str(&k.to_string());
+                path.push(']');
+            }
+        }
+    }
+    path
+}
+
+impl<'de> serde::de::DeserializeSeed<'de> for DupSeed<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> serde::de::Visitor<'de> for DupSeed<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any JSON value")
+    }
+    fn visit_bool<E>(self, _: bool) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_i64<E>(self, _: i64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_u64<E>(self, _: u64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_f64<E>(self, _: f64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_str<E>(self, _: &str) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_unit<E>(self) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let mut i = 0;
+        loop {
+            self.path.push(Level::Index(i));
+            let seed = DupSeed {
+                path: &mut *self.path,
+                found: &mut *self.found,
+            };
+            let more = seq.next_element_seed(seed)?;
+            self.path.pop();
+            if more.is_none() {
+                return Ok(());
+            }
+            i += 1;
+        }
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let mut seen = std::collections::BTreeSet::new();
+        while let Some(key) = map.next_key::<String>()? {
+            self.path.push(Level::Key(Some(key.clone())));
+            if !seen.insert(key) {
+                *self.found = Some(level_path(self.path));
+                return Err(serde::de::Error::custom("duplicate key"));
+            }
+            if self.path.len() == 1 && map_key_is_meta(self.path) {
+                map.next_value::<IgnoredAny>()?;
+            } else {
+                let seed = DupSeed {
+                    path: &mut *self.path,
+                    found: &mut *self.found,
+                };
+                map.next_value_seed(seed)?;
+            }
+            self.path.pop();
+        }
+        Ok(())
+    }
+}
+
+fn map_key_is_meta(path: &[Level]) -> bool {
+    matches!(path.last(), Some(Level::Key(Some(k))) if k == "meta")
+}
+
 /// A data error at `path` (serde_path_to_error's "." for the root is the
 /// empty path), without serde_json's position, in the project's words.
 fn data_error(path: String, inner: &serde_json::Error) -> InputError {
@@ -314,6 +433,35 @@ mod tests {
     /// A syntax error is named by the path of the value being read: the
     /// NaN and Infinity literals, a number out of range, a truncated text
     /// (before, the path was always "").
+    /// Repeated keys are found with their path, outside `meta` only.
+    #[test]
+    fn duplicate_keys_are_found_with_their_path() {
+        assert_eq!(
+            duplicate_key(r#"{"dt": 1, "steps": 2, "dt": 3}"#).as_deref(),
+            Some("dt")
+        );
+        assert_eq!(
+            duplicate_key(
+                r#"{"detections": [{"step": 1}, {"range": [1, 2], "step": 0, "range": 3}]}"#
+            )
+            .as_deref(),
+            Some("detections[1].range")
+        );
+        assert_eq!(
+            duplicate_key(r#"{"meta": {"a": 1, "a": 2}, "b": [{"a": 1}, {"a": 2}]}"#),
+            None
+        );
+        assert_eq!(
+            duplicate_key(r#"{"x": {"meta": {"a": 1, "a": 2}}}"#).as_deref(),
+            Some("x.meta.a")
+        );
+        assert_eq!(duplicate_key("[1, {\"a\": [], \"b\": {}}]"), None);
+        assert_eq!(duplicate_key("{\"a\": NaN}"), None);
+        let text = r#"{"format": "nvector-contract/1", "n": 1, "n": 2, "boxes": [[[0, 1]]]}"#;
+        assert!(from_str::<Value>(text).is_ok());
+        assert_eq!(duplicate_key(text).as_deref(), Some("n"));
+    }
+
     #[test]
     fn syntax_errors_name_the_value_being_read() {
         let path = |text: &str| {
