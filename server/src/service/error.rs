@@ -127,7 +127,9 @@ pub(super) fn parse_json(bytes: &[u8]) -> ApiResult<Value> {
     Ok(v)
 }
 
-fn parse_json_value(bytes: &[u8]) -> ApiResult<Value> {
+/// A JSON text read as a `Value`, syntax errors as in [`parse_json`], repeated
+/// keys not checked: for the service's own stored texts (results).
+pub(super) fn parse_json_value(bytes: &[u8]) -> ApiResult<Value> {
     serde_json::from_slice(bytes).map_err(|e| {
         let path = std::str::from_utf8(bytes).map_or(String::new(), |text| {
             nvector_core::format::syntax_path(text, e.line(), e.column())
