@@ -3,7 +3,7 @@
 
 use nvector_core::contractors::motion_chain::unicycle_displacement;
 use nvector_core::slam::mission::Mission;
-use nvector_tests::{read_json, run, temp_file};
+use nvector_tests::{read_json, run, temp_dir, temp_file};
 use std::path::{Path, PathBuf};
 
 #[test]
@@ -333,4 +333,53 @@ fn cmu_plaza_with_planted_false_ranges_keeps_the_truth() {
     let out = run(&["import", "--false-detections", "3", "--model", "unicycle2d"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--cmu-plaza"));
+}
+
+/// Damaged copies of Plaza 1: a row short of a column the importer reads
+/// (a truncated last line, a column cut), or no range at all, panicked
+/// (index out of bounds in `cmu_inputs` / `cmu_ranges`, an empty slice in
+/// `range_band`; exit 101). Each is now an exit 1 whose message names the
+/// file (and the line, for a short row).
+#[test]
+fn damaged_cmu_plaza_copies_are_refused_with_a_message() {
+    let src = cmu_dir();
+    let cut_last_column = |text: &str| -> String {
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        let i = lines.len() / 2;
+        let mut cells: Vec<&str> = lines[i].split_whitespace().collect();
+        cells.pop();
+        lines[i] = cells.join("\t");
+        lines.join("\n")
+    };
+    let truncate = |text: &str| -> String { text[..text.len() / 2].trim_end().to_string() };
+    type Damage<'a> = &'a dyn Fn(&str) -> String;
+    let cases: [(&str, Damage, &str); 5] = [
+        ("Plaza1_DR.txt", &cut_last_column, "Plaza1_DR.txt:"),
+        ("Plaza1_TD.txt", &cut_last_column, "Plaza1_TD.txt:"),
+        ("Plaza1_TD.txt", &truncate, "Plaza1_TD.txt:"),
+        ("Plaza1_TD.txt", &|_: &str| String::new(), "Plaza1_TD.txt"),
+        (
+            "Plaza1_TL.csv",
+            &|t: &str| t.replace(",11.025548999197781", ""),
+            "Plaza1_TL.csv:",
+        ),
+    ];
+    for (k, (file, damage, named)) in cases.iter().enumerate() {
+        let dir = temp_dir(&format!("cmu-damaged-{k}"));
+        for f in [
+            "Plaza1_DR.txt",
+            "Plaza1_GT.csv",
+            "Plaza1_TD.txt",
+            "Plaza1_TL.csv",
+        ] {
+            let text = std::fs::read_to_string(src.join(f)).unwrap();
+            let text = if f == *file { damage(&text) } else { text };
+            std::fs::write(dir.join(f), text).unwrap();
+        }
+        let out = run(&["import", "--cmu-plaza", dir.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{file} case {k}: {err}");
+        assert!(err.starts_with("nvector: "), "{file} case {k}: {err}");
+        assert!(err.contains(named), "{file} case {k}: {err}");
+    }
 }

@@ -254,3 +254,55 @@ fn bad_problem_names_the_path_and_exits_1() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("--receivers"), "{err}");
 }
+
+/// `--contractor` was declared `Option<Option<Contractor>>` with a parser
+/// returning `Option<Contractor>`: clap took it for a flag with an optional
+/// value of type `Contractor` and every use (`--contractor best`, `none`,
+/// ...) panicked in clap (exit 101, "Mismatch between definition and access
+/// of `contractor`"). Each name runs now, and an unknown one is a usage
+/// error naming the option.
+#[test]
+fn every_contractor_name_runs() {
+    let m = temp_file("contractors.json");
+    let (code, err) = run(&[
+        "simulate",
+        "--scenario",
+        "radar",
+        "--pulses",
+        "20",
+        "--emitters",
+        "2",
+        "--operator",
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for c in [
+        "none",
+        "nvalue",
+        "projection",
+        "independent",
+        "exact",
+        "shapes",
+        "best",
+    ] {
+        let r = temp_file(&format!("contractors-{c}.json"));
+        let (code, err) = run(&[
+            "tdoa",
+            m.to_str().unwrap(),
+            "--contractor",
+            c,
+            "--budget",
+            "16",
+            "--out",
+            r.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "--contractor {c}: {err}");
+        let r = read_json(&r);
+        assert_eq!(r["score"]["truth_inside"], true, "{c}");
+        assert_eq!(r["score"]["matching_errors"], 0, "{c}");
+    }
+    let (code, err) = run(&["tdoa", m.to_str().unwrap(), "--contractor", "fast"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--contractor"), "{err}");
+}

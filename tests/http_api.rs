@@ -229,6 +229,30 @@ fn malformed_requests_get_4xx_naming_the_problem(b: &Backend) {
         );
         check(st, &b, "invalid_json");
     }
+    // The path names the value a syntax error stopped at (it was "").
+    for (text, path) in [
+        ("{\"format\": \"nvector-mission/1\", \"dt\": NaN}", "dt"),
+        ("{\"steps\": 10, \"dt\": 1e400}", "dt"),
+        (
+            "{\"detections\": [{\"range\": [1, 2]}, {\"range\": [1, Infinity]}]}",
+            "detections[1].range[1]",
+        ),
+        // A repeated key: the CLI's typed read refuses it; the service
+        // kept the last value and stored the mission (201).
+        (
+            "{\"format\": \"nvector-mission/1\", \"dt\": 0.1, \"dt\": 0.2}",
+            "dt",
+        ),
+    ] {
+        let (st, _, b) = s.req(
+            "POST",
+            "/api/v1/missions",
+            Some(("application/json", text.as_bytes())),
+            &[],
+        );
+        let v = check(st, &b, "invalid_json");
+        assert_eq!(v["error"]["path"], path, "{text}: {v}");
+    }
     // Wrong types and lo > hi, with the path.
     let mut m = mission.clone();
     m["dt"] = json!("fast");

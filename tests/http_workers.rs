@@ -256,3 +256,41 @@ fn a_short_job_submitted_after_long_ones_finishes_first() {
         }
     }
 }
+
+/// The time limit holds while the robust propagation (`max_outliers` > 0)
+/// runs its sub-propagations, which report no progress: the worker read
+/// the clock only in its progress callback, so a job on the paper mission
+/// with 10 false detections and a limit of 0.05 s or 0.3 s ran on, the
+/// service killed its worker after the 5 s grace and the job failed
+/// (`time_limit ... no result kept`). A watchdog thread now sets the
+/// cancel flag at the limit: the job is done (`time_limit` when the limit
+/// stopped it) and its boxes are sound.
+#[test]
+fn a_time_limit_stops_the_robust_propagation_with_a_sound_result() {
+    let s = Server::start(&["--workers", "1", "--short-lane-workers", "0"]);
+    let mut o = nvector_core::slam::simulate::SimulateOptions::new(
+        nvector_core::slam::simulate::Scenario::Paper,
+        1,
+    );
+    o.false_detections = 10;
+    let mission = nvector_core::slam::simulate::simulate(&o);
+    assert_eq!(mission["max_outliers"], 10);
+    let (st, m) = s.post("/api/v1/missions", &mission);
+    assert_eq!(st, 201, "{m}");
+    for limit in [0.05, 0.3] {
+        let (st, j) = s.post(
+            "/api/v1/jobs",
+            &json!({"mission": m["id"], "contractor": "best", "time_limit_s": limit}),
+        );
+        assert_eq!(st, 202, "{j}");
+        let id = j["id"].as_str().unwrap();
+        let j = s.wait_job(id, Duration::from_secs(120));
+        assert_eq!(j["state"], "done", "limit {limit}: {j}");
+        let (st, r) = s.get(&format!("/api/v1/jobs/{id}/result"));
+        assert_eq!(st, 200, "{r}");
+        assert_ne!(r["status"], "infeasible", "{}", r["reason"]);
+        assert_eq!(r["score"]["truth_inside"], true, "limit {limit}");
+        assert_eq!(r["score"]["matching_errors"], 0, "limit {limit}");
+    }
+    healthy(&s);
+}

@@ -113,8 +113,11 @@ pub fn from_value_reference<T: DeserializeOwned>(v: &Value) -> Result<T, InputEr
         .map_err(|e| data_error(e.path().to_string(), e.inner()))
 }
 
-fn invalid_json(e: &serde_json::Error) -> InputError {
-    InputError::new("", format!("invalid JSON: {e}"))
+fn invalid_json(text: &str, e: &serde_json::Error) -> InputError {
+    InputError::new(
+        syntax_path(text, e.line(), e.column()),
+        format!("invalid JSON: {e}"),
+    )
 }
 
 /// The syntax error of the text, as a parse into a JSON value reports it
@@ -122,9 +125,215 @@ fn invalid_json(e: &serde_json::Error) -> InputError {
 /// makes it the same whatever `T` is). Only on the error path.
 fn syntax(text: &str, e: &serde_json::Error) -> InputError {
     match serde_json::from_str::<Value>(text) {
-        Err(s) => invalid_json(&s),
-        Ok(_) => invalid_json(e),
+        Err(s) => invalid_json(text, &s),
+        Ok(_) => invalid_json(text, e),
     }
+}
+
+/// One level of [`syntax_path`]'s scan: an object (the key being read,
+/// `None` while a key is expected) or an array (the element's index).
+enum Level {
+    Key(Option<String>),
+    Index(usize),
+}
+
+/// The JSON path of the value being read where a syntax error stopped the
+/// parse, `line` and `column` as serde_json reports them (1-based; line 0:
+/// no position, ""): `dt` for `{"dt": NaN}`, `detections[3].range[1]` for
+/// `1e400` there, the enclosing object's path where a key is expected, ""
+/// at the top. So a NaN or Infinity literal, a number out of range or a
+/// truncated body is named by its path like any other bad value. One scan
+/// of the text up to that position (strings and their escapes skipped);
+/// O(length).
+pub fn syntax_path(text: &str, line: usize, column: usize) -> String {
+    let bytes = text.as_bytes();
+    let mut end = bytes.len();
+    if line == 0 {
+        return String::new();
+    }
+    let mut at_line = 1;
+    for (i, &b) in bytes.iter().enumerate() {
+        if at_line == line {
+            end = (i + column.saturating_sub(1)).min(bytes.len());
+            break;
+        }
+        if b == b'\n' {
+            at_line += 1;
+        }
+    }
+    let mut stack: Vec<Level> = Vec::new();
+    let (mut i, mut expect_key) = (0, false);
+    while i < end {
+        match bytes[i] {
+            b'{' => {
+                stack.push(Level::Key(None));
+                expect_key = true;
+            }
+            b'[' => stack.push(Level::Index(0)),
+            b'}' | b']' => {
+                stack.pop();
+            }
+            b',' => match stack.last_mut() {
+                Some(Level::Index(k)) => *k += 1,
+                Some(Level::Key(key)) => {
+                    *key = None;
+                    expect_key = true;
+                }
+                None => {}
+            },
+            b'"' => {
+                let start = i + 1;
+                i += 1;
+                while i < end && bytes[i] != b'"' {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+                if let (true, Some(Level::Key(key))) = (expect_key, stack.last_mut()) {
+                    let s = &bytes[start.min(end)..i.min(end)];
+                    *key = Some(String::from_utf8_lossy(s).into_owned());
+                }
+                expect_key = false;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    let mut path = String::new();
+    for level in &stack {
+        match level {
+            Level::Key(Some(k)) => {
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(k);
+            }
+            Level::Key(None) => break,
+            Level::Index(k) => {
+                path.push('[');
+                path.push_str(&k.to_string());
+                path.push(']');
+            }
+        }
+    }
+    path
+}
+
+/// The JSON path of the first key that appears twice in one object of
+/// `text`, outside the top-level `meta` (free-form): `dt`,
+/// `detections[2].range`. `None` when every object's keys are distinct or
+/// the text is not JSON. A typed read ([`from_str`]) refuses a repeated
+/// field of a format type ("duplicate field"), while a text first read as
+/// a `serde_json::Value` keeps the last value silently: the service
+/// checks this first, so that both refuse the same documents. One pass,
+/// nothing kept but each open object's keys.
+pub fn duplicate_key(text: &str) -> Option<String> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let mut found = None;
+    let seed = DupSeed {
+        path: &mut Vec::new(),
+        found: &mut found,
+    };
+    let _ = serde::de::DeserializeSeed::deserialize(seed, &mut de);
+    found
+}
+
+/// [`duplicate_key`]'s walk: the path so far and what it found.
+struct DupSeed<'a> {
+    path: &'a mut Vec<Level>,
+    found: &'a mut Option<String>,
+}
+
+fn level_path(levels: &[Level]) -> String {
+    let mut path = String::new();
+    for level in levels {
+        match level {
+            Level::Key(Some(k)) => {
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(k);
+            }
+            Level::Key(None) => break,
+            Level::Index(k) => {
+                path.push('[');
+                path.push_str(&k.to_string());
+                path.push(']');
+            }
+        }
+    }
+    path
+}
+
+impl<'de> serde::de::DeserializeSeed<'de> for DupSeed<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> serde::de::Visitor<'de> for DupSeed<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any JSON value")
+    }
+    fn visit_bool<E>(self, _: bool) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_i64<E>(self, _: i64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_u64<E>(self, _: u64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_f64<E>(self, _: f64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_str<E>(self, _: &str) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_unit<E>(self) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let mut i = 0;
+        loop {
+            self.path.push(Level::Index(i));
+            let seed = DupSeed {
+                path: &mut *self.path,
+                found: &mut *self.found,
+            };
+            let more = seq.next_element_seed(seed)?;
+            self.path.pop();
+            if more.is_none() {
+                return Ok(());
+            }
+            i += 1;
+        }
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let mut seen = std::collections::BTreeSet::new();
+        while let Some(key) = map.next_key::<String>()? {
+            self.path.push(Level::Key(Some(key.clone())));
+            if !seen.insert(key) {
+                *self.found = Some(level_path(self.path));
+                return Err(serde::de::Error::custom("duplicate key"));
+            }
+            if self.path.len() == 1 && map_key_is_meta(self.path) {
+                map.next_value::<IgnoredAny>()?;
+            } else {
+                let seed = DupSeed {
+                    path: &mut *self.path,
+                    found: &mut *self.found,
+                };
+                map.next_value_seed(seed)?;
+            }
+            self.path.pop();
+        }
+        Ok(())
+    }
+}
+
+fn map_key_is_meta(path: &[Level]) -> bool {
+    matches!(path.last(), Some(Level::Key(Some(k))) if k == "meta")
 }
 
 /// A data error at `path` (serde_path_to_error's "." for the root is the
@@ -221,6 +430,64 @@ where
 
 #[cfg(test)]
 mod tests {
+    /// A syntax error is named by the path of the value being read: the
+    /// NaN and Infinity literals, a number out of range, a truncated text
+    /// (before, the path was always "").
+    /// Repeated keys are found with their path, outside `meta` only.
+    #[test]
+    fn duplicate_keys_are_found_with_their_path() {
+        assert_eq!(
+            duplicate_key(r#"{"dt": 1, "steps": 2, "dt": 3}"#).as_deref(),
+            Some("dt")
+        );
+        assert_eq!(
+            duplicate_key(
+                r#"{"detections": [{"step": 1}, {"range": [1, 2], "step": 0, "range": 3}]}"#
+            )
+            .as_deref(),
+            Some("detections[1].range")
+        );
+        assert_eq!(
+            duplicate_key(r#"{"meta": {"a": 1, "a": 2}, "b": [{"a": 1}, {"a": 2}]}"#),
+            None
+        );
+        assert_eq!(
+            duplicate_key(r#"{"x": {"meta": {"a": 1, "a": 2}}}"#).as_deref(),
+            Some("x.meta.a")
+        );
+        assert_eq!(duplicate_key("[1, {\"a\": [], \"b\": {}}]"), None);
+        assert_eq!(duplicate_key("{\"a\": NaN}"), None);
+        let text = r#"{"format": "nvector-contract/1", "n": 1, "n": 2, "boxes": [[[0, 1]]]}"#;
+        assert!(from_str::<Value>(text).is_ok());
+        assert_eq!(duplicate_key(text).as_deref(), Some("n"));
+    }
+
+    #[test]
+    fn syntax_errors_name_the_value_being_read() {
+        let path = |text: &str| {
+            let e = serde_json::from_str::<Value>(text).unwrap_err();
+            let err = from_str::<Value>(text).unwrap_err();
+            assert!(err.message.starts_with("invalid JSON: "), "{}", err.message);
+            assert_eq!(err.path, syntax_path(text, e.line(), e.column()));
+            err.path
+        };
+        assert_eq!(path(r#"{"format": "x", "dt": NaN}"#), "dt");
+        assert_eq!(path("{\n  \"a\": 1,\n  \"dt\": Infinity\n}"), "dt");
+        assert_eq!(
+            path(r#"{"detections": [{"range": [1, 2]}, {"step": 3, "range": [1, 1e400]}]}"#),
+            "detections[1].range[1]"
+        );
+        assert_eq!(path(r#"{"a\"b": {"c": [0, 1, -]}}"#), "a\\\"b.c[2]");
+        assert_eq!(path(r#"{"meta": {"x": 1,}, "b": 2}"#), "meta");
+        assert_eq!(
+            path(r#"{"inputs": {"speed": {"value": [1, 2"#),
+            "inputs.speed.value[1]"
+        );
+        assert_eq!(path("NaN"), "");
+        assert_eq!(path("[1, 2, nope]"), "[2]");
+        assert_eq!(syntax_path("{\"a\": x}", 0, 0), "");
+    }
+
     use super::*;
 
     #[test]

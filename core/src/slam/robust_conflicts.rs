@@ -105,7 +105,7 @@ use super::robust_hitting::{forced, hitting_set, minimum, Forced, Hit};
 use super::rounds::rounds;
 use super::types::{Progress, SolveOptions, SolveStatus};
 use crate::interval::Interval;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Most ordinary propagations the rule runs.
 pub const MAX_SOLVES: usize = 600;
@@ -170,9 +170,11 @@ struct Solver<'a> {
 
 impl Solver<'_> {
     /// `Some(infeasible)`, and the positions when feasible; `None` at the
-    /// cap (nothing proved).
+    /// cap or once `cancel` is set (nothing proved: a cancelled
+    /// propagation proves nothing infeasible, and each would still run its
+    /// dead reckoning, so a cancelled packing went on for hundreds of them).
     fn solve(&mut self, keep: &[bool]) -> Option<(bool, Vec<Interval>)> {
-        if self.solves >= self.cap {
+        if self.solves >= self.cap || self.cancel.load(Ordering::Relaxed) {
             return None;
         }
         self.solves += 1;

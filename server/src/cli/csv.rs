@@ -14,6 +14,18 @@ pub struct Csv {
 
 /// Reads a CSV with a header row (comma or whitespace separated).
 pub fn read_csv(path: &Path, header: bool) -> Result<Csv, CliError> {
+    read_csv_with(path, header, 0)
+}
+
+/// The rows of a CSV without a header whose rows have at least `columns`
+/// cells each (more are allowed): a shorter row, a truncated last line for
+/// example, is an error naming its file and line, not an index out of
+/// bounds later.
+pub fn read_table(path: &Path, columns: usize) -> Result<Vec<Vec<f64>>, CliError> {
+    Ok(read_csv_with(path, false, columns)?.rows)
+}
+
+fn read_csv_with(path: &Path, header: bool, min_columns: usize) -> Result<Csv, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError(format!("reading {}: {e}", path.display())))?;
     let mut lines = text
@@ -44,6 +56,14 @@ pub fn read_csv(path: &Path, header: bool) -> Result<Csv, CliError> {
                 path.display(),
                 i + 1,
                 head.len(),
+                cells.len()
+            )));
+        }
+        if cells.len() < min_columns {
+            return Err(CliError(format!(
+                "{}:{}: expected at least {min_columns} columns, found {}",
+                path.display(),
+                i + 1,
                 cells.len()
             )));
         }

@@ -8,7 +8,7 @@
 //! `--cmu-plaza DIR`: the CMU Plaza 1 range-only dataset (see
 //! docs/cmu-plaza1.md for how every bound is derived from the data).
 
-use super::csv::{read_csv, Csv};
+use super::csv::{read_csv, read_table, Csv};
 use crate::CliError;
 use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
@@ -700,12 +700,23 @@ impl RangeBand {
 /// holds the central (1 - P) share of the residuals, and `max_outliers` is
 /// the count left outside (0: every range inside, no `max_outliers`).
 pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, CliError> {
-    let dr = read_csv(&dir.join("Plaza1_DR.txt"), false)?.rows;
-    let gt = read_csv(&dir.join("Plaza1_GT.csv"), false)?.rows;
-    let td = read_csv(&dir.join("Plaza1_TD.txt"), false)?.rows;
-    let tl = read_csv(&dir.join("Plaza1_TL.csv"), false)?.rows;
+    // The columns read below: DR time, distance, heading change; GT time,
+    // x, y, heading; TD time, (unused), beacon id, range; TL id, x, y.
+    let dr = read_table(&dir.join("Plaza1_DR.txt"), 3)?;
+    let gt = read_table(&dir.join("Plaza1_GT.csv"), 4)?;
+    let td = read_table(&dir.join("Plaza1_TD.txt"), 4)?;
+    let tl = read_table(&dir.join("Plaza1_TL.csv"), 3)?;
     let n = dr.len();
-    if gt.len() != n + 1 || tl.is_empty() {
+    if td.is_empty() || tl.is_empty() || n == 0 {
+        return Err(CliError(format!(
+            "{}: Plaza1_TD.txt, Plaza1_TL.csv and Plaza1_DR.txt must each hold a row ({}, {} and {} rows)",
+            dir.display(),
+            td.len(),
+            tl.len(),
+            n
+        )));
+    }
+    if gt.len() != n + 1 {
         return Err(CliError(format!(
             "{}: expected one more ground-truth row than odometry rows ({} and {})",
             dir.display(),

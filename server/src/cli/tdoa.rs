@@ -21,7 +21,7 @@ pub struct Args {
     /// none, nvalue, projection, independent, exact, shapes or best
     /// (default best; none: the operator's matching only).
     #[arg(long, value_parser = parse_contractor)]
-    contractor: Option<Option<Contractor>>,
+    contractor: Option<Mode>,
     /// Bisections of each pulse's paving.
     #[arg(long, default_value_t = nvector_core::tdoa::pulse::DEFAULT_BUDGET)]
     budget: usize,
@@ -37,11 +37,18 @@ pub struct Args {
     plot: Option<PathBuf>,
 }
 
-fn parse_contractor(s: &str) -> Result<Option<Contractor>, String> {
+/// The value of `--contractor`: `None` for `none` (the operator's matching
+/// only). A newtype, not `Option<Option<Contractor>>`: clap reads that type
+/// as a flag whose value is optional and of type `Contractor`, and panicked
+/// on every `--contractor` given (the parser returns an `Option`).
+#[derive(Clone, Copy)]
+struct Mode(Option<Contractor>);
+
+fn parse_contractor(s: &str) -> Result<Mode, String> {
     if s == "none" {
-        return Ok(None);
+        return Ok(Mode(None));
     }
-    Contractor::parse(s).map(Some).ok_or_else(|| {
+    Contractor::parse(s).map(|c| Mode(Some(c))).ok_or_else(|| {
         format!("unknown contractor '{s}' (expected none, nvalue, projection, independent, exact, shapes or best)")
     })
 }
@@ -59,7 +66,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         return Err(CliError(format!("--budget must be at most {MAX_BUDGET}")));
     }
     let options = TdoaOptions {
-        mode: a.contractor.unwrap_or(Some(Contractor::Best)),
+        mode: a.contractor.map_or(Some(Contractor::Best), |m| m.0),
         budget: a.budget,
         max_rounds: a.max_rounds.clamp(1, 1000),
     };

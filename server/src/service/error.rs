@@ -106,13 +106,40 @@ impl IntoResponse for AppError {
 
 pub(super) type ApiResult<T> = Result<T, AppError>;
 
+/// A JSON body; a syntax error (a NaN or Infinity literal, a number out
+/// of range, a truncated body) is a 400 whose `path` names the value being
+/// read there (`nvector_core::format::syntax_path`), and so is a key
+/// repeated in one object outside `meta` (a `Value` keeps the last one
+/// silently, while the CLI's typed read refuses a repeated field).
 pub(super) fn parse_json(bytes: &[u8]) -> ApiResult<Value> {
+    let v = parse_json_value(bytes)?;
+    if let Some(path) = std::str::from_utf8(bytes)
+        .ok()
+        .and_then(nvector_core::format::duplicate_key)
+    {
+        return Err(AppError::new(
+            StatusCode::BAD_REQUEST,
+            "invalid_json",
+            format!("duplicate key `{path}`: a key may appear once in an object"),
+        )
+        .at(path));
+    }
+    Ok(v)
+}
+
+/// A JSON text read as a `Value`, syntax errors as in [`parse_json`], repeated
+/// keys not checked: for the service's own stored texts (results).
+pub(super) fn parse_json_value(bytes: &[u8]) -> ApiResult<Value> {
     serde_json::from_slice(bytes).map_err(|e| {
+        let path = std::str::from_utf8(bytes).map_or(String::new(), |text| {
+            nvector_core::format::syntax_path(text, e.line(), e.column())
+        });
         AppError::new(
             StatusCode::BAD_REQUEST,
             "invalid_json",
             format!("invalid JSON: {e}"),
         )
+        .at(path)
     })
 }
 

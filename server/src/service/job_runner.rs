@@ -235,7 +235,11 @@ fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<()
             }
         }
     };
-    let solution = solve_model(&mission, &options, &mut progress, &cancel);
+    let deadline = AtomicBool::new(false);
+    let solution = with_deadline(start, limit, &cancel, &deadline, || {
+        solve_model(&mission, &options, &mut progress, &cancel)
+    });
+    let timed_out = timed_out || deadline.load(Ordering::SeqCst);
     if let Some(e) = broken {
         return Err(e);
     }
@@ -247,6 +251,40 @@ fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<()
         timed_out,
     };
     send_result(out, mission, run)
+}
+
+/// Runs `f` while a watchdog thread sets `cancel` (and `hit`) once `limit`
+/// has passed since `start`. The progress callback also checks the clock,
+/// but only where the solver reports progress: the robust propagation's
+/// sub-propagations (`max_outliers` > 0: consensus, conflict packing)
+/// report none, so a job with false detections ran on past its limit, the
+/// service killed its worker after the grace period, and the job failed
+/// with no result instead of being `done` with its sound partial boxes.
+fn with_deadline<T>(
+    start: Instant,
+    limit: Duration,
+    cancel: &AtomicBool,
+    hit: &AtomicBool,
+    f: impl FnOnce() -> T,
+) -> T {
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let watchdog = scope.spawn(|| {
+            while !done.load(Ordering::SeqCst) {
+                let left = limit.saturating_sub(start.elapsed());
+                if left.is_zero() {
+                    hit.store(true, Ordering::SeqCst);
+                    cancel.store(true, Ordering::SeqCst);
+                    return;
+                }
+                std::thread::park_timeout(left);
+            }
+        });
+        let out = f();
+        done.store(true, Ordering::SeqCst);
+        watchdog.thread().unpark();
+        out
+    })
 }
 
 /// A job's run, to be reported.

@@ -4,7 +4,7 @@
 //! or SVG). The workers that run jobs are in `worker.rs`.
 
 use super::error::ErrorBody;
-use super::error::{parse_json, ApiResult, AppError, Body, RequestBody};
+use super::error::{parse_json_value, ApiResult, AppError, Body, RequestBody};
 use super::job_runner::JobKind;
 use super::state::{AppState, Owner};
 use super::store::{JobErrorCode, JobRow, JobState, QueuePolicy, Queued};
@@ -615,7 +615,7 @@ pub(super) async fn job_result(
     };
     let format = q.format.as_deref().unwrap_or("json");
     if JobKind::of(&job.mission) == JobKind::Tdoa && matches!(format, "csv" | "svg") {
-        let v = parse_json(text.as_bytes())?;
+        let v = parse_json_value(text.as_bytes())?;
         if format == "csv" {
             return Ok((
                 [(header::CONTENT_TYPE, "text/csv")],
@@ -635,7 +635,7 @@ pub(super) async fn job_result(
     match format {
         "json" => Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response()),
         "csv" => {
-            let v = parse_json(text.as_bytes())?;
+            let v = parse_json_value(text.as_bytes())?;
             Ok((
                 [(header::CONTENT_TYPE, "text/csv")],
                 super::result_files::trajectory_csv(&v),
@@ -643,7 +643,7 @@ pub(super) async fn job_result(
                 .into_response())
         }
         "svg" => {
-            let v = parse_json(text.as_bytes())?;
+            let v = parse_json_value(text.as_bytes())?;
             let mission_id = job.mission.clone();
             let mission = state
                 .db(move |st| st.mission_body(&owner, &mission_id))
