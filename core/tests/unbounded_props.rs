@@ -966,15 +966,21 @@ fn associations(k: usize) -> Vec<Association> {
 
 /// Makes a few steps of a simulated mission unbounded or overflowing, the
 /// ways the mission format allows (every value keeps the truth): a speed of
-/// `1e308 ± 1e308` ([0, +inf]) or `v ± 1e308`, a heading `± f64::MAX`, a
-/// motion error of f64::MAX, 1e308 or 1e300, a range [lo, +inf] or
-/// [0, +inf].
+/// `1e308 ± 1e308` ([0, +inf]) or `v ± 1e308`, a heading `± f64::MAX`, an
+/// input sample of (-inf, inf), a motion error of f64::MAX, 1e308 or
+/// 1e300, a range [lo, +inf] or [0, +inf].
 fn make_wild(rng: &mut Rng, m: &mut Mission) -> String {
     let mut what = Vec::new();
     let n = m.steps;
     for _ in 0..1 + rng.below(3) {
         let i = rng.below(n);
-        match rng.below(6) {
+        match rng.below(7) {
+            6 => {
+                // A whole sample unbounded: "lo": "-inf", "hi": "inf".
+                let channel = rng.below(m.inputs.len());
+                m.inputs[channel][i] = Interval::ENTIRE;
+                what.push(format!("an input at step {i} (-inf, inf)"));
+            }
             0 => {
                 let c = &mut m.inputs[if m.model.dim() == 2 { 0 } else { 3 }][i];
                 *c = if c.lo() >= 0.0 {
@@ -1080,6 +1086,9 @@ fn the_engine_keeps_the_truth_across_unbounded_steps() {
         }
         let mut m = Mission::from_value(&simulate(&o)).expect("valid");
         let what = make_wild(rng, &mut m);
+        // Written as JSON and read back: the unbounded bounds survive
+        // ("-inf" / "inf", not null).
+        let m = Mission::from_value(&m.to_value()).expect("the wild mission, written back");
         let k = m.detections.len();
         for assoc in associations(k) {
             let options = SolveOptions {

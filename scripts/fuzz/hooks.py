@@ -176,8 +176,13 @@ def channel(v, path, steps):
         per_step(lo, f"{path}.lo", steps)
         per_step(hi, f"{path}.hi", steps)
         for i, (a, b) in enumerate(zip(lo, hi)):
+            a, b = bound(a, f"{path}.lo[{i}]"), bound(b, f"{path}.hi[{i}]")
             if a > b:
                 raise Broken(f"{path}.lo[{i}]: above hi")
+            if a == INF:
+                raise Broken(f"{path}.lo[{i}]: inf holds no real number")
+            if b == -INF:
+                raise Broken(f"{path}.hi[{i}]: -inf holds no real number")
 
 
 def mission_rules(m):

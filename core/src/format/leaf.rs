@@ -329,6 +329,18 @@ impl<'de> Deserialize<'de> for Numbers {
     }
 }
 
+/// An array of bounds (numbers, `"-inf"`, `"inf"`), packed as floats: the
+/// `lo` and `hi` of an input channel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bounds(pub Vec<f64>);
+
+impl<'de> Deserialize<'de> for Bounds {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Bounds, D::Error> {
+        let List(v) = List::<Bound>::deserialize(d)?;
+        Ok(Bounds(v.into_iter().map(|x| x.0).collect()))
+    }
+}
+
 /// A number, or an array of numbers (one per step).
 #[derive(Debug, Clone, PartialEq)]
 pub enum PerStep {

@@ -5,7 +5,7 @@
 //! (those read through [`present`]). Unknown fields are refused, naming
 //! the field, except inside `meta`.
 
-use super::leaf::{BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, PointsIn};
+use super::leaf::{Bounds, BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, PointsIn};
 #[cfg(feature = "openapi")]
 use super::openapi::mission as oa;
 use super::present;
@@ -234,9 +234,9 @@ pub struct ChannelDoc {
     #[serde(default, deserialize_with = "present")]
     pub error: Option<PerStep>,
     #[serde(default, deserialize_with = "present")]
-    pub lo: Option<Numbers>,
+    pub lo: Option<Bounds>,
     #[serde(default, deserialize_with = "present")]
-    pub hi: Option<Numbers>,
+    pub hi: Option<Bounds>,
 }
 
 /// One landmark detection.

@@ -37,6 +37,11 @@ fn doubles() -> ArrayBuilder {
     ArrayBuilder::new().items(number().format(Some(SchemaFormat::KnownFormat(KnownFormat::Double))))
 }
 
+/// An array of [`Bound`]s (a channel's `lo` or `hi`).
+fn bound_list() -> ArrayBuilder {
+    ArrayBuilder::new().items(Ref::from_schema_name("Bound"))
+}
+
 /// `{"type": "null"}`.
 fn null() -> ObjectBuilder {
     ObjectBuilder::new().schema_type(Type::Null)
@@ -172,14 +177,18 @@ pub fn channel() -> RefOr<Schema> {
         ))
         .property(
             "lo",
-            doubles().description(Some(
-                "Lower bounds, one per step. Rules: `steps` entries, `lo[i] <= hi[i]`.",
+            bound_list().description(Some(
+                "Lower bounds, one per step: numbers, or \"-inf\" (unbounded below). \
+                 Rules: `steps` entries, `lo[i] <= hi[i]`, no `lo[i]` of \"inf\".",
             )),
         )
         .required("lo")
         .property(
             "hi",
-            doubles().description(Some("Upper bounds, one per step. Rule: `steps` entries.")),
+            bound_list().description(Some(
+                "Upper bounds, one per step: numbers, or \"inf\" (unbounded above). \
+                 Rules: `steps` entries, no `hi[i]` of \"-inf\".",
+            )),
         )
         .required("hi")
         .additional_properties(Some(AdditionalProperties::<Schema>::FreeForm(false)));

@@ -3,7 +3,7 @@
 //! path of the bad value.
 
 use crate::error::InputError;
-use crate::format::leaf::{wrong_count, Finite, Numbers, PointsIn};
+use crate::format::leaf::{wrong_count, Bounds, Finite, Numbers, PointsIn};
 use crate::format::mission::{ChannelDoc, DetectionDoc, HeadingDriftDoc, MissionDoc, TruthDoc};
 use crate::format::{self, leaf::List};
 use crate::ibox::IntervalBox;
@@ -242,6 +242,14 @@ fn numbers(v: Numbers, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
     Ok(v.0)
 }
 
+/// N bounds (`lo` or `hi` of a channel; `"-inf"` and `"inf"` allowed).
+fn bounds(v: Bounds, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
+    if v.0.len() != n {
+        return Err(wrong_count(path, n, v.0.len()));
+    }
+    Ok(v.0)
+}
+
 /// The fields of `names` present (`true`) that are not in `allowed`: the
 /// first as an "unknown field" error at `path`.
 fn only(names: &[(&str, bool)], allowed: &[&str], path: &str) -> Result<(), InputError> {
@@ -284,8 +292,9 @@ fn channel(c: ChannelDoc, path: &str, n: usize) -> Result<Vec<Interval>, InputEr
     } else if c.lo.is_some() || c.hi.is_some() {
         only(&fields, &["lo", "hi"], path)?;
         let lo_path = field_path(path, "lo");
-        let lo = numbers(need(c.lo, path, "lo")?, &lo_path, n)?;
-        let hi = numbers(need(c.hi, path, "hi")?, &field_path(path, "hi"), n)?;
+        let hi_path = field_path(path, "hi");
+        let lo = bounds(need(c.lo, path, "lo")?, &lo_path, n)?;
+        let hi = bounds(need(c.hi, path, "hi")?, &hi_path, n)?;
         lo.iter()
             .zip(&hi)
             .enumerate()
@@ -294,6 +303,16 @@ fn channel(c: ChannelDoc, path: &str, n: usize) -> Result<Vec<Interval>, InputEr
                     Err(err(
                         format!("{lo_path}[{i}]"),
                         format!("lower bound {l} is above upper bound {h}"),
+                    ))
+                } else if l == f64::INFINITY {
+                    Err(err(
+                        format!("{lo_path}[{i}]"),
+                        "a lower bound of inf holds no real number",
+                    ))
+                } else if h == f64::NEG_INFINITY {
+                    Err(err(
+                        format!("{hi_path}[{i}]"),
+                        "an upper bound of -inf holds no real number",
                     ))
                 } else {
                     Ok(Interval::new(l, h))
@@ -683,8 +702,10 @@ impl Mission {
         );
         let mut inputs = Map::new();
         for (name, ch) in self.model.channels().iter().zip(&self.inputs) {
-            let lo: Vec<f64> = ch.iter().map(|x| x.lo()).collect();
-            let hi: Vec<f64> = ch.iter().map(|x| x.hi()).collect();
+            // Bounds, not bare floats: an unbounded input is "-inf" /
+            // "inf" (serde_json would write a non-finite float as null).
+            let lo: Vec<Value> = ch.iter().map(|x| json::bound_to_json(x.lo())).collect();
+            let hi: Vec<Value> = ch.iter().map(|x| json::bound_to_json(x.hi())).collect();
             inputs.insert((*name).into(), serde_json::json!({"lo": lo, "hi": hi}));
         }
         o.insert("inputs".into(), Value::Object(inputs));
@@ -1012,6 +1033,24 @@ mod tests {
     }
 
     #[test]
+    fn unbounded_channel_bounds_are_read_and_written_back() {
+        let mut v = small();
+        v["inputs"]["heading"] = json!({"lo": ["-inf", 0.1], "hi": [0.0, "inf"]});
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.inputs[1][0], Interval::new(f64::NEG_INFINITY, 0.0));
+        assert_eq!(m.inputs[1][1], Interval::new(0.1, f64::INFINITY));
+        let back = m.to_value();
+        assert_eq!(back["inputs"]["heading"]["lo"], json!(["-inf", 0.1]));
+        assert_eq!(back["inputs"]["heading"]["hi"], json!([0.0, "inf"]));
+        assert_eq!(Mission::from_value(&back).unwrap(), m);
+        // A value and error that overflow are written back as bounds too.
+        v["inputs"]["speed"] = json!({"value": [1.0, 1e308], "error": 1e308});
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.inputs[0][1].hi(), f64::INFINITY);
+        assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
+    }
+
+    #[test]
     fn round_trips() {
         let m = Mission::from_value(&small()).unwrap();
         let again = Mission::from_value(&m.to_value()).unwrap();
@@ -1207,6 +1246,22 @@ mod tests {
             (
                 |v| v["inputs"]["speed"]["lo"] = json!([1, 2]),
                 "inputs.speed.lo: unknown field `lo`",
+            ),
+            (
+                |v| v["inputs"]["heading"]["lo"] = json!(["inf", 0.1]),
+                "inputs.heading.lo[0]: lower bound inf is above upper bound 0",
+            ),
+            (
+                |v| v["inputs"]["heading"] = json!({"lo": [0, "inf"], "hi": [1, "inf"]}),
+                "inputs.heading.lo[1]: a lower bound of inf holds no real number",
+            ),
+            (
+                |v| v["inputs"]["heading"] = json!({"lo": ["-inf", 0], "hi": ["-inf", 1]}),
+                "inputs.heading.hi[0]: an upper bound of -inf holds no real number",
+            ),
+            (
+                |v| v["inputs"]["heading"]["hi"] = json!([0, "infinity"]),
+                "inputs.heading.hi[1]",
             ),
             (
                 |v| v["inputs"]["speed"] = json!(3),
