@@ -142,6 +142,191 @@ fn import_csv_pair() {
     );
 }
 
+/// A simulated woods robot (odometry2d, bearings, scans, a sensor offset)
+/// written as the two CSV files of `nvector import` and imported back: the
+/// same inputs, detections and fields; solved with the simulation's truth
+/// put back, the truth stays inside and no matching is wrong.
+#[test]
+fn import_csv_odometry2d_with_bearings_and_scans() {
+    let dir = temp_dir("import-odometry2d");
+    let sim = dir.join("sim.json");
+    let out = run(&[
+        "simulate",
+        "--scenario",
+        "woods",
+        "--seed",
+        "4",
+        "--steps",
+        "300",
+        "--out",
+        sim.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = read_json(&sim);
+    let m = Mission::from_value(&v).unwrap();
+    let dt = v["dt"].as_f64().unwrap();
+    let (speed, turn) = (&v["inputs"]["speed"], &v["inputs"]["turn_rate"]);
+    let mut log = String::from("t,speed,turn_rate\n");
+    for i in 0..m.steps {
+        let t = i as f64 * dt;
+        log += &format!("{t},{},{}\n", speed["value"][i], turn["value"][i]);
+    }
+    let mut det = String::from("t,range_lo,range_hi,bearing_lo,bearing_hi,scan,comment\n");
+    for d in v["detections"].as_array().unwrap() {
+        let t = d["step"].as_f64().unwrap() * dt;
+        det += &format!(
+            "{t},{},{},{},{},{},7\n",
+            d["range"][0], d["range"][1], d["bearing"][0], d["bearing"][1], d["scan"]
+        );
+    }
+    let (log_path, det_path, out_path) =
+        (dir.join("log.csv"), dir.join("det.csv"), dir.join("m.json"));
+    std::fs::write(&log_path, log).unwrap();
+    std::fs::write(&det_path, det).unwrap();
+    let f = |x: &serde_json::Value| x.as_f64().unwrap().to_string();
+    let pair = |x: &serde_json::Value| format!("{},{}", f(&x[0]), f(&x[1]));
+    let initial = format!(
+        "{},{}",
+        pair(&v["initial_position"][0]),
+        pair(&v["initial_position"][1])
+    );
+    let (speed_e, turn_e) = (
+        format!("speed={}", f(&speed["error"])),
+        format!("turn_rate={}", f(&turn["error"])),
+    );
+    let (heading, offset) = (pair(&v["initial_heading"]), pair(&v["sensor_offset"]));
+    let (he, me, sep) = (
+        f(&v["heading_error"]),
+        f(&v["motion_error"]),
+        f(&v["landmark_min_separation"]),
+    );
+    let base = [
+        "import",
+        "--model",
+        "odometry2d",
+        "--log",
+        log_path.to_str().unwrap(),
+        "--detections",
+        det_path.to_str().unwrap(),
+        "--dt",
+        &f(&v["dt"]),
+        "--error",
+        &speed_e,
+        "--error",
+        &turn_e,
+        "--initial",
+        &initial,
+        "--motion-error",
+        &me,
+        "--landmark-count",
+        "17",
+    ];
+    let fields = [
+        "--initial-heading",
+        &heading,
+        "--heading-error",
+        &he,
+        "--sensor-offset",
+        &offset,
+        "--landmark-min-separation",
+        &sep,
+        "--out",
+        out_path.to_str().unwrap(),
+    ];
+    let out = run(&[&base[..], &fields[..]].concat());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    // The column it does not read is named, not silently dropped.
+    assert!(err.contains("ignoring column(s) comment"), "{err}");
+    let mut imported = read_json(&out_path);
+    let back = Mission::from_value(&imported).unwrap();
+    assert_eq!((back.model, back.steps, back.dt), (m.model, m.steps, m.dt));
+    assert_eq!(back.inputs, m.inputs);
+    assert_eq!(back.detections, m.detections);
+    assert_eq!(
+        (
+            back.initial_heading,
+            back.heading_error.clone(),
+            back.sensor_offset
+        ),
+        (m.initial_heading, m.heading_error.clone(), m.sensor_offset)
+    );
+    assert_eq!(back.landmark_min_separation, m.landmark_min_separation);
+    // Solved with the simulation's truth: inside, no wrong matching.
+    imported["truth"] = v["truth"].clone();
+    std::fs::write(&out_path, serde_json::to_string(&imported).unwrap()).unwrap();
+    let result = dir.join("r.json");
+    let out = run(&[
+        "run",
+        out_path.to_str().unwrap(),
+        "--contractor",
+        "best",
+        "--out",
+        result.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r = read_json(&result);
+    assert_eq!(r["score"]["truth_inside"], true, "{}", r["score"]);
+    assert_eq!(r["score"]["matching_errors"], 0, "{}", r["score"]);
+    assert!(
+        r["score"]["matching_recall"].as_f64().unwrap() > 0.5,
+        "{}",
+        r["score"]
+    );
+
+    // What is refused, and how it is named.
+    let refused = |args: &[&str], det: Option<&str>, want: &str| {
+        if let Some(d) = det {
+            std::fs::write(&det_path, d).unwrap();
+        }
+        let out = run(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: wanted '{want}' in: {err}");
+    };
+    refused(
+        &base,
+        None,
+        "--initial-heading LO,HI is required for odometry2d",
+    );
+    let mut uni = base.to_vec();
+    uni[2] = "unicycle2d";
+    refused(
+        &[&uni[..], &["--initial-heading", "0,1"]].concat(),
+        None,
+        "--initial-heading is only for odometry2d",
+    );
+    let with_heading = [&base[..], &["--initial-heading", &heading]].concat();
+    refused(
+        &with_heading,
+        Some("t,range_lo,range_hi,range_lo\n0,1,2,1\n"),
+        "det.csv: column 'range_lo' appears twice in the header",
+    );
+    refused(
+        &with_heading,
+        Some("t,range_lo,range_hi,bearing_lo\n0,1,2,0.5\n"),
+        "det.csv: missing column 'bearing_hi' in the header",
+    );
+    refused(
+        &with_heading,
+        Some("t,range_lo,range_hi,bearing_lo,bearing_hi\n0,1,2,0.5,0.4\n"),
+        "det.csv:2: bearing [0.5, 0.4] must satisfy bearing_lo <= bearing_hi",
+    );
+    refused(
+        &with_heading,
+        Some("t,range_lo,range_hi,scan\n0,1,2,0\n0.1,1,2,-1\n"),
+        "det.csv:3: scan must be a non-negative integer, found -1",
+    );
+}
+
 fn cmu_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
     assert!(

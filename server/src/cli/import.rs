@@ -2,8 +2,10 @@
 //!
 //! Generic CSV (docs/formats.md): a log with a header row and one row per
 //! step (`t` and the model's channels), detections in a second CSV
-//! (`t,range_lo,range_hi[,landmark]`), error bounds on the command line;
-//! times are matched to steps by `round((t - t0) / dt)`.
+//! (`t,range_lo,range_hi`, optional `bearing_lo,bearing_hi`, `scan`,
+//! `landmark`), error bounds on the command line; times are matched to
+//! steps by `round((t - t0) / dt)`. A column named twice is refused; a
+//! column the import does not read is named on standard error.
 //!
 //! `--cmu-plaza DIR`: the CMU Plaza 1 range-only dataset (see
 //! docs/cmu-plaza1.md for how every bound is derived from the data).
@@ -16,13 +18,14 @@ use std::path::{Path, PathBuf};
 /// Arguments of `nvector import`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Motion model of the log: unicycle2d or auv3d.
+    /// Motion model of the log: unicycle2d, auv3d or odometry2d.
     #[arg(long)]
     model: Option<String>,
     /// Sensor log CSV: header row with `t` and the model's channels.
     #[arg(long)]
     log: Option<PathBuf>,
-    /// Detections CSV: `t,range_lo,range_hi[,landmark]`.
+    /// Detections CSV: `t,range_lo,range_hi`, optional
+    /// `bearing_lo,bearing_hi` (radians), `scan` and `landmark`.
     #[arg(long)]
     detections: Option<PathBuf>,
     /// Error bound of a channel, as NAME=E (repeat for each channel).
@@ -42,6 +45,23 @@ pub struct Args {
     /// Number of landmarks (enables atmost_nvector).
     #[arg(long)]
     landmark_count: Option<usize>,
+    /// odometry2d: the initial heading interval, LO,HI (radians; required
+    /// for odometry2d).
+    #[arg(long, value_name = "LO,HI", allow_hyphen_values = true)]
+    initial_heading: Option<String>,
+    /// odometry2d: the per-step heading integration error bound (radians).
+    #[arg(long, allow_negative_numbers = true)]
+    heading_error: Option<f64>,
+    /// unicycle2d, odometry2d: where the range-and-bearing sensor sits in
+    /// the body frame, X,Y (m, X along the heading).
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    sensor_offset: Option<String>,
+    /// Distinct landmarks are at least this far apart (m).
+    #[arg(long, allow_negative_numbers = true)]
+    landmark_min_separation: Option<f64>,
+    /// At most this many detections may be false (`max_outliers`).
+    #[arg(long)]
+    max_outliers: Option<u64>,
     /// Mission name.
     #[arg(long)]
     name: Option<String>,
@@ -84,8 +104,9 @@ fn channels(model: &str) -> Result<&'static [&'static str], CliError> {
     match model {
         "unicycle2d" => Ok(&["speed", "heading"]),
         "auv3d" => Ok(&["roll", "pitch", "yaw", "vx", "vy", "vz"]),
+        "odometry2d" => Ok(&["speed", "turn_rate"]),
         _ => Err(CliError(format!(
-            "--model: unknown model '{model}' (expected unicycle2d or auv3d)"
+            "--model: unknown model '{model}' (expected unicycle2d, auv3d or odometry2d)"
         ))),
     }
 }
@@ -158,10 +179,64 @@ fn channel_inputs(
     Ok(inputs)
 }
 
-/// The detections CSV (`t,range_lo,range_hi[,landmark]`), each time
-/// matched to the step `round((t - t0) / dt)` in `0..=steps`.
+/// The columns a detections CSV may have.
+const DETECTION_COLUMNS: [&str; 7] = [
+    "t",
+    "range_lo",
+    "range_hi",
+    "bearing_lo",
+    "bearing_hi",
+    "scan",
+    "landmark",
+];
+
+/// Refuses a column named twice in `csv`'s header (which one would be
+/// read?) and names on standard error the columns not in `read`.
+fn check_columns(csv: &Csv, path: &Path, read: &[&str]) -> Result<(), CliError> {
+    for (i, h) in csv.header.iter().enumerate() {
+        if csv.header[..i].contains(h) {
+            return Err(CliError(format!(
+                "{}: column '{h}' appears twice in the header",
+                path.display()
+            )));
+        }
+    }
+    let unread: Vec<&str> = csv
+        .header
+        .iter()
+        .map(String::as_str)
+        .filter(|h| !read.contains(h))
+        .collect();
+    if !unread.is_empty() {
+        eprintln!(
+            "nvector import: {}: ignoring column(s) {} (read: {})",
+            path.display(),
+            unread.join(", "),
+            read.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// A non-negative integer cell, or an error naming its file, line and
+/// column.
+fn integer_cell(x: f64, path: &Path, line: usize, name: &str) -> Result<u64, CliError> {
+    if x >= 0.0 && x.fract() == 0.0 && x <= 9_007_199_254_740_992.0 {
+        Ok(x as u64)
+    } else {
+        Err(CliError(format!(
+            "{}:{line}: {name} must be a non-negative integer, found {x}",
+            path.display()
+        )))
+    }
+}
+
+/// The detections CSV (`t,range_lo,range_hi`, optional
+/// `bearing_lo,bearing_hi`, `scan`, `landmark`), each time matched to the
+/// step `round((t - t0) / dt)` in `0..=steps`.
 fn csv_detections(det_path: &Path, t0: f64, dt: f64, steps: usize) -> Result<Vec<Value>, CliError> {
     let det = read_csv(det_path, true)?;
+    check_columns(&det, det_path, &DETECTION_COLUMNS)?;
     let dcol = |name: &str| {
         det.header.iter().position(|h| h == name).ok_or_else(|| {
             CliError(format!(
@@ -172,6 +247,12 @@ fn csv_detections(det_path: &Path, t0: f64, dt: f64, steps: usize) -> Result<Vec
     };
     let (tc, lc, hc) = (dcol("t")?, dcol("range_lo")?, dcol("range_hi")?);
     let mc = dcol("landmark").ok();
+    let sc = dcol("scan").ok();
+    let bc = match (dcol("bearing_lo"), dcol("bearing_hi")) {
+        (Ok(l), Ok(h)) => Some((l, h)),
+        (Err(_), Err(_)) => None,
+        (Ok(_), Err(e)) | (Err(e), Ok(_)) => return Err(e),
+    };
     let mut dets = Vec::with_capacity(det.rows.len());
     for (i, r) in det.rows.iter().enumerate() {
         let step = ((r[tc] - t0) / dt).round();
@@ -192,18 +273,103 @@ fn csv_detections(det_path: &Path, t0: f64, dt: f64, steps: usize) -> Result<Vec
             )));
         }
         let mut d = json!({"step": step as u64, "range": [r[lc], r[hc]]});
-        if let Some(m) = mc {
-            if r[m] < 0.0 || r[m].fract() != 0.0 {
+        if let Some((bl, bh)) = bc {
+            if !(r[bl] <= r[bh]) {
                 return Err(CliError(format!(
-                    "{}:{line}: landmark must be a non-negative integer",
-                    det_path.display()
+                    "{}:{line}: bearing [{}, {}] must satisfy bearing_lo <= bearing_hi",
+                    det_path.display(),
+                    r[bl],
+                    r[bh]
                 )));
             }
-            d["landmark"] = json!(r[m] as u64);
+            d["bearing"] = json!([r[bl], r[bh]]);
+        }
+        if let Some(c) = sc {
+            d["scan"] = json!(integer_cell(r[c], det_path, line, "scan")?);
+        }
+        if let Some(m) = mc {
+            d["landmark"] = json!(integer_cell(r[m], det_path, line, "landmark")?);
         }
         dets.push(d);
     }
     Ok(dets)
+}
+
+/// Two finite numbers `A,B` of the flag `flag`.
+fn number_pair(s: &str, flag: &str) -> Result<[f64; 2], CliError> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| CliError(format!("{flag} {s}: expected two numbers")))?;
+    match v[..] {
+        [a, b] if a.is_finite() && b.is_finite() => Ok([a, b]),
+        _ => Err(CliError(format!("{flag} {s}: expected two finite numbers"))),
+    }
+}
+
+/// The model's own fields from the flags: `initial_heading` and
+/// `heading_error` (odometry2d), `sensor_offset` (unicycle2d,
+/// odometry2d), and `landmark_count`, `landmark_min_separation`,
+/// `max_outliers`; a flag the model has no field for is refused.
+fn model_fields(a: &Args, model: &str, m: &mut Value) -> Result<(), CliError> {
+    let odometry = model == "odometry2d";
+    match (&a.initial_heading, odometry) {
+        (Some(h), true) => {
+            let [lo, hi] = number_pair(h, "--initial-heading")?;
+            if lo > hi {
+                return Err(CliError(format!("--initial-heading {h}: LO is above HI")));
+            }
+            m["initial_heading"] = json!([lo, hi]);
+        }
+        (None, true) => {
+            return Err(CliError(
+                "--initial-heading LO,HI is required for odometry2d".into(),
+            ))
+        }
+        (Some(_), false) => {
+            return Err(CliError(format!(
+                "--initial-heading is only for odometry2d, not {model}"
+            )))
+        }
+        (None, false) => {}
+    }
+    if let Some(e) = a.heading_error {
+        if !odometry {
+            return Err(CliError(format!(
+                "--heading-error is only for odometry2d, not {model}"
+            )));
+        }
+        if !(e.is_finite() && e >= 0.0) {
+            return Err(CliError(format!(
+                "--heading-error must be a number >= 0, found {e}"
+            )));
+        }
+        m["heading_error"] = json!(e);
+    }
+    if let Some(o) = &a.sensor_offset {
+        if model == "auv3d" {
+            return Err(CliError(
+                "--sensor-offset is for unicycle2d and odometry2d, not auv3d".into(),
+            ));
+        }
+        m["sensor_offset"] = json!(number_pair(o, "--sensor-offset")?);
+    }
+    if let Some(n) = a.landmark_count {
+        m["landmark_count"] = json!(n);
+    }
+    if let Some(d) = a.landmark_min_separation {
+        if !(d.is_finite() && d >= 0.0) {
+            return Err(CliError(format!(
+                "--landmark-min-separation must be a number >= 0, found {d}"
+            )));
+        }
+        m["landmark_min_separation"] = json!(d);
+    }
+    if let Some(q) = a.max_outliers {
+        m["max_outliers"] = json!(q);
+    }
+    Ok(())
 }
 
 /// The `--initial` box (lo,hi per axis), the origin when absent.
@@ -234,6 +400,9 @@ fn generic(a: &Args) -> Result<Value, CliError> {
         .as_deref()
         .ok_or_else(|| CliError("--model is required (or --cmu-plaza DIR)".into()))?;
     let chans = channels(model)?;
+    // The model's flags are checked before the files are read.
+    let mut fields = json!({});
+    model_fields(a, model, &mut fields)?;
     let dim = if model == "auv3d" { 3 } else { 2 };
     let log_path = a
         .log
@@ -244,6 +413,9 @@ fn generic(a: &Args) -> Result<Value, CliError> {
         .as_ref()
         .ok_or_else(|| CliError("--detections is required".into()))?;
     let log = read_csv(log_path, true)?;
+    let mut read = vec!["t"];
+    read.extend_from_slice(chans);
+    check_columns(&log, log_path, &read)?;
     let t_col = log.header.iter().position(|h| h == "t").ok_or_else(|| {
         CliError(format!(
             "{}: missing column 't' in the header",
@@ -274,8 +446,8 @@ fn generic(a: &Args) -> Result<Value, CliError> {
         "detections": dets,
         "meta": {"imported_from": log_path.display().to_string()},
     });
-    if let Some(n) = a.landmark_count {
-        m["landmark_count"] = json!(n);
+    if let (Some(m), Value::Object(fields)) = (m.as_object_mut(), fields) {
+        m.extend(fields);
     }
     Ok(m)
 }
