@@ -274,7 +274,7 @@ fn csv_detections(det_path: &Path, t0: f64, dt: f64, steps: usize) -> Result<Vec
         }
         let mut d = json!({"step": step as u64, "range": [r[lc], r[hc]]});
         if let Some((bl, bh)) = bc {
-            if !(r[bl] <= r[bh]) {
+            if r[bl] > r[bh] {
                 return Err(CliError(format!(
                     "{}:{line}: bearing [{}, {}] must satisfy bearing_lo <= bearing_hi",
                     det_path.display(),
