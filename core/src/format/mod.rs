@@ -197,24 +197,7 @@ pub fn syntax_path(text: &str, line: usize, column: usize) -> String {
         }
         i += 1;
     }
-    let mut path = String::new();
-    for level in &stack {
-        match level {
-            Level::Key(Some(k)) => {
-                if !path.is_empty() {
-                    path.push('.');
-                }
-                path.push_str(k);
-            }
-            Level::Key(None) => break,
-            Level::Index(k) => {
-                path.push('[');
-                path.push_str(&k.to_string());
-                path.push(']');
-            }
-        }
-    }
-    path
+    level_path(&stack)
 }
 
 /// The JSON path of the first key that appears twice in one object of
@@ -242,6 +225,8 @@ struct DupSeed<'a> {
     found: &'a mut Option<String>,
 }
 
+/// The JSON path (`a.b[2].c`) of the open keys and indices, up to the
+/// first unnamed key.
 fn level_path(levels: &[Level]) -> String {
     let mut path = String::new();
     for level in levels {
