@@ -146,11 +146,11 @@ enum Level {
 /// of the text up to that position (strings and their escapes skipped);
 /// O(length).
 pub fn syntax_path(text: &str, line: usize, column: usize) -> String {
-    let bytes = text.as_bytes();
-    let mut end = bytes.len();
     if line == 0 {
         return String::new();
     }
+    let bytes = text.as_bytes();
+    let mut end = bytes.len();
     let mut at_line = 1;
     for (i, &b) in bytes.iter().enumerate() {
         if at_line == line {
@@ -415,9 +415,8 @@ where
 
 #[cfg(test)]
 mod tests {
-    /// A syntax error is named by the path of the value being read: the
-    /// NaN and Infinity literals, a number out of range, a truncated text
-    /// (before, the path was always "").
+    use super::*;
+
     /// Repeated keys are found with their path, outside `meta` only.
     #[test]
     fn duplicate_keys_are_found_with_their_path() {
@@ -447,6 +446,9 @@ mod tests {
         assert_eq!(duplicate_key(text).as_deref(), Some("n"));
     }
 
+    /// A syntax error is named by the path of the value being read: the
+    /// NaN and Infinity literals, a number out of range, a truncated text
+    /// (before, the path was always "").
     #[test]
     fn syntax_errors_name_the_value_being_read() {
         let path = |text: &str| {
@@ -472,8 +474,6 @@ mod tests {
         assert_eq!(path("[1, 2, nope]"), "[2]");
         assert_eq!(syntax_path("{\"a\": x}", 0, 0), "");
     }
-
-    use super::*;
 
     #[test]
     fn serde_messages_are_rewritten() {

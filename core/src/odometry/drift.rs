@@ -73,6 +73,15 @@ use crate::interval::Interval;
 /// u = 2^-53, the unit roundoff of f64 (round to nearest).
 const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
 
+/// `k·u·M` rounded up (as a point interval's enclosure): how far the
+/// difference of two round-to-nearest prefix sums k additions apart may be
+/// from the exact sum, M the largest |prefix| (module doc, "Soundness").
+fn prefix_rounding(k: usize, largest: f64) -> Interval {
+    Interval::point(k as f64)
+        .mul(Interval::point(largest))
+        .scale(UNIT_ROUNDOFF)
+}
+
 /// The most distinct `exempt_above` values of one chain (one prefix
 /// array each); a window with a ninth value is left out (sound: a
 /// window less).
@@ -149,12 +158,9 @@ impl Exempt {
         if self.inf[i + k] != self.inf[i] {
             return f64::INFINITY;
         }
-        let r = Interval::point(k as f64)
-            .mul(Interval::point(self.largest))
-            .scale(UNIT_ROUNDOFF);
         Interval::point(self.sum[i + k])
             .sub(Interval::point(self.sum[i]))
-            .add(r)
+            .add(prefix_rounding(k, self.largest))
             .hi()
     }
 }
@@ -310,9 +316,7 @@ impl HeadingDrift {
     /// R(k) = k·u·M, rounded up (as a point interval's enclosure): how far
     /// a prefix difference over k steps may be from the exact sum.
     fn rounding(&self, k: usize) -> Interval {
-        Interval::point(k as f64)
-            .mul(Interval::point(self.largest))
-            .scale(UNIT_ROUNDOFF)
+        prefix_rounding(k, self.largest)
     }
 
     fn push(&mut self, a: f64, c: f64, na: u32, nc: u32) {

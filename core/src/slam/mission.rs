@@ -3,7 +3,7 @@
 //! path of the bad value.
 
 use crate::error::InputError;
-use crate::format::leaf::{wrong_count, Bounds, Finite, Numbers, PointsIn};
+use crate::format::leaf::{wrong_count, Finite, PointsIn};
 use crate::format::mission::{ChannelDoc, DetectionDoc, HeadingDriftDoc, MissionDoc, TruthDoc};
 use crate::format::{self, leaf::List};
 use crate::ibox::IntervalBox;
@@ -234,20 +234,12 @@ fn need<T>(v: Option<T>, path: &str, field: &str) -> Result<T, InputError> {
     v.ok_or_else(|| missing(field_path(path, field)))
 }
 
-/// An array of `n` numbers.
-fn numbers(v: Numbers, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
-    if v.0.len() != n {
-        return Err(wrong_count(path, n, v.0.len()));
+/// A channel's array (`value`, `lo` or `hi`): one number per step.
+fn per_step(v: Vec<f64>, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
+    if v.len() != n {
+        return Err(wrong_count(path, n, v.len()));
     }
-    Ok(v.0)
-}
-
-/// N bounds (`lo` or `hi` of a channel; `"-inf"` and `"inf"` allowed).
-fn bounds(v: Bounds, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
-    if v.0.len() != n {
-        return Err(wrong_count(path, n, v.0.len()));
-    }
-    Ok(v.0)
+    Ok(v)
 }
 
 /// The fields of `names` present (`true`) that are not in `allowed`: the
@@ -278,7 +270,7 @@ fn channel(c: ChannelDoc, path: &str, n: usize) -> Result<Vec<Interval>, InputEr
     ];
     if let Some(value) = c.value {
         only(&fields, &["value", "error"], path)?;
-        let values = numbers(value, &field_path(path, "value"), n)?;
+        let values = per_step(value.0, &field_path(path, "value"), n)?;
         let error = need(c.error, path, "error")?.non_negative(
             &field_path(path, "error"),
             n,
@@ -293,8 +285,8 @@ fn channel(c: ChannelDoc, path: &str, n: usize) -> Result<Vec<Interval>, InputEr
         only(&fields, &["lo", "hi"], path)?;
         let lo_path = field_path(path, "lo");
         let hi_path = field_path(path, "hi");
-        let lo = bounds(need(c.lo, path, "lo")?, &lo_path, n)?;
-        let hi = bounds(need(c.hi, path, "hi")?, &hi_path, n)?;
+        let lo = per_step(need(c.lo, path, "lo")?.0, &lo_path, n)?;
+        let hi = per_step(need(c.hi, path, "hi")?.0, &hi_path, n)?;
         lo.iter()
             .zip(&hi)
             .enumerate()

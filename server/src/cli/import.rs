@@ -295,13 +295,14 @@ fn csv_detections(det_path: &Path, t0: f64, dt: f64, steps: usize) -> Result<Vec
     Ok(dets)
 }
 
+/// A flag's comma-separated numbers, `None` when one is not a number.
+fn flag_numbers(s: &str) -> Option<Vec<f64>> {
+    s.split(',').map(|x| x.trim().parse::<f64>().ok()).collect()
+}
+
 /// Two finite numbers `A,B` of the flag `flag`.
 fn number_pair(s: &str, flag: &str) -> Result<[f64; 2], CliError> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| CliError(format!("{flag} {s}: expected two numbers")))?;
+    let v = flag_numbers(s).ok_or_else(|| CliError(format!("{flag} {s}: expected two numbers")))?;
     match v[..] {
         [a, b] if a.is_finite() && b.is_finite() => Ok([a, b]),
         _ => Err(CliError(format!("{flag} {s}: expected two finite numbers"))),
@@ -377,11 +378,7 @@ fn initial_box(a: &Args, dim: usize) -> Result<Value, CliError> {
     let Some(s) = &a.initial else {
         return Ok(json!(vec![json!([0.0, 0.0]); dim]));
     };
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| CliError(format!("--initial {s}: expected numbers")))?;
+    let v = flag_numbers(s).ok_or_else(|| CliError(format!("--initial {s}: expected numbers")))?;
     if v.len() != 2 * dim {
         return Err(CliError(format!(
             "--initial {s}: expected {} numbers (lo,hi per axis)",
