@@ -119,6 +119,20 @@ pub enum Regions {
 /// (enclosing d(j) in every reading keeping j), `live[j]` (not proved
 /// false), the budget of drops among the live ones and n.
 pub fn regions(det: &[IntervalBox], live: &[bool], budget: usize, n: usize) -> Regions {
+    regions_with(det, live, budget, n, &[])
+}
+
+/// [`regions`] with `held`: boxes already proved to hold a landmark in
+/// every solution of every reading (a valid group's, [`super::robust_tracks`]),
+/// tried first as the boxes B of step 1, narrowest first, each kept when it
+/// meets none kept before.
+pub fn regions_with(
+    det: &[IntervalBox],
+    live: &[bool],
+    budget: usize,
+    n: usize,
+    held: &[IntervalBox],
+) -> Regions {
     let Some(dim) = det.first().map(IntervalBox::dim) else {
         return Regions::Unknown;
     };
@@ -136,6 +150,23 @@ pub fn regions(det: &[IntervalBox], live: &[bool], budget: usize, n: usize) -> R
         .collect();
     crate::sort::sort_by(&mut cand, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut kept: Vec<IntervalBox> = Vec::with_capacity(n);
+    let mut by_width: Vec<(f64, usize)> = held
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.diameter(), i))
+        .filter(|&(w, i)| w.is_finite() && held[i].dim() == dim)
+        .collect();
+    crate::sort::sort_by(&mut by_width, |a, b| {
+        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+    });
+    for &(_, i) in &by_width {
+        if kept.len() == n {
+            break;
+        }
+        if !kept.iter().any(|b| b.meets(&held[i])) {
+            kept.push(held[i].clone());
+        }
+    }
     let mut tries = 0;
     for &(_, j) in &cand {
         if kept.len() == n || tries == MAX_TRIES {
