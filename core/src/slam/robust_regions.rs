@@ -17,7 +17,9 @@
 //! 1. *At least one landmark.* If at least `budget + 1` live detections
 //!    have their boxes inside a box B, every reading keeps one of them, and
 //!    its landmark lies in its box, so in B: every solution of every
-//!    reading has a landmark in B.
+//!    reading has a landmark in B. A box the caller proved to hold a
+//!    landmark in every reading (`held`: a valid track group's,
+//!    [`super::robust_tracks`]) serves as such a B too.
 //! 2. *Exactly one.* With n pairwise disjoint such boxes B(1..n) and n
 //!    landmarks, each B(i) holds exactly one landmark, L(i), and every
 //!    landmark is one of them.
