@@ -24,7 +24,7 @@ fn sensor(v: &Value, t: usize) -> Option<([f64; 2], f64)> {
     let o = &v["sensor_offset"];
     let (ox, oy) = (o[0].as_f64().unwrap_or(0.0), o[1].as_f64().unwrap_or(0.0));
     let (x, y) = (p[0].as_f64()?, p[1].as_f64()?);
-    let (s, c) = th.sin_cos();
+    let (s, c) = libm::sincos(th);
     Some(([x + c * ox - s * oy, y + s * ox + c * oy], th))
 }
 
@@ -35,8 +35,8 @@ fn plant(v: &mut Value, like: usize, at: [f64; 2]) {
     let t = d["step"].as_u64().unwrap() as usize;
     let Some((s, th)) = sensor(v, t) else { return };
     let (dx, dy) = (at[0] - s[0], at[1] - s[1]);
-    let r = dx.hypot(dy);
-    let b = dy.atan2(dx) - th;
+    let r = libm::hypot(dx, dy);
+    let b = libm::atan2(dy, dx) - th;
     let wr = d["range"][1].as_f64().unwrap() - d["range"][0].as_f64().unwrap();
     let wb = d["bearing"][1].as_f64().unwrap() - d["bearing"][0].as_f64().unwrap();
     let mut f = json!({"step": t, "range": [r - wr / 2.0, r + wr / 2.0],
@@ -77,7 +77,7 @@ fn plant_false(v: &mut Value, rng: &mut Rng, k: usize) -> usize {
         let kind = rng.below(5);
         let far = |p: [f64; 2]| {
             ls.iter()
-                .all(|m| (p[0] - m[0]).hypot(p[1] - m[1]) > s + 0.5)
+                .all(|m| libm::hypot(p[0] - m[0], p[1] - m[1]) > s + 0.5)
         };
         let at = match kind {
             // Far from every landmark.
@@ -88,7 +88,7 @@ fn plant_false(v: &mut Value, rng: &mut Rng, k: usize) -> usize {
             2 => {
                 let Some(m) = ls
                     .iter()
-                    .find(|m| **m != l && (m[0] - l[0]).hypot(m[1] - l[1]) < 2.0 * s)
+                    .find(|m| **m != l && libm::hypot(m[0] - l[0], m[1] - l[1]) < 2.0 * s)
                 else {
                     continue;
                 };
@@ -109,7 +109,7 @@ fn plant_false(v: &mut Value, rng: &mut Rng, k: usize) -> usize {
         }
         // Kinds 2 and 3 are seen again from the next detections' steps
         // (a consistent phantom landmark).
-        let repeats = if kind >= 2 && kind < 4 {
+        let repeats = if (2..4).contains(&kind) {
             1 + rng.below(3)
         } else {
             1

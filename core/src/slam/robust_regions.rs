@@ -105,6 +105,30 @@ pub fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> Int
     out
 }
 
+/// Pairwise disjoint boxes among `held` (bounded, of dimension `dim`),
+/// narrowest first, at most n. O(h log h + h · n · d).
+fn disjoint_held(held: &[IntervalBox], n: usize, dim: usize) -> Vec<IntervalBox> {
+    let mut kept: Vec<IntervalBox> = Vec::with_capacity(n);
+    let mut by_width: Vec<(f64, usize)> = held
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.diameter(), i))
+        .filter(|&(w, i)| w.is_finite() && held[i].dim() == dim)
+        .collect();
+    crate::sort::sort_by(&mut by_width, |a, b| {
+        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+    });
+    for &(_, i) in &by_width {
+        if kept.len() == n {
+            break;
+        }
+        if !kept.iter().any(|b| b.meets(&held[i])) {
+            kept.push(held[i].clone());
+        }
+    }
+    kept
+}
+
 /// What [`regions`] proves.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Regions {
@@ -151,24 +175,7 @@ pub fn regions_with(
         .filter(|&(w, _)| w.is_finite())
         .collect();
     crate::sort::sort_by(&mut cand, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut kept: Vec<IntervalBox> = Vec::with_capacity(n);
-    let mut by_width: Vec<(f64, usize)> = held
-        .iter()
-        .enumerate()
-        .map(|(i, b)| (b.diameter(), i))
-        .filter(|&(w, i)| w.is_finite() && held[i].dim() == dim)
-        .collect();
-    crate::sort::sort_by(&mut by_width, |a, b| {
-        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
-    });
-    for &(_, i) in &by_width {
-        if kept.len() == n {
-            break;
-        }
-        if !kept.iter().any(|b| b.meets(&held[i])) {
-            kept.push(held[i].clone());
-        }
-    }
+    let mut kept = disjoint_held(held, n, dim);
     let mut tries = 0;
     for &(_, j) in &cand {
         if kept.len() == n || tries == MAX_TRIES {

@@ -131,6 +131,10 @@ pub fn track_unions(
     unions
 }
 
+/// What [`StepRuns::for_each_pair`] calls for each pair it may compare:
+/// `(a, b, proved)`, `proved()` running the gap test.
+pub type OnPair<'f> = dyn FnMut(usize, usize, &mut dyn FnMut() -> bool) + 'f;
+
 /// The detections of a mission in step order, in runs of one step, with
 /// their body points: what the pair tests read.
 pub struct StepRuns<'a> {
@@ -184,12 +188,7 @@ impl<'a> StepRuns<'a> {
     /// relative pose narrower than 2s), in order of i then j; `proved()`
     /// runs the gap test ([`gap_below`]): true when the two landmarks are
     /// proved less than s apart, hence one when both detections are real.
-    pub fn for_each_pair(
-        &self,
-        chain: &OdometryChain,
-        options: TrackOptions,
-        f: &mut dyn FnMut(usize, usize, &mut dyn FnMut() -> bool),
-    ) {
+    pub fn for_each_pair(&self, chain: &OdometryChain, options: TrackOptions, f: &mut OnPair) {
         let (dets, order, runs, o, s) = (self.dets, &self.order, &self.runs, self.o, self.s);
         let (n, k) = (chain.steps(), order.len());
         for r in 0..runs.len() - 1 {
