@@ -143,6 +143,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         10,
         "minimum hitting sets of conflicts",
     ),
+    (
+        "slam::robust_tracks",
+        10,
+        "track groups that survive false detections",
+    ),
     ("slam::outliers", 11, "the robust propagation"),
     (
         "slam::robust_conflicts",

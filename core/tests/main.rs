@@ -33,6 +33,7 @@ mod robust_conflicts;
 mod robust_hitting;
 mod robust_regions;
 mod robust_subsets;
+mod robust_tracks;
 mod shapes_props;
 mod shapes_schedule;
 mod shapes_slam;

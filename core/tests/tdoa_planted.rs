@@ -344,6 +344,20 @@ fn an_impossible_arrival_is_infeasible_without_outliers_and_dropped_with() {
         .infeasible
         .is_none());
     assert!(p.pulses.len() == 3);
+    // As for missions: a q above the arrival count reads as that count,
+    // up to u32::MAX; above it, an error naming the field.
+    let arrivals = ok.pulses.iter().map(|p| p.arrivals.len()).sum::<usize>();
+    for q in [arrivals as u64 + 1, u64::from(u32::MAX)] {
+        doc["max_outliers"] = json!(q);
+        let wide = TdoaProblem::from_value(&doc).expect("q above the arrivals");
+        assert_eq!(wide.max_outliers, arrivals, "q = {q}");
+        assert!(solve_tdoa(&wide, &TdoaOptions::default())
+            .infeasible
+            .is_none());
+    }
+    doc["max_outliers"] = json!(u64::from(u32::MAX) + 1);
+    let err = TdoaProblem::from_value(&doc).expect_err("q above u32::MAX");
+    assert!(err.to_string().contains("max_outliers"), "{err}");
 }
 
 #[test]

@@ -332,8 +332,8 @@ def tdoa_rules(t):
         if not absent(p, "region"):
             box(p["region"], f"{at}.region", 3)
     q = t.get("max_outliers")
-    if q is not None and q > arrivals:
-        raise Broken("max_outliers: above the number of arrivals")
+    if q is not None and q > 4294967295:
+        raise Broken("max_outliers: above u32::MAX")
     if not absent(t, "emitter_region"):
         box(t["emitter_region"], "emitter_region", 3)
     if not absent(t, "meta") and not isinstance(t["meta"], dict):

@@ -29,6 +29,7 @@ pub mod robust_conflicts;
 pub mod robust_hitting;
 pub mod robust_regions;
 pub mod robust_subsets;
+pub mod robust_tracks;
 pub mod rounds;
 pub mod simulate;
 #[cfg(feature = "openapi")]

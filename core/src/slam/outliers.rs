@@ -81,13 +81,15 @@
 //! beyond the model (recorded sums and key snapshots; past 2^24 keys the
 //! merge is given up and the one-sided bounds stay).
 
+use super::association::tracks::TrackOptions;
 use super::kept::{kept_with_conflicts, refine, sure_groups, Kept};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
 use super::robust_conflicts::{pack, Packing};
 pub use super::robust_regions::relaxed_intersection;
-use super::robust_regions::{regions, Regions};
+use super::robust_regions::{regions_with, Regions};
 use super::robust_subsets::{consensus, Consensus};
+use super::robust_tracks::robust_track_groups;
 use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
@@ -204,7 +206,7 @@ fn gather(
     mission: &Mission,
     model: &mut Model,
     prior: &[IntervalBox],
-    groups: &[Vec<usize>],
+    (groups, operator): (&[Vec<usize>], bool),
     q: usize,
     ev: &mut Evidence,
 ) -> Result<usize, String> {
@@ -212,8 +214,10 @@ fn gather(
     let dim = model.dim;
     let mut own_box = own_boxes(mission, model, prior, ev);
     let false_count = ev.proved_false.iter().filter(|&&f| f).count();
-    if false_count <= q && groups.is_empty() {
-        region_cut(mission, model, q - false_count, ev, &mut own_box)?;
+    if false_count <= q && !operator {
+        let budget = q - false_count;
+        let held = group_landmarks(groups, &own_box, &ev.proved_false, budget, dim);
+        region_cut(mission, model, budget, ev, &mut own_box, &held)?;
     }
     let false_count = ev.proved_false.iter().filter(|&&f| f).count();
     if false_count > q {
@@ -223,7 +227,8 @@ fn gather(
         ));
     }
     let budget = q - false_count;
-    // Landmark boxes of the operator's groups, q-relaxed.
+    // Landmark boxes of the groups (the operator's, or the tracks'),
+    // q-relaxed.
     let mut landmark_of: Vec<Option<IntervalBox>> = vec![None; k];
     for g in groups {
         let members: Vec<&IntervalBox> = g
@@ -255,12 +260,13 @@ fn region_cut(
     budget: usize,
     ev: &mut Evidence,
     own_box: &mut [IntervalBox],
+    held: &[IntervalBox],
 ) -> Result<(), String> {
     let Some(n) = mission.landmark_count else {
         return Ok(());
     };
     let live: Vec<bool> = ev.proved_false.iter().map(|&f| !f).collect();
-    let rs = match regions(own_box, &live, budget, n) {
+    let rs = match regions_with(own_box, &live, budget, n, held) {
         Regions::Unknown => return Ok(()),
         Regions::Infeasible(reason) => return Err(reason),
         Regions::Proved(rs) => rs,
@@ -284,6 +290,32 @@ fn region_cut(
         *d = hull;
     }
     Ok(())
+}
+
+/// The boxes proved to hold a landmark in every reading from valid groups
+/// ([`super::robust_tracks`]) of at least `budget + 1` live members: every
+/// reading keeps one of them, and their common landmark lies in the boxes
+/// of all kept members, so in the q-relaxed intersection of their own
+/// boxes. O(k log k · d).
+fn group_landmarks(
+    groups: &[Vec<usize>],
+    own_box: &[IntervalBox],
+    proved_false: &[bool],
+    budget: usize,
+    dim: usize,
+) -> Vec<IntervalBox> {
+    groups
+        .iter()
+        .filter_map(|g| {
+            let members: Vec<&IntervalBox> = g
+                .iter()
+                .filter(|&&j| !proved_false[j])
+                .map(|&j| &own_box[j])
+                .collect();
+            (members.len() > budget).then(|| relaxed_intersection(&members, budget, dim))
+        })
+        .filter(|b| !b.is_empty())
+        .collect()
 }
 
 /// Each detection's own box: its prior box and current box contracted by
@@ -760,8 +792,14 @@ struct Robust<'a> {
     model: Model,
     /// The detection boxes before any round.
     prior: Vec<IntervalBox>,
-    /// The operator's groups.
+    /// The operator's groups, or without labels the valid track groups
+    /// ([`super::robust_tracks`], odometry2d).
     groups: Vec<Vec<usize>>,
+    /// The groups are the operator's.
+    operator: bool,
+    /// The budget the track groups were built with (they are rebuilt when
+    /// more detections are proved false).
+    tracks_budget: Option<usize>,
     /// Detections sorted by (step, index).
     order: Vec<usize>,
     ev: Evidence,
@@ -785,12 +823,15 @@ impl<'a> Robust<'a> {
         let mut order: Vec<usize> = (0..k).collect();
         let dets = &mission.detections;
         crate::sort::sort_indices_by(&mut order, |a, b| dets[a].step.cmp(&dets[b].step));
+        let groups = operator_groups(mission);
         Robust {
             mission,
             options,
             q,
             prior: model.det.clone(),
-            groups: operator_groups(mission),
+            operator: !groups.is_empty(),
+            tracks_budget: None,
+            groups,
             order,
             ev: Evidence {
                 proved_false: vec![false; k],
@@ -930,11 +971,12 @@ impl<'a> Robust<'a> {
         let tol = self.options.tolerance.max(0.0);
         self.round += 1;
         let det_before = self.model.det.clone();
+        self.track_groups();
         let budget = gather(
             self.mission,
             &mut self.model,
             &self.prior,
-            &self.groups,
+            (&self.groups, self.operator),
             self.q,
             &mut self.ev,
         )?;
@@ -993,6 +1035,24 @@ impl<'a> Robust<'a> {
             initial_max_trajectory_diameter: self.initial_max_trajectory_diameter,
         });
         Ok(proof)
+    }
+
+    /// Without operator labels, on odometry2d: the valid track groups for
+    /// the current budget ([`robust_track_groups`]), rebuilt when the
+    /// budget fell since they were built (a smaller budget merges more).
+    fn track_groups(&mut self) {
+        let Some(chain) = self.model.odometry.as_ref() else {
+            return;
+        };
+        let false_count = self.ev.proved_false.iter().filter(|&&f| f).count();
+        let budget = self.q.saturating_sub(false_count);
+        if self.operator || self.tracks_budget.is_some_and(|b| b <= budget) {
+            return;
+        }
+        let live: Vec<bool> = self.ev.proved_false.iter().map(|&f| !f).collect();
+        self.groups =
+            robust_track_groups(self.mission, chain, &live, budget, TrackOptions::default());
+        self.tracks_budget = Some(budget);
     }
 
     /// The relaxed passes of a round, forward then backward, with the

@@ -17,7 +17,9 @@
 //! 1. *At least one landmark.* If at least `budget + 1` live detections
 //!    have their boxes inside a box B, every reading keeps one of them, and
 //!    its landmark lies in its box, so in B: every solution of every
-//!    reading has a landmark in B.
+//!    reading has a landmark in B. A box the caller proved to hold a
+//!    landmark in every reading (`held`: a valid track group's,
+//!    [`super::robust_tracks`]) serves as such a B too.
 //! 2. *Exactly one.* With n pairwise disjoint such boxes B(1..n) and n
 //!    landmarks, each B(i) holds exactly one landmark, L(i), and every
 //!    landmark is one of them.
@@ -103,6 +105,30 @@ pub fn relaxed_intersection(boxes: &[&IntervalBox], q: usize, dim: usize) -> Int
     out
 }
 
+/// Pairwise disjoint boxes among `held` (bounded, of dimension `dim`),
+/// narrowest first, at most n. O(h log h + h · n · d).
+fn disjoint_held(held: &[IntervalBox], n: usize, dim: usize) -> Vec<IntervalBox> {
+    let mut kept: Vec<IntervalBox> = Vec::with_capacity(n);
+    let mut by_width: Vec<(f64, usize)> = held
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.diameter(), i))
+        .filter(|&(w, i)| w.is_finite() && held[i].dim() == dim)
+        .collect();
+    crate::sort::sort_by(&mut by_width, |a, b| {
+        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+    });
+    for &(_, i) in &by_width {
+        if kept.len() == n {
+            break;
+        }
+        if !kept.iter().any(|b| b.meets(&held[i])) {
+            kept.push(held[i].clone());
+        }
+    }
+    kept
+}
+
 /// What [`regions`] proves.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Regions {
@@ -119,6 +145,20 @@ pub enum Regions {
 /// (enclosing d(j) in every reading keeping j), `live[j]` (not proved
 /// false), the budget of drops among the live ones and n.
 pub fn regions(det: &[IntervalBox], live: &[bool], budget: usize, n: usize) -> Regions {
+    regions_with(det, live, budget, n, &[])
+}
+
+/// [`regions`] with `held`: boxes already proved to hold a landmark in
+/// every solution of every reading (a valid group's, [`super::robust_tracks`]),
+/// tried first as the boxes B of step 1, narrowest first, each kept when it
+/// meets none kept before.
+pub fn regions_with(
+    det: &[IntervalBox],
+    live: &[bool],
+    budget: usize,
+    n: usize,
+    held: &[IntervalBox],
+) -> Regions {
     let Some(dim) = det.first().map(IntervalBox::dim) else {
         return Regions::Unknown;
     };
@@ -135,7 +175,7 @@ pub fn regions(det: &[IntervalBox], live: &[bool], budget: usize, n: usize) -> R
         .filter(|&(w, _)| w.is_finite())
         .collect();
     crate::sort::sort_by(&mut cand, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut kept: Vec<IntervalBox> = Vec::with_capacity(n);
+    let mut kept = disjoint_held(held, n, dim);
     let mut tries = 0;
     for &(_, j) in &cand {
         if kept.len() == n || tries == MAX_TRIES {

@@ -136,9 +136,12 @@ impl TdoaProblem {
         let pulse_docs = doc.pulses.ok_or_else(|| missing("pulses"))?;
         let pulses = pulses(pulse_docs, receivers.len(), emitter_count)?;
         let arrivals: usize = pulses.iter().map(|p| p.arrivals.len()).sum();
+        // As for missions (docs/formats.md): any q up to u32::MAX, and a q
+        // above the arrival count reads as that count (every arrival
+        // dropped at most); nothing is sized by q beyond it.
         let max_outliers = match doc.max_outliers {
             None => 0,
-            Some(q) => int(q, arrivals as u64, "max_outliers")?,
+            Some(q) => int(q, u64::from(u32::MAX), "max_outliers")?.min(arrivals),
         };
         let emitter_region = doc
             .emitter_region

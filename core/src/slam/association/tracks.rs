@@ -105,72 +105,122 @@ pub fn track_unions(
     options: TrackOptions,
 ) -> Vec<(usize, usize)> {
     let mut unions = Vec::new();
-    let s = mission.landmark_min_separation;
     let k = mission.detections.len();
-    if mission.max_outliers > 0 || s.is_nan() || s <= 0.0 || k == 0 || uf.len() != k {
+    if mission.max_outliers > 0 || uf.len() != k {
         return unions;
     }
-    let o = mission.sensor_offset.unwrap_or([0.0, 0.0]);
-    let dets = &mission.detections;
-    let mut order: Vec<usize> = (0..k).collect();
-    crate::sort::total_by_key(&mut order, |&j| (dets[j].step, j));
-    // Runs of one step: (step, start in order).
-    let mut runs: Vec<(usize, usize)> = Vec::new();
-    for (x, &j) in order.iter().enumerate() {
-        if runs.last().is_none_or(|r| r.0 != dets[j].step) {
-            runs.push((dets[j].step, x));
+    let Some(steps) = StepRuns::new(mission) else {
+        return unions;
+    };
+    steps.for_each_pair(chain, options, &mut |a, b, proved| {
+        if uf.find(a) != uf.find(b) && proved() {
+            uf.union(a, b);
+            unions.push((a, b));
         }
+    });
+    let ctx = Bridge {
+        chain,
+        dets: &mission.detections,
+        order: &steps.order,
+        runs: &steps.runs,
+        body: &steps.body,
+        o: steps.o,
+        s: steps.s,
+    };
+    ctx.bridge_unions(uf, options, &mut unions);
+    unions
+}
+
+/// What [`StepRuns::for_each_pair`] calls for each pair it may compare:
+/// `(a, b, proved)`, `proved()` running the gap test.
+pub type OnPair<'f> = dyn FnMut(usize, usize, &mut dyn FnMut() -> bool) + 'f;
+
+/// The detections of a mission in step order, in runs of one step, with
+/// their body points: what the pair tests read.
+pub struct StepRuns<'a> {
+    dets: &'a [crate::slam::mission::Detection],
+    /// Detection indices sorted by (step, index).
+    order: Vec<usize>,
+    /// Runs of one step: (step, start in `order`), then `(usize::MAX, k)`.
+    runs: Vec<(usize, usize)>,
+    body: Vec<[Interval; 2]>,
+    o: [f64; 2],
+    s: f64,
+}
+
+impl<'a> StepRuns<'a> {
+    /// None when the rule cannot prove anything: no detection, or a
+    /// separation that is not a positive number.
+    pub fn new(mission: &'a Mission) -> Option<StepRuns<'a>> {
+        let s = mission.landmark_min_separation;
+        let k = mission.detections.len();
+        if s.is_nan() || s <= 0.0 || k == 0 {
+            return None;
+        }
+        let o = mission.sensor_offset.unwrap_or([0.0, 0.0]);
+        let dets = &mission.detections[..];
+        let mut order: Vec<usize> = (0..k).collect();
+        crate::sort::total_by_key(&mut order, |&j| (dets[j].step, j));
+        let mut runs: Vec<(usize, usize)> = Vec::new();
+        for (x, &j) in order.iter().enumerate() {
+            if runs.last().is_none_or(|r| r.0 != dets[j].step) {
+                runs.push((dets[j].step, x));
+            }
+        }
+        runs.push((usize::MAX, k));
+        let body = dets
+            .iter()
+            .map(|d| body_point(d.range, d.bearing, o, Interval::ZERO))
+            .collect();
+        Some(StepRuns {
+            dets,
+            order,
+            runs,
+            body,
+            o,
+            s,
+        })
     }
-    runs.push((usize::MAX, k));
-    let body: Vec<[Interval; 2]> = dets
-        .iter()
-        .map(|d| body_point(d.range, d.bearing, o, Interval::ZERO))
-        .collect();
-    let n = chain.steps();
-    for r in 0..runs.len() - 1 {
-        let (i, from) = runs[r];
-        let here = &order[from..runs[r + 1].1];
-        let mut pose = RelativePose::ORIGIN;
-        let mut at = i;
-        for later in runs.iter().skip(r + 1).take(options.max_steps) {
-            let j = later.0;
-            if j == usize::MAX || j > n || j - i > options.window {
-                break;
-            }
-            while at < j {
-                pose = advance_from(chain, &pose, i, at);
-                at += 1;
-            }
-            if pose.position_width() >= 2.0 * s {
-                break;
-            }
-            let next = runs.iter().find(|x| x.0 > j).map_or(k, |x| x.1);
-            for &b in &order[later.1..next] {
-                let d = &dets[b];
-                for &a in here {
-                    if uf.find(a) == uf.find(b) {
-                        continue;
-                    }
-                    let da = &dets[a];
-                    if gap_below((da.range, da.bearing), &pose, (d.range, d.bearing), o, s) {
-                        uf.union(a, b);
-                        unions.push((a, b));
+
+    /// Calls `f(a, b, proved)` for every pair of detections a (step i) and
+    /// b (step j, i < j) that the track rule may compare (module doc: j
+    /// within `window` steps and `max_steps` detection steps of i, the
+    /// relative pose narrower than 2s), in order of i then j; `proved()`
+    /// runs the gap test ([`gap_below`]): true when the two landmarks are
+    /// proved less than s apart, hence one when both detections are real.
+    pub fn for_each_pair(&self, chain: &OdometryChain, options: TrackOptions, f: &mut OnPair) {
+        let (dets, order, runs, o, s) = (self.dets, &self.order, &self.runs, self.o, self.s);
+        let (n, k) = (chain.steps(), order.len());
+        for r in 0..runs.len() - 1 {
+            let (i, from) = runs[r];
+            let here = &order[from..runs[r + 1].1];
+            let mut pose = RelativePose::ORIGIN;
+            let mut at = i;
+            for (x, later) in runs.iter().enumerate().skip(r + 1).take(options.max_steps) {
+                let j = later.0;
+                if j == usize::MAX || j > n || j - i > options.window {
+                    break;
+                }
+                while at < j {
+                    pose = advance_from(chain, &pose, i, at);
+                    at += 1;
+                }
+                if pose.position_width() >= 2.0 * s {
+                    break;
+                }
+                let next = runs.get(x + 1).map_or(k, |r| r.1);
+                for &b in &order[later.1..next] {
+                    let d = &dets[b];
+                    for &a in here {
+                        let da = &dets[a];
+                        f(a, b, &mut || {
+                            gap_below((da.range, da.bearing), &pose, (d.range, d.bearing), o, s)
+                        });
                     }
                 }
             }
         }
     }
-    let ctx = Bridge {
-        chain,
-        dets,
-        order: &order,
-        runs: &runs,
-        body: &body,
-        o,
-        s,
-    };
-    ctx.bridge_unions(uf, options, &mut unions);
-    unions
 }
 
 /// What [`Bridge::bridge_unions`] reads: the detections in step order, their
