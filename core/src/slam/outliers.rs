@@ -85,7 +85,7 @@ use super::kept::{kept_with_conflicts, refine, sure_groups, Kept};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
 use super::robust_conflicts::{pack, Packing};
-use super::robust_heading::robust_heading;
+use super::robust_heading::{cut_headings, robust_heading};
 pub use super::robust_regions::relaxed_intersection;
 use super::robust_regions::{regions, Regions};
 use super::robust_subsets::{consensus, Consensus};
@@ -845,19 +845,21 @@ impl<'a> Robust<'a> {
     /// how many detections and positions it changed (more rounds follow
     /// when any); `Err`: no reading exists.
     fn consensus(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
-        let (proved_false, positions, contractions) =
+        let (proved_false, positions, headings, contractions) =
             match consensus(self.mission, self.q, self.options, cancel) {
                 Consensus::Skipped => return self.packing(cancel),
                 Consensus::Infeasible(reason) => return Err(reason),
                 Consensus::Proved {
                     proved_false,
                     positions,
+                    headings,
                     contractions,
                     ..
-                } => (proved_false, positions, contractions),
+                } => (proved_false, positions, headings, contractions),
             };
         self.contractions += contractions;
-        self.apply(&proved_false, &positions)
+        let turned = cut_headings(self.mission, &mut self.model, &headings)?;
+        Ok(turned + self.apply(&proved_false, &positions)?)
     }
 
     /// Conflict packing ([`super::robust_conflicts`], any q): where

@@ -180,3 +180,33 @@ fn headings(
         .fold(0.0, f64::max);
     Ok(moved)
 }
+
+/// odometry2d: th(0..=N) cut to `headings` (N + 1 intervals enclosing
+/// every heading of every reading: consensus over subsets'
+/// hull, [`super::robust_subsets`]), then the displacements and
+/// `heading_at` from them. Returns how many headings changed; `Err`: one
+/// became empty. Nothing for the other models (or another length). O(N).
+pub fn cut_headings(
+    mission: &Mission,
+    model: &mut Model,
+    headings: &[Interval],
+) -> Result<usize, String> {
+    if model.odometry.is_none() || headings.len() != model.heading.len() {
+        return Ok(0);
+    }
+    let mut changed = 0;
+    for (t, (h, cut)) in model.heading.iter_mut().zip(headings).enumerate() {
+        let new = h.intersect(*cut);
+        if new.is_empty() {
+            return Err(format!(
+                "the heading of step {t} is empty: no choice of at most {} false detections is consistent",
+                model.max_outliers
+            ));
+        }
+        changed += usize::from(new != *h);
+        *h = new;
+    }
+    model.refresh_displacements();
+    model.refresh_headings_at(mission);
+    Ok(changed)
+}
