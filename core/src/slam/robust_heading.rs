@@ -2,6 +2,10 @@
 //! odometry2d mission: q-relaxed evidence passes over th(0..=N), the drift
 //! windows, then the displacements and `heading_at` from the new headings.
 //!
+//! Also [`cut_headings`]: the headings cut to an enclosure of every
+//! reading's (consensus over subsets' hull, [`super::robust_subsets`]),
+//! with the same refresh.
+//!
 //! # Constraint
 //!
 //! The solution set is the union, over every set F of at most q dropped
