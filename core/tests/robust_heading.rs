@@ -17,7 +17,9 @@
 //!
 //! Breaking the rule (the passes keeping the budget-th best evidence
 //! instead of the (budget+1)-th) fails here: at case 374, a true heading
-//! cut by one false bearing (q = 1).
+//! cut by one false bearing (q = 1). So does consensus over subsets
+//! intersecting its feasible sets' headings instead of taking their hull
+//! (case 186, q = 3, a true heading near -6e5 rad cut).
 //!
 //! Deterministic (a fixed seed); `NVECTOR_PROPTEST_CASES` scales the cases
 //! (1000 = as is).
