@@ -96,6 +96,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         7,
         "landmark regions under max_outliers",
     ),
+    (
+        "slam::robust_heading",
+        7,
+        "odometry2d headings under max_outliers",
+    ),
     ("tdoa::readings", 7, "max_outliers over arrivals"),
     (
         "tdoa::shell",

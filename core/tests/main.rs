@@ -30,6 +30,7 @@ mod propagation_work_limit;
 mod registration_props;
 mod robust_cliques;
 mod robust_conflicts;
+mod robust_heading;
 mod robust_hitting;
 mod robust_regions;
 mod robust_subsets;

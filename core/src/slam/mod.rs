@@ -26,6 +26,7 @@ pub mod outliers;
 pub mod result;
 pub mod robust_cliques;
 pub mod robust_conflicts;
+pub mod robust_heading;
 pub mod robust_hitting;
 pub mod robust_regions;
 pub mod robust_subsets;

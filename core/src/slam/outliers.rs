@@ -86,6 +86,7 @@ use super::kept::{kept_with_conflicts, refine, sure_groups, Kept};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
 use super::robust_conflicts::{pack, Packing};
+use super::robust_heading::{cut_headings, robust_heading};
 pub use super::robust_regions::relaxed_intersection;
 use super::robust_regions::{regions_with, Regions};
 use super::robust_subsets::{consensus, Consensus};
@@ -179,6 +180,38 @@ struct Evidence {
     proved_false: Vec<bool>,
     /// The evidence box of p(t_j) (empty: none).
     boxes: Vec<IntervalBox>,
+}
+
+/// A chain the relaxed passes run along: N + 1 states of `dim` intervals,
+/// `x(t+1) = x(t) + D(t)`. The positions over the displacements, or
+/// (odometry2d, [`super::robust_heading`]) the headings over the turns.
+struct Track<'a> {
+    dim: usize,
+    /// N.
+    steps: usize,
+    /// The states, (N+1)·dim, step-major.
+    state: &'a mut [Interval],
+    /// The increments D(t), N·dim, step-major.
+    step: &'a [Interval],
+}
+
+/// The relaxed passes along `track`, forward then backward, with the
+/// `keep`-th best evidence of `ev` (`budget` + 1 kept); the largest move,
+/// or `Err(step)` when a state becomes empty.
+fn relaxed_passes(
+    mission: &Mission,
+    track: &mut Track,
+    order: &[usize],
+    ev: &Evidence,
+    keep: usize,
+) -> Result<f64, usize> {
+    let mut moved = 0.0f64;
+    let mut record = Some(Record::default());
+    for forward in [true, false] {
+        let m = relaxed_pass(mission, track, order, ev, keep, forward, &mut record)?;
+        moved = moved.max(m);
+    }
+    Ok(moved)
 }
 
 /// Contracts (copies of) p(t_j) and d(j) by j's own constraints. Returns
@@ -556,7 +589,7 @@ fn snapshot(sides: &[Side]) -> Vec<[Vec<f64>; 2]> {
 /// move, or `Err(step)` when a position becomes empty.
 fn relaxed_pass(
     mission: &Mission,
-    model: &mut Model,
+    track: &mut Track,
     order: &[usize],
     ev: &Evidence,
     keep: usize,
@@ -564,7 +597,7 @@ fn relaxed_pass(
     record: &mut Option<Record>,
 ) -> Result<f64, usize> {
     let way = if forward { Way::Forward } else { Way::Backward };
-    let (dim, n) = (model.dim, model.steps);
+    let (dim, n) = (track.dim, track.steps);
     let mut sides: Vec<Side> = (0..dim).map(|_| Side::new(keep)).collect();
     let mut moved = 0.0f64;
     if way.forward() {
@@ -581,7 +614,7 @@ fn relaxed_pass(
     for x in 0..=n {
         let t = way.step(x, n);
         let changed_lists = match way.link(t, n) {
-            Some(link) => chain_step(model, &mut sides, link, way, keep)?,
+            Some(link) => chain_step(track, &mut sides, link, way, keep)?,
             None => false,
         };
         if way.forward() {
@@ -616,7 +649,7 @@ fn relaxed_pass(
                 }
             }
         }
-        let m = relaxed_bounds(model, &sides, t, record.as_ref(), way, keep)?;
+        let m = relaxed_bounds(track, &sides, t, record.as_ref(), way, keep)?;
         moved = moved.max(m);
     }
     Ok(moved)
@@ -627,16 +660,16 @@ fn relaxed_pass(
 /// is unbounded). Returns whether a side restarted; `Err(to)` when p(to)
 /// becomes empty.
 fn chain_step(
-    model: &mut Model,
+    track: &mut Track,
     sides: &mut [Side],
     (s, from, to): (usize, usize, usize),
     way: Way,
     keep: usize,
 ) -> Result<bool, usize> {
-    let dim = model.dim;
+    let dim = track.dim;
     let mut changed_lists = false;
     for (a, side) in sides.iter_mut().enumerate() {
-        let d = model.disp[s * dim + a];
+        let d = track.step[s * dim + a];
         if !d.lo().is_finite() || !d.hi().is_finite() {
             *side = Side::new(keep);
             changed_lists = true;
@@ -646,14 +679,14 @@ fn chain_step(
         side.sum_hi = side.sum_hi + Interval::point(d.hi());
     }
     for a in 0..dim {
-        let q = model.pos[from * dim + a];
-        let d = model.disp[s * dim + a];
-        let old = model.pos[to * dim + a];
+        let q = track.state[from * dim + a];
+        let d = track.step[s * dim + a];
+        let old = track.state[to * dim + a];
         let new = old.intersect(way.carry(q, d));
         if new.is_empty() {
             return Err(to);
         }
-        model.pos[to * dim + a] = new;
+        track.state[to * dim + a] = new;
     }
     Ok(changed_lists)
 }
@@ -663,18 +696,18 @@ fn chain_step(
 /// of step t, from `record`). Returns the largest move; `Err(t)` when p(t)
 /// becomes empty.
 fn relaxed_bounds(
-    model: &mut Model,
+    track: &mut Track,
     sides: &[Side],
     t: usize,
     record: Option<&Record>,
     way: Way,
     keep: usize,
 ) -> Result<f64, usize> {
-    let dim = model.dim;
+    let dim = track.dim;
     let forward = way.forward();
     let mut moved = 0.0f64;
     for (a, side) in sides.iter().enumerate() {
-        let old = model.pos[t * dim + a];
+        let old = track.state[t * dim + a];
         let (mut lo, mut hi) = (old.lo(), old.hi());
         let own = (side.sum_lo, side.sum_hi);
         let (keys, fwd): (&[Vec<f64>; 2], Option<(Interval, Interval)>) = match (record, way) {
@@ -706,7 +739,7 @@ fn relaxed_bounds(
             return Err(t);
         }
         moved = moved.max(shrinkage(old, new));
-        model.pos[t * dim + a] = new;
+        track.state[t * dim + a] = new;
     }
     Ok(moved)
 }
@@ -853,19 +886,21 @@ impl<'a> Robust<'a> {
     /// how many detections and positions it changed (more rounds follow
     /// when any); `Err`: no reading exists.
     fn consensus(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
-        let (proved_false, positions, contractions) =
+        let (proved_false, positions, headings, contractions) =
             match consensus(self.mission, self.q, self.options, cancel) {
                 Consensus::Skipped => return self.packing(cancel),
                 Consensus::Infeasible(reason) => return Err(reason),
                 Consensus::Proved {
                     proved_false,
                     positions,
+                    headings,
                     contractions,
                     ..
-                } => (proved_false, positions, contractions),
+                } => (proved_false, positions, headings, contractions),
             };
         self.contractions += contractions;
-        self.apply(&proved_false, &positions)
+        let turned = cut_headings(self.mission, &mut self.model, &headings)?;
+        Ok(turned + self.apply(&proved_false, &positions)?)
     }
 
     /// Conflict packing ([`super::robust_conflicts`], any q): where
@@ -1058,29 +1093,41 @@ impl<'a> Robust<'a> {
     /// The relaxed passes of a round, forward then backward, with the
     /// (q+1)-th best evidence (`budget` + 1 kept); the largest move.
     fn passes(&mut self, budget: usize) -> Result<f64, String> {
-        let mut moved = 0.0f64;
-        let mut record = Some(Record::default());
-        for forward in [true, false] {
-            match relaxed_pass(
-                self.mission,
-                &mut self.model,
-                &self.order,
-                &self.ev,
-                budget + 1,
-                forward,
-                &mut record,
-            ) {
-                Ok(m) => moved = moved.max(m),
-                Err(t) => {
-                    return Err(format!(
-                        "the position of step {t} is empty: no choice of at most {} false detections is consistent",
-                        self.q
-                    ));
-                }
-            }
-            self.contractions += self.model.steps as u64;
-        }
-        Ok(moved)
+        // odometry2d: the headings first, and the displacements from them
+        // ([`super::robust_heading`]), with the same passes on a chain of
+        // dimension 1.
+        let (mission, order, ev) = (self.mission, &self.order, &self.ev);
+        let mut pass = |state: &mut [Interval], step: &[Interval], boxes, keep| {
+            let mut track = Track {
+                dim: 1,
+                steps: step.len(),
+                state,
+                step,
+            };
+            let proved_false = ev.proved_false.clone();
+            let hev = Evidence {
+                proved_false,
+                boxes,
+            };
+            relaxed_passes(mission, &mut track, order, &hev, keep)
+        };
+        let turned = robust_heading(mission, &mut self.model, &ev.boxes, budget, &mut pass)?;
+        let model = &mut self.model;
+        let mut track = Track {
+            dim: model.dim,
+            steps: model.steps,
+            state: &mut model.pos,
+            step: &model.disp,
+        };
+        let moved = relaxed_passes(self.mission, &mut track, &self.order, &self.ev, budget + 1)
+            .map_err(|t| {
+                format!(
+                    "the position of step {t} is empty: no choice of at most {} false detections is consistent",
+                    self.q
+                )
+            })?;
+        self.contractions += 2 * self.model.steps as u64;
+        Ok(moved.max(turned))
     }
 }
 

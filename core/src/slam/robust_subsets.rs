@@ -33,8 +33,9 @@
 //!    reading drops at most q detections, which lie in at most q blocks E:
 //!    it keeps S(E) whole. Hence every solution of every reading is a
 //!    solution of some feasible `stripped(S(E))` (step 1): the positions
-//!    lie in the hull of the feasible sets' position boxes, and when no
-//!    set is feasible, the mission has no reading at all.
+//!    (and, odometry2d, the headings) lie in the hull of the feasible
+//!    sets' boxes, and when no set is feasible, the mission has no
+//!    reading at all.
 //! 3. *Proved false.* A detection j kept by a reading lies, with the whole
 //!    of some feasible S(E), in that reading; if j is in S(E), the solve
 //!    of step 1 already holds j. So j can only be proved false when every
@@ -115,6 +116,10 @@ pub enum Consensus {
         proved_false: Vec<bool>,
         /// Encloses every position of every reading.
         positions: Vec<Interval>,
+        /// odometry2d: encloses every heading th(0..=N) of every reading
+        /// (the hull of the feasible sets' headings, as the positions);
+        /// empty for the other models.
+        headings: Vec<Interval>,
         /// Ordinary propagations run.
         solves: usize,
         /// Their contractions.
@@ -169,10 +174,18 @@ fn solve_kept(
     keep: &[bool],
     options: &SolveOptions,
     cancel: &AtomicBool,
-) -> (SolveStatus, Vec<Interval>, u64) {
+) -> (SolveStatus, (Vec<Interval>, Vec<Interval>), u64) {
     let sub = kept_only(mission, keep);
     let s = rounds(&sub, options, &mut |_: &Progress| {}, cancel);
-    (s.status, s.model.pos, s.contractions)
+    (s.status, (s.model.pos, s.model.heading), s.contractions)
+}
+
+/// The hull of two lists of intervals, element-wise (`None`: the first).
+fn hull_of(h: Option<Vec<Interval>>, x: Vec<Interval>) -> Vec<Interval> {
+    match h {
+        None => x,
+        Some(h) => h.iter().zip(&x).map(|(a, p)| a.hull(*p)).collect(),
+    }
 }
 
 /// Consensus over subsets (module doc) for a mission with `max_outliers`
@@ -201,17 +214,16 @@ pub fn consensus(
     let mut excluded: Vec<usize> = (0..q).collect();
     let mut feasible: Vec<Vec<bool>> = Vec::new();
     let mut positions: Option<Vec<Interval>> = None;
+    let mut headings: Option<Vec<Interval>> = None;
     let (mut solves, mut contractions) = (0usize, 0u64);
     loop {
         let keep: Vec<bool> = block.iter().map(|bl| !excluded.contains(bl)).collect();
-        let (status, pos, c) = solve_kept(mission, &keep, options, cancel);
+        let (status, (pos, heading), c) = solve_kept(mission, &keep, options, cancel);
         solves += 1;
         contractions += c;
         if !matches!(status, SolveStatus::Infeasible(_)) {
-            positions = Some(match positions {
-                None => pos,
-                Some(h) => h.iter().zip(&pos).map(|(a, p)| a.hull(*p)).collect(),
-            });
+            positions = Some(hull_of(positions, pos));
+            headings = Some(hull_of(headings, heading));
             feasible.push(keep);
         }
         if next_combination(&mut excluded, b).is_none() {
@@ -234,6 +246,7 @@ pub fn consensus(
     Consensus::Proved {
         proved_false,
         positions,
+        headings: headings.unwrap_or_default(),
         solves,
         contractions,
     }
