@@ -188,7 +188,8 @@ struct Scans {
     detections: Vec<Value>,
     /// The true landmark of each detection (`truth.matching`).
     matching: Vec<usize>,
-    /// The steps that have a scan, with the scan's index, by step.
+    /// The scans: their step and their count of detections, by scan
+    /// number.
     steps: Vec<(usize, usize)>,
 }
 
@@ -203,17 +204,26 @@ fn sensor(d: &Drive, i: usize) -> ([f64; 2], f64) {
 
 /// A detection at step i in scan `scan` of a point at true range r and
 /// true bearing beta: the noise drawn from `rng`, the intervals as wide as
-/// the declared bounds.
-fn measured(rng: &mut Rng, i: usize, scan: usize, r: f64, beta: f64) -> Value {
+/// the declared bounds, the operator's `landmark` when given.
+fn measured(
+    rng: &mut Rng,
+    (i, scan): (usize, usize),
+    (r, beta): (f64, f64),
+    landmark: Option<usize>,
+) -> Value {
     let rm = r + rng.sym(RANGE_NOISE);
     let bm = wrap(beta + rng.sym(BEARING_NOISE));
     let (er, eb) = (RANGE_NOISE + MARGIN, BEARING_NOISE + MARGIN);
-    json!({
+    let mut det = json!({
         "step": i,
         "range": [(rm - er).max(0.0), rm + er],
         "bearing": [bm - eb, bm + eb],
         "scan": scan,
-    })
+    });
+    if let Some(j) = landmark {
+        det["landmark"] = json!(j);
+    }
+    det
 }
 
 /// A scan every `SCAN_EVERY` steps: each landmark in range and field of
@@ -229,7 +239,7 @@ fn scans(rng: &mut Rng, d: &Drive, landmarks: &[[f64; 2]], operator: bool) -> Sc
     let mut scan = 0usize;
     for i in (0..=n).step_by(SCAN_EVERY) {
         let (s, th) = sensor(d, i);
-        let mut any = false;
+        let mut seen = 0;
         for (j, l) in landmarks.iter().enumerate() {
             let (dx, dy) = (l[0] - s[0], l[1] - s[1]);
             let r = libm::hypot(dx, dy);
@@ -237,16 +247,13 @@ fn scans(rng: &mut Rng, d: &Drive, landmarks: &[[f64; 2]], operator: bool) -> Sc
             if r > MAX_RANGE || beta.abs() > FIELD_OF_VIEW {
                 continue;
             }
-            let mut det = measured(rng, i, scan, r, beta);
-            if operator {
-                det["landmark"] = json!(j);
-            }
+            let det = measured(rng, (i, scan), (r, beta), operator.then_some(j));
             out.detections.push(det);
             out.matching.push(j);
-            any = true;
+            seen += 1;
         }
-        if any {
-            out.steps.push((i, scan));
+        if seen > 0 {
+            out.steps.push((i, seen));
             scan += 1;
         }
     }
@@ -279,11 +286,14 @@ const PHANTOM_DRAWS: usize = 1000;
 /// it: its bits do not depend on them).
 const PHANTOM_STREAM: u64 = 0x5048_414E_544F_4D53;
 
-/// One false detection: its step, its JSON and the phantom point it sees.
-struct Phantom {
-    step: usize,
-    detection: Value,
-    point: [f64; 2],
+/// The false detections drawn, in the order drawn: their JSON, their
+/// phantom points and their scan numbers. (Flat vectors of types the page's
+/// wasm already has: a vector of a new type brings its own code.)
+#[derive(Default)]
+struct Phantoms {
+    detections: Vec<Value>,
+    points: Vec<[f64; 2]>,
+    scans: Vec<usize>,
 }
 
 /// The true range and bearing of q from the sensor at step i when q lies
@@ -298,12 +308,8 @@ fn in_field(d: &Drive, i: usize, q: [f64; 2]) -> Option<(f64, f64)> {
     inside.then_some((r, beta))
 }
 
-/// A phantom point seen from a scan: the scan's position in
-/// `Field::scans`, the point, its true range and bearing from there.
-type Sighting = (usize, [f64; 2], (f64, f64));
-
-/// Where false detections go: the drive, the scans' steps, the landmarks
-/// and the clearance a phantom keeps from each.
+/// Where false detections go: the drive, the scans (step, count of true
+/// detections), the landmarks and the clearance a phantom keeps from each.
 struct Field<'a> {
     drive: &'a Drive,
     scans: &'a [(usize, usize)],
@@ -313,10 +319,9 @@ struct Field<'a> {
 
 impl Field<'_> {
     /// A phantom point in the field of a random scan, at least the
-    /// clearance from every landmark: the scan's position in `scans`, the
-    /// point, and its range and bearing from there (None when the draw
-    /// misses).
-    fn draw(&self, rng: &mut Rng) -> Option<Sighting> {
+    /// clearance from every landmark: the scan's number and the point
+    /// (None when the draw misses).
+    fn draw(&self, rng: &mut Rng) -> Option<(usize, [f64; 2])> {
         let a = (rng.next_u64() % self.scans.len() as u64) as usize;
         let (s, th) = sensor(self.drive, self.scans[a].0);
         let r = rng.range(PHANTOM_MIN_RANGE, MAX_RANGE);
@@ -326,59 +331,62 @@ impl Field<'_> {
             .landmarks
             .iter()
             .all(|l| libm::hypot(l[0] - q[0], l[1] - q[1]) >= self.clearance + MARGIN);
-        let seen = in_field(self.drive, self.scans[a].0, q)?;
-        clear.then_some((a, q, seen))
+        let seen = in_field(self.drive, self.scans[a].0, q).is_some();
+        (clear && seen).then_some((a, q))
     }
 
-    /// `want` sightings of q: the drawn one first, then others from scans
-    /// within `NEARBY_SCANS` whose field holds q, drawn at random; None
-    /// when too few scans do.
-    fn seen_from(&self, rng: &mut Rng, first: Sighting, want: usize) -> Option<Vec<Sighting>> {
-        let (a, q, _) = first;
+    /// The scans that see q: scan a first, then `want` - 1 others within
+    /// `NEARBY_SCANS` whose field holds q, drawn at random; None when too
+    /// few scans do.
+    fn seen_from(&self, rng: &mut Rng, a: usize, q: [f64; 2], want: usize) -> Option<Vec<usize>> {
         let near = a.saturating_sub(NEARBY_SCANS)..(a + NEARBY_SCANS + 1).min(self.scans.len());
-        let mut others: Vec<Sighting> = near
-            .filter(|&b| b != a)
-            .filter_map(|b| in_field(self.drive, self.scans[b].0, q).map(|seen| (b, q, seen)))
-            .collect();
+        // Loops rather than iterator adaptors and `swap_remove`: less code
+        // in the page's wasm (800 bytes).
+        let mut others: Vec<usize> = Vec::new();
+        for b in near {
+            if b != a && in_field(self.drive, self.scans[b].0, q).is_some() {
+                others.push(b);
+            }
+        }
         if others.len() + 1 < want {
             return None;
         }
-        let mut chosen = vec![first];
+        let mut chosen = vec![a];
         while chosen.len() < want {
+            // `swap_remove`: the last moves into the slot drawn.
             let k = (rng.next_u64() % others.len() as u64) as usize;
-            chosen.push(others.swap_remove(k));
+            chosen.push(others[k]);
+            others[k] = others[others.len() - 1];
+            others.pop();
         }
         Some(chosen)
     }
 
     /// `want` detections of one phantom point (a label on each for
-    /// `Labelled`), or None after `PHANTOM_DRAWS` draws without room.
-    fn place(&self, rng: &mut Rng, kind: Kind, want: usize) -> Option<Vec<Phantom>> {
+    /// `Labelled`) added to `out`; false after `PHANTOM_DRAWS` draws
+    /// without room.
+    fn place(&self, rng: &mut Rng, kind: Kind, want: usize, out: &mut Phantoms) -> bool {
         for _ in 0..PHANTOM_DRAWS {
-            let Some(first) = self.draw(rng) else {
+            let Some((a, q)) = self.draw(rng) else {
                 continue;
             };
-            let Some(chosen) = self.seen_from(rng, first, want) else {
+            let Some(chosen) = self.seen_from(rng, a, q, want) else {
                 continue;
             };
             let label = (kind == Kind::Labelled)
                 .then(|| (rng.next_u64() % self.landmarks.len() as u64) as usize);
-            let mut out = Vec::with_capacity(want);
-            for (b, point, (r, beta)) in chosen {
-                let (step, scan) = self.scans[b];
-                let mut detection = measured(rng, step, scan, r, beta);
-                if let Some(j) = label {
-                    detection["landmark"] = json!(j);
-                }
-                out.push(Phantom {
-                    step,
-                    detection,
-                    point,
-                });
+            for scan in chosen {
+                let step = self.scans[scan].0;
+                // Some: `draw` and `seen_from` checked it.
+                let seen = in_field(self.drive, step, q).unwrap_or_default();
+                out.detections
+                    .push(measured(rng, (step, scan), seen, label));
+                out.points.push(q);
+                out.scans.push(scan);
             }
-            return Some(out);
+            return true;
         }
-        None
+        false
     }
 }
 
@@ -388,8 +396,8 @@ impl Field<'_> {
 /// phantom that finds too few nearby scans is seen once; once a phantom
 /// finds no room in `PHANTOM_DRAWS` draws (a field covered by the
 /// landmarks' clearances, or no scan at all), the rest are dropped.
-fn phantoms(seed: u64, k: usize, operator: bool, field: &Field) -> Vec<Phantom> {
-    let mut out = Vec::new();
+fn phantoms(seed: u64, k: usize, operator: bool, field: &Field) -> Phantoms {
+    let mut out = Phantoms::default();
     if k == 0 || field.scans.is_empty() {
         return out;
     }
@@ -400,62 +408,63 @@ fn phantoms(seed: u64, k: usize, operator: bool, field: &Field) -> Vec<Phantom> 
         &[Kind::Isolated, Kind::Repeated]
     };
     let mut turn = (rng.next_u64() % kinds.len() as u64) as usize;
-    while out.len() < k {
+    while out.scans.len() < k {
         let kind = kinds[turn % kinds.len()];
         turn += 1;
         let want = match kind {
-            Kind::Repeated => (2 + (rng.next_u64() % 2) as usize).min(k - out.len()),
+            Kind::Repeated => (2 + (rng.next_u64() % 2) as usize).min(k - out.scans.len()),
             _ => 1,
         };
-        let mut group = field.place(&mut rng, kind, want);
-        if group.is_none() && want > 1 {
-            group = field.place(&mut rng, Kind::Isolated, 1);
-        }
-        match group {
-            Some(g) => out.extend(g),
-            None => break,
+        let placed = field.place(&mut rng, kind, want, &mut out)
+            || (want > 1 && field.place(&mut rng, Kind::Isolated, 1, &mut out));
+        if !placed {
+            break;
         }
     }
     out
 }
 
-/// The true detections and the false ones merged by step (at a step, the
-/// true ones first, then the false ones in the order drawn): the
-/// detections, `truth.matching` (null for a false one) and each false
-/// detection's phantom point.
-fn merge(s: Scans, false_ones: Vec<Phantom>) -> (Vec<Value>, Vec<Value>, Vec<[f64; 2]>) {
-    let mut keyed: Vec<(usize, usize)> = false_ones
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (p.step, i))
-        .collect();
-    crate::sort::sort_ord(&mut keyed);
-    let total = s.detections.len() + false_ones.len();
-    let mut slots: Vec<Option<Phantom>> = false_ones.into_iter().map(Some).collect();
-    let mut queue = keyed
-        .iter()
-        .filter_map(|&(_, i)| slots[i].take())
-        .peekable();
+/// The true detections and the false ones merged, scan by scan: the true
+/// ones first, then the false ones in the order drawn (a counting sort by
+/// scan number). Returns the detections, `truth.matching` (None, null in
+/// the JSON, for a false one) and each false detection's phantom point.
+/// (Its shape, a counting sort, indices and `Option`s, keeps the page's
+/// simulators' module within its budget, scripts/web.sh.)
+fn merge(mut s: Scans, mut f: Phantoms) -> (Vec<Value>, Vec<Option<usize>>, Vec<[f64; 2]>) {
+    // start[a]..start[a + 1]: the false detections of scan a in `order`.
+    let mut start = vec![0usize; s.steps.len() + 1];
+    for &a in &f.scans {
+        start[a + 1] += 1;
+    }
+    for a in 0..s.steps.len() {
+        start[a + 1] += start[a];
+    }
+    let mut next = start.clone();
+    let mut order = vec![0usize; f.scans.len()];
+    for (i, &a) in f.scans.iter().enumerate() {
+        order[next[a]] = i;
+        next[a] += 1;
+    }
+    let total = s.detections.len() + order.len();
     let (mut detections, mut matching, mut points) = (
         Vec::with_capacity(total),
         Vec::with_capacity(total),
-        Vec::new(),
+        Vec::with_capacity(order.len()),
     );
-    let mut take = |p: Phantom, detections: &mut Vec<Value>, matching: &mut Vec<Value>| {
-        detections.push(p.detection);
-        matching.push(Value::Null);
-        points.push(p.point);
-    };
-    for (d, j) in s.detections.into_iter().zip(s.matching) {
-        let step = d["step"].as_u64().unwrap_or(0) as usize;
-        while let Some(p) = queue.next_if(|p| p.step < step) {
-            take(p, &mut detections, &mut matching);
+    // Indices and `take` rather than a consuming iterator: less code in
+    // the page's wasm.
+    let mut t = 0;
+    for (a, &(_, count)) in s.steps.iter().enumerate() {
+        for _ in 0..count {
+            detections.push(std::mem::take(&mut s.detections[t]));
+            matching.push(Some(s.matching[t]));
+            t += 1;
         }
-        detections.push(d);
-        matching.push(json!(j));
-    }
-    for p in queue {
-        take(p, &mut detections, &mut matching);
+        for &i in &order[start[a]..start[a + 1]] {
+            detections.push(std::mem::take(&mut f.detections[i]));
+            matching.push(None);
+            points.push(f.points[i]);
+        }
     }
     (detections, matching, points)
 }
