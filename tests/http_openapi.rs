@@ -452,8 +452,8 @@ fn issue_13_nulls_whole_floats_and_unknown_fields_agree() {
 /// Issue 20 point 8 / issue 17 point 2: the woods scenario through
 /// `POST /simulate`, read by core's one request type and described by
 /// its schema: a small woods mission is accepted and is core's woods
-/// mission; what the document refuses (noise, a paper layout) the service
-/// refuses naming the field; a request whose mission could hold more
+/// mission, with false detections too; what the document refuses (noise,
+/// a paper layout, range-only) the service refuses naming the field; a request whose mission could hold more
 /// detections than the service's limit is schema-valid and refused with
 /// 413 before anything is simulated.
 #[test]
@@ -478,11 +478,29 @@ fn woods_through_post_simulate() {
         .iter()
         .all(|d| d["scan"].is_u64()));
     assert!(m["landmark_min_separation"].as_f64().unwrap() > 0.0);
+    // Issue 18: false detections in the woods scenario, in the document
+    // and in the service: core's mission, max_outliers set.
+    let body = json!({"scenario": "woods", "seed": 4, "steps": 200, "landmarks": 9, "false_detections": 3});
+    let (valid, st, v) = post(body);
+    assert!(valid && st == 201, "{st} {v}");
+    let m = &v["mission"];
+    assert_eq!(m["max_outliers"], 3, "{}", m["meta"]);
+    let nulls = m["truth"]["matching"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|j| j.is_null())
+        .count();
+    assert_eq!(nulls, 3);
     for (body, field) in [
         (json!({"scenario": "woods", "noise": 2}), "noise"),
         (json!({"scenario": "woods", "layout": "ring"}), "layout"),
         (
-            json!({"scenario": "woods", "false_detections": 3}),
+            json!({"scenario": "woods", "range_only": true}),
+            "range_only",
+        ),
+        (
+            json!({"scenario": "auv", "false_detections": 3}),
             "false_detections",
         ),
     ] {

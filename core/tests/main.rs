@@ -47,6 +47,7 @@ mod unbounded_props;
 mod woods_bridges;
 mod woods_drift;
 mod woods_exempt;
+mod woods_false;
 mod woods_scan_map;
 mod woods_scan_pose;
 mod woods_sequential;

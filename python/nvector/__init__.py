@@ -165,8 +165,8 @@ def simulate(
     from a turn rate, among ``landmarks`` identical landmarks, default 17,
     seen by range-and-bearing scans: ``scan`` on the detections,
     ``sensor_offset``, ``landmark_min_separation``, ``truth["headings"]``;
-    default 3000 steps; ``layout``, ``range_only``, ``false_detections``
-    and ``noise`` must keep their defaults). ``steps`` defaults to 10,000 (paper) or 60,000 (auv), at most
+    default 3000 steps; ``layout``, ``range_only`` and ``noise`` must keep
+    their defaults). ``steps`` defaults to 10,000 (paper) or 60,000 (auv), at most
     2,000,000 (below 2 reads as 2; ``landmarks`` 0 reads as 1); ``noise``,
     in [0, 100], scales
     the sensor error bounds; ``operator`` writes the true matching as
@@ -174,8 +174,13 @@ def simulate(
     on a ``"line"`` (10 m apart along x, the paper's Figure 9), a ``"ring"``
     around the start (the axis projections interleave) or at ``"random"``;
     ``range_only`` drops the bearings for a rough region per detection (the
-    paper's P''); ``false_detections`` adds ranges to no landmark (``None``
-    in ``truth["matching"]``, ``max_outliers`` set; at most 100,000).
+    paper's P''). Paper and woods: ``false_detections`` adds false
+    detections (``None`` in ``truth["matching"]``, ``max_outliers`` set; at
+    most 100,000): ranges to no landmark (paper), or range-and-bearing
+    detections in the robot's scans of phantom points at least
+    ``landmark_min_separation`` + 0.5 m from every landmark, seen once, two
+    or three times from nearby scans, or with ``operator`` under a real
+    landmark's label (woods; the points in ``meta["false_points"]``).
 
     Deterministic for a seed: equal to ``nvector simulate --scenario S
     --seed N ...`` with the same options. Bad options raise

@@ -33,6 +33,16 @@ def test_woods_agrees_with_the_cli_and_has_the_new_fields(cli: Cli) -> None:
     assert len(mission["truth"]["headings"]) == 151
 
 
+def test_woods_false_detections_agree_with_the_cli(cli: Cli) -> None:
+    mission = nvector.simulate("woods", seed=3, steps=150, operator=True, false_detections=4)
+    assert canonical(mission) == cli.json("simulate", "--scenario", "woods", "--seed", "3", "--steps", "150", "--operator", "--false-detections", "4")
+    assert mission["max_outliers"] == 4 and mission["meta"]["false_detections"] == 4
+    assert sum(1 for j in mission["truth"]["matching"] if j is None) == 4
+    with pytest.raises(nvector.InputError) as info:
+        nvector.simulate("woods", false_detections=100_001)
+    assert info.value.path == "false_detections"
+
+
 def test_woods_refuses_the_paper_only_options() -> None:
     for kwargs, path in [({"layout": "ring"}, "layout"), ({"range_only": True}, "range_only"), ({"noise": 2.0}, "noise"), ({"steps": 2_000_001}, "steps")]:
         with pytest.raises(nvector.InputError) as info:

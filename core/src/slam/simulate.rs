@@ -18,7 +18,7 @@
 
 pub use super::mission::MAX_LANDMARKS;
 use super::mission::MAX_STEPS;
-use super::woods::{simulate_woods, WoodsOptions, WOODS_STEPS};
+use super::woods::{simulate_woods_with, WoodsOptions, WOODS_STEPS};
 use crate::error::InputError;
 use crate::format::leaf::{Finite, Integer};
 use crate::json::{box_to_json, interval_to_json};
@@ -127,7 +127,7 @@ pub struct SimulateOptions {
     /// Range-only detections with a rough landmark region instead of a
     /// bearing (paper only: the paper's P''; default false).
     pub range_only: bool,
-    /// Extra detections of no landmark (paper only; default 0).
+    /// Extra detections of no landmark (paper and woods; default 0).
     pub false_detections: usize,
 }
 
@@ -183,12 +183,15 @@ pub fn simulate(options: &SimulateOptions) -> Value {
     match o.scenario {
         Scenario::Paper => paper(&o),
         Scenario::Auv => auv(&o),
-        Scenario::Woods => simulate_woods(&WoodsOptions {
-            seed: o.seed,
-            steps: o.steps,
-            landmarks: o.landmarks,
-            operator: o.operator,
-        }),
+        Scenario::Woods => simulate_woods_with(
+            &WoodsOptions {
+                seed: o.seed,
+                steps: o.steps,
+                landmarks: o.landmarks,
+                operator: o.operator,
+            },
+            o.false_detections,
+        ),
     }
 }
 
@@ -818,7 +821,7 @@ pub struct SimulateRequest {
     pub layout: Option<Value>,
     /// Range-only detections (paper; default false).
     pub range_only: Option<bool>,
-    /// Extra false detections (paper; default 0).
+    /// Extra false detections (paper and woods; default 0).
     pub false_detections: Option<Integer>,
 }
 
@@ -879,6 +882,7 @@ impl SimulateRequest {
         // Options of other scenarios pass only at their defaults: (field,
         // set away from its default, this scenario takes it, who does).
         let (paper, not_woods) = (scenario == Scenario::Paper, scenario != Scenario::Woods);
+        let not_auv = scenario != Scenario::Auv;
         let only = [
             (
                 "layout",
@@ -890,8 +894,8 @@ impl SimulateRequest {
             (
                 "false_detections",
                 o.false_detections > 0,
-                paper,
-                "the paper scenario",
+                not_auv,
+                "the paper and woods scenarios",
             ),
             (
                 "noise",
@@ -1272,6 +1276,8 @@ mod request_tests {
         .options(limits)
         .unwrap();
         assert_eq!(o.steps, Some(20_000), "the default, at most the limit");
+        let o = options(json!({"scenario": "woods", "false_detections": 100_000})).unwrap();
+        assert_eq!(o.false_detections, MAX_FALSE_DETECTIONS);
     }
 
     #[test]
@@ -1302,6 +1308,14 @@ mod request_tests {
             (
                 json!({"scenario": "paper", "false_detections": 100_001}),
                 "false_detections: 100001 is above the limit 100000",
+            ),
+            (
+                json!({"scenario": "woods", "false_detections": 100_001}),
+                "false_detections: 100001 is above the limit 100000",
+            ),
+            (
+                json!({"scenario": "auv", "false_detections": 2}),
+                "false_detections: false_detections applies to the paper and woods scenarios only",
             ),
             (
                 json!({"scenario": "auv", "range_only": true}),

@@ -5,8 +5,9 @@
 //! The request is one flat serde type (every front end fills it in, and
 //! [`SimulateRequest::options`] checks it), but which fields may take which
 //! values depends on `scenario`: the paper scenario takes every option, the
-//! auv and woods scenarios take the paper's options only at their
-//! defaults, and woods takes no `noise` but 1. JSON Schema says that as a
+//! auv scenario takes the paper's options only at their defaults, woods
+//! takes `false_detections` but the other paper options only at their
+//! defaults, and no `noise` but 1. JSON Schema says that as a
 //! `oneOf` of one object per scenario, told apart by `scenario`; the fuzzer
 //! of `make test` sends the service requests drawn from it, and every
 //! schema-valid one must be accepted (201) or refused by a service limit
@@ -84,14 +85,15 @@ const SCENARIOS: [Scenario; 3] = [
     Scenario {
         name: "woods",
         description: "An odometry2d robot among identical landmarks, with scans and a \
-            minimum separation (the paper-only options and `noise` at their defaults). \
-            A service refuses (413) a request whose mission could hold more detections \
-            than its limit: (steps / 2 + 1) x landmarks.",
+            minimum separation (`layout`, `range_only` and `noise` at their defaults; \
+            `false_detections` adds false range-and-bearing detections in the robot's \
+            scans). A service refuses (413) a request whose mission could hold more true \
+            detections than its limit: (steps / 2 + 1) x landmarks.",
         steps: "Steps (default 3,000, at most this service's limit; below 2 reads as 2).",
         landmarks: "Landmarks (default 17; 0 reads as 1).",
         layouts: &["line"],
         range_only: false,
-        false_detections: 0,
+        false_detections: MAX_FALSE_DETECTIONS as u64,
         noise: None,
     },
 ];

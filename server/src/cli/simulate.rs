@@ -17,7 +17,8 @@ pub struct Args {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Number of steps (default: 10000 for paper, 60000 for auv).
+    /// Number of steps (default: 10000 for paper, 60000 for auv, 3000 for
+    /// woods).
     #[arg(long)]
     steps: Option<usize>,
     /// Number of landmarks (paper only; default 4; at most 64).
@@ -38,8 +39,12 @@ pub struct Args {
     /// rough `region` per detection instead (a 30 m box holding the landmark).
     #[arg(long)]
     range_only: bool,
-    /// Add K false detections (paper only): ranges to no landmark, `null` in
-    /// truth.matching, and "max_outliers": K in the mission.
+    /// Add K false detections (paper and woods): `null` in truth.matching,
+    /// and "max_outliers": K in the mission. paper: ranges to no landmark;
+    /// woods: range-and-bearing detections in the robot's scans of phantom
+    /// points at least landmark_min_separation + 0.5 m from every landmark
+    /// (seen once, two or three times from nearby scans, or with
+    /// --operator under a real landmark's label).
     #[arg(long, default_value_t = 0)]
     false_detections: usize,
     /// Output file (default: standard output).

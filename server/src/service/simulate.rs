@@ -1,9 +1,10 @@
 //! `POST /api/v1/simulate`: a simulated mission, returned and stored.
 //!
 //! Every field but `scenario` is optional, and `null` means absent (as in
-//! the mission format). `layout`, `range_only` and `false_detections` are
-//! for the paper scenario only (with `auv` and `woods` only their defaults
-//! pass), `noise` for paper and auv, as in `nvector simulate`. A woods
+//! the mission format). `layout` and `range_only` are for the paper
+//! scenario only (with `auv` and `woods` only their defaults pass),
+//! `false_detections` for paper and woods, `noise` for paper and auv, as in
+//! `nvector simulate`. A woods
 //! request whose mission could hold more detections than this service's
 //! limit is refused before it is simulated (413).
 
@@ -225,6 +226,24 @@ mod tests {
             err(json!({"scenario": "auv", "layout": "ring"})),
             "layout: layout applies to the paper scenario only"
         );
+        // False detections: paper and woods (issue 18), not auv.
+        let o = options(
+            &json!({"scenario": "woods", "false_detections": 4}),
+            1000,
+            100_000,
+        )
+        .unwrap();
+        assert_eq!((o.scenario, o.false_detections), (Scenario::Woods, 4));
+        assert_eq!(
+            err(json!({"scenario": "auv", "false_detections": 1})),
+            "false_detections: false_detections applies to the paper and woods scenarios only"
+        );
+        assert!(options(
+            &json!({"scenario": "woods", "false_detections": 51}),
+            1000,
+            50
+        )
+        .is_err());
         assert!(
             err(json!({"scenario": "paper", "layout": "spiral"})).starts_with("layout: unknown")
         );
