@@ -182,6 +182,10 @@ struct Evidence {
     boxes: Vec<IntervalBox>,
 }
 
+/// What the relaxed passes read of each detection: whether it is proved
+/// false, and its evidence box (one axis per state axis of the chain).
+type Votes<'a> = (&'a [bool], &'a [IntervalBox]);
+
 /// A chain the relaxed passes run along: N + 1 states of `dim` intervals,
 /// `x(t+1) = x(t) + D(t)`. The positions over the displacements, or
 /// (odometry2d, [`super::robust_heading`]) the headings over the turns.
@@ -196,13 +200,13 @@ struct Track<'a> {
 }
 
 /// The relaxed passes along `track`, forward then backward, with the
-/// `keep`-th best evidence of `ev` (`budget` + 1 kept); the largest move,
-/// or `Err(step)` when a state becomes empty.
+/// `keep`-th best evidence of `ev` (proved false, evidence boxes; `budget`
+/// + 1 kept); the largest move, or `Err(step)` when a state becomes empty.
 fn relaxed_passes(
     mission: &Mission,
     track: &mut Track,
     order: &[usize],
-    ev: &Evidence,
+    ev: Votes,
     keep: usize,
 ) -> Result<f64, usize> {
     let mut moved = 0.0f64;
@@ -591,7 +595,7 @@ fn relaxed_pass(
     mission: &Mission,
     track: &mut Track,
     order: &[usize],
-    ev: &Evidence,
+    (proved_false, boxes): Votes,
     keep: usize,
     forward: bool,
     record: &mut Option<Record>,
@@ -630,8 +634,8 @@ fn relaxed_pass(
         // Evidence of the detections at step t joins the lists.
         let mut joined = false;
         while let Some(j) = cursor.at(mission, t) {
-            let m = &ev.boxes[j];
-            if ev.proved_false[j] || m.is_empty() {
+            let m = &boxes[j];
+            if proved_false[j] || m.is_empty() {
                 continue;
             }
             joined = true;
@@ -1097,20 +1101,16 @@ impl<'a> Robust<'a> {
         // ([`super::robust_heading`]), with the same passes on a chain of
         // dimension 1.
         let (mission, order, ev) = (self.mission, &self.order, &self.ev);
-        let mut pass = |state: &mut [Interval], step: &[Interval], boxes, keep| {
-            let mut track = Track {
-                dim: 1,
-                steps: step.len(),
-                state,
-                step,
+        let mut pass =
+            |state: &mut [Interval], step: &[Interval], boxes: Vec<IntervalBox>, keep| {
+                let mut track = Track {
+                    dim: 1,
+                    steps: step.len(),
+                    state,
+                    step,
+                };
+                relaxed_passes(mission, &mut track, order, (&ev.proved_false, &boxes), keep)
             };
-            let proved_false = ev.proved_false.clone();
-            let hev = Evidence {
-                proved_false,
-                boxes,
-            };
-            relaxed_passes(mission, &mut track, order, &hev, keep)
-        };
         let turned = robust_heading(mission, &mut self.model, &ev.boxes, budget, &mut pass)?;
         let model = &mut self.model;
         let mut track = Track {
@@ -1119,7 +1119,8 @@ impl<'a> Robust<'a> {
             state: &mut model.pos,
             step: &model.disp,
         };
-        let moved = relaxed_passes(self.mission, &mut track, &self.order, &self.ev, budget + 1)
+        let votes = (&self.ev.proved_false[..], &self.ev.boxes[..]);
+        let moved = relaxed_passes(self.mission, &mut track, &self.order, votes, budget + 1)
             .map_err(|t| {
                 format!(
                     "the position of step {t} is empty: no choice of at most {} false detections is consistent",
