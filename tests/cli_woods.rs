@@ -5,7 +5,8 @@
 //! the heading chain, the motion chain (and, across each motion-capture
 //! gap, a completion of the truth that satisfies every step), the initial
 //! pose, every range and bearing from the offset laser, the minimum
-//! separation of the tubes, and distinct tubes within a scan.
+//! separation of the tubes, distinct tubes within a scan, and the heading
+//! and motion drift windows.
 
 use nvector_tests::temp_file;
 use serde_json::Value;
@@ -196,6 +197,78 @@ fn check_heading_drift(m: &Value, valid: &[bool], hd: &dyn Fn(usize) -> f64) {
     assert!(!m["meta"]["heading_drift"]["method"].is_null());
 }
 
+/// `motion_drift`: every window `(k, c)` holds the truth at every pair of
+/// valid rows i, i + k (the headings inside from this test's own linear
+/// completion of the gaps, the witness of the true heading), and the
+/// completion itself (positions and headings) at every pair up to the
+/// last valid row: `|p(i+k) - p(i) - sum_{j=i}^{i+k-1} dt v(j) (cos th(j),
+/// sin th(j))| <= c` (Euclidean). Each bound is below k per-step motion
+/// bounds × √2 (what the per-axis bounds give in any rotated frame: the
+/// point of the windows).
+fn check_motion_drift(
+    m: &Value,
+    valid: &[bool],
+    pos: &dyn Fn(usize) -> [f64; 2],
+    hd: &dyn Fn(usize) -> f64,
+) {
+    let n = valid.len() - 1;
+    let dt = f(&m["dt"]);
+    let last = (0..=n).rev().find(|&k| valid[k]).unwrap();
+    // The completion: linear interpolation between the valid ends.
+    let (mut th, mut p) = (vec![0.0; last + 1], vec![[0.0; 2]; last + 1]);
+    let mut k = 0;
+    while k < last {
+        let j = (k + 1..=last).find(|&j| valid[j]).unwrap();
+        for x in k..=j {
+            let s = (x - k) as f64 / (j - k) as f64;
+            th[x] = hd(k) + s * (hd(j) - hd(k));
+            p[x] = [
+                pos(k)[0] + s * (pos(j)[0] - pos(k)[0]),
+                pos(k)[1] + s * (pos(j)[1] - pos(k)[1]),
+            ];
+        }
+        k = j;
+    }
+    // The speed error is 0 (the import says so): the true speed is the
+    // odometry's, and the sums below are the model's exactly.
+    let (mut sx, mut sy) = (vec![0.0], vec![0.0]);
+    for i in 0..last {
+        assert_eq!(per_step(&m["inputs"]["speed"]["error"], i), 0.0);
+        let v = f(&m["inputs"]["speed"]["value"][i]);
+        sx.push(sx[i] + dt * v * th[i].cos());
+        sy.push(sy[i] + dt * v * th[i].sin());
+    }
+    let me: Vec<f64> = (0..n).map(|i| per_step(&m["motion_error"], i)).collect();
+    let ordinary = me.iter().copied().fold(f64::INFINITY, f64::min);
+    let windows = m["motion_drift"].as_array().expect("motion_drift");
+    let mut pairs = 0usize;
+    let mut seen = HashSet::new();
+    for w in windows {
+        let (k, c) = (w["steps"].as_u64().unwrap() as usize, f(&w["error"]));
+        assert!(k >= 1 && k <= n && c >= 0.0, "window {w}");
+        seen.insert(k);
+        for i in 0..(last + 1).saturating_sub(k) {
+            let d = [sx[i + k] - sx[i], sy[i + k] - sy[i]];
+            if valid[i] && valid[i + k] {
+                let (a, b) = (pos(i), pos(i + k));
+                let r = (b[0] - a[0] - d[0]).hypot(b[1] - a[1] - d[1]);
+                assert!(r <= c, "window {k} at {i}: {r} > {c}");
+                pairs += 1;
+            }
+            let r = (p[i + k][0] - p[i][0] - d[0]).hypot(p[i + k][1] - p[i][1] - d[1]);
+            assert!(r <= c, "completed truth, window {k} at {i}: {r} > {c}");
+        }
+        let per_step_sum = k as f64 * ordinary * 2f64.sqrt();
+        assert!(c < per_step_sum, "window {k}: {c} >= {per_step_sum}");
+    }
+    // The windows the issue asks for (10 s of odometry and beyond).
+    for k in [10, 30, 60, 100, 300] {
+        assert!(seen.contains(&k), "no motion_drift window of {k} steps");
+    }
+    assert!(pairs > 500_000, "{pairs}");
+    assert!(!m["meta"]["motion_drift"]["method"].is_null());
+}
+
 fn check_truth_satisfies_mission(m: &Value, operator: bool) {
     let odo = csv("odometry.csv");
     let truth = csv("truth.csv");
@@ -274,6 +347,7 @@ fn check_truth_satisfies_mission(m: &Value, operator: bool) {
     }
     assert!(steps_checked >= n - 10, "{steps_checked} of {n}");
     check_heading_drift(m, &valid, &hd);
+    check_motion_drift(m, &valid, &pos, &hd);
     // Landmarks and their separation.
     let tl = t["landmarks"].as_array().unwrap();
     assert_eq!(tl.len(), 17);

@@ -57,6 +57,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "the heading drift bound over windows of k steps",
     ),
     (
+        "odometry::motion_drift",
+        4,
+        "the position drift bound over windows of k steps",
+    ),
+    (
         "odometry::pair_heading",
         4,
         "the heading from two detections of one step",

@@ -58,13 +58,15 @@ RULED = {
     "Mission": {
         "format", "name", "model", "steps", "dt", "inputs", "motion_error",
         "initial_position", "final_position", "initial_heading",
-        "final_heading", "heading_error", "heading_drift", "sensor_offset",
+        "final_heading", "heading_error", "heading_drift", "motion_drift",
+        "sensor_offset",
         "detections", "landmark_count", "landmark_region",
         "landmark_min_separation", "max_outliers", "truth", "meta",
     },
     "Inputs": {"speed", "heading", "turn_rate", "roll", "pitch", "yaw", "vx", "vy", "vz"},
     "Detection": {"step", "range", "bearing", "depth", "landmark", "region", "scan"},
     "HeadingDriftWindow": {"steps", "error", "exempt_above"},
+    "MotionDriftWindow": {"steps", "error", "exempt_above"},
     "Truth": {"positions", "landmarks", "matching", "headings"},
     "MissionUpload": {"file"},
     "ContractRequest": {"format", "boxes", "n", "contractor"},
@@ -247,8 +249,8 @@ def mission_rules(m):
 
 def heading_rules(m, model, steps):
     """odometry2d's headings (initial_heading required, final_heading,
-    heading_error and heading_drift optional, refused for the other
-    models) and
+    heading_error, heading_drift and motion_drift optional, refused for
+    the other models) and
     sensor_offset (2-D models only)."""
     odometry = model == "odometry2d"
     if odometry and absent(m, "initial_heading"):
@@ -283,6 +285,23 @@ def heading_rules(m, model, steps):
             levels.add(w["exempt_above"])
             if len(levels) > 8:
                 raise Broken(f"heading_drift[{i}].exempt_above: a ninth distinct value")
+    if not absent(m, "motion_drift"):
+        if not odometry:
+            raise Broken("motion_drift: odometry2d only")
+        for i, w in enumerate(m["motion_drift"]):
+            if w["steps"] < 1:
+                raise Broken(f"motion_drift[{i}].steps: below 1")
+            if w["error"] < 0:
+                raise Broken(f"motion_drift[{i}].error: negative")
+        levels = set()
+        for i, w in enumerate(m["motion_drift"]):
+            if absent(w, "exempt_above"):
+                continue
+            if w["exempt_above"] < 0:
+                raise Broken(f"motion_drift[{i}].exempt_above: negative")
+            levels.add(w["exempt_above"])
+            if len(levels) > 8:
+                raise Broken(f"motion_drift[{i}].exempt_above: a ninth distinct value")
     if not absent(m, "sensor_offset") and DIMENSIONS[model] != 2:
         raise Broken("sensor_offset: 2-D models only")
 

@@ -97,6 +97,16 @@ pub struct MissionDoc {
         schema(value_type = Option<Vec<HeadingDriftDoc>>, max_items = 1000)
     )]
     pub heading_drift: Option<List<HeadingDriftDoc>>,
+    /// odometry2d: bounds on the position drift over windows of k steps
+    /// (optional): for every window and every i with i + k <= N, the
+    /// Euclidean norm `|p(i+k) - p(i) - sum_{j=i}^{i+k-1} dt speed(j)
+    /// (cos th(j), sin th(j))| <= error`. Rule: odometry2d only; `steps`
+    /// >= 1 (a window longer than N constrains nothing), `error` >= 0.
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = Option<Vec<MotionDriftDoc>>, max_items = 1000)
+    )]
+    pub motion_drift: Option<List<MotionDriftDoc>>,
     /// Where the sensor sits in the body frame, `[forward, left]` metres
     /// (default `[0, 0]`). Rule: 2-D models only.
     #[cfg_attr(
@@ -279,6 +289,39 @@ pub struct DetectionDoc {
     pub scan: Option<Integer>,
 }
 
+/// One motion drift window of an odometry2d mission: over any `steps`
+/// consecutive steps the position's residual against the odometry's
+/// displacement (speed and true heading, no per-step error) has a
+/// Euclidean norm of at most `error` (metres), plus the `motion_error` ×
+/// √2 of each step above `exempt_above` when given.
+#[derive(Debug, Default, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[cfg_attr(feature = "openapi", schema(as = MotionDriftWindow))]
+#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
+pub struct MotionDriftDoc {
+    /// k, the window's length in steps. Rule: >= 1.
+    #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = u64, minimum = 1, maximum = 18446744073709551615u64, required = true)
+    )]
+    pub steps: Option<Integer>,
+    /// c, the bound on the residual's norm over the window (metres). Rule:
+    /// >= 0.
+    #[serde(default, deserialize_with = "present")]
+    #[cfg_attr(
+        feature = "openapi",
+        schema(value_type = f64, minimum = 0, required = true)
+    )]
+    pub error: Option<Finite>,
+    /// The steps whose `motion_error` is above this are exempt: each adds
+    /// its own `motion_error` × √2 to c instead of counting in it
+    /// (default: none exempt). Rules: >= 0; at most 8 distinct values over
+    /// the windows.
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
+    pub exempt_above: Option<Finite>,
+}
+
 /// One heading drift window of an odometry2d mission: over any `steps`
 /// consecutive steps the heading's residual against the integrated turn
 /// rate is at most `error` (radians), plus the `heading_error` of each
@@ -368,4 +411,5 @@ object_only!(InputsDoc);
 object_only!(ChannelDoc);
 object_only!(DetectionDoc);
 object_only!(HeadingDriftDoc);
+object_only!(MotionDriftDoc);
 object_only!(TruthDoc);

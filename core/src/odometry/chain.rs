@@ -43,6 +43,7 @@ use crate::contractors::motion_chain::{shrinkage, Sweep};
 use crate::interval::Interval;
 use crate::odometry::angle::contract_heading;
 use crate::odometry::drift::{DriftWindow, HeadingDrift};
+use crate::odometry::motion_drift::{MotionDrift, MotionWindow};
 
 /// The inputs of an odometry2d chain of N steps, precomputed as intervals.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,6 +57,9 @@ pub struct OdometryChain {
     /// The heading drift windows (`heading_drift`), when the mission has
     /// any that constrain ([`OdometryChain::with_drift`]).
     drift: Option<HeadingDrift>,
+    /// The motion drift windows (`motion_drift`), when the mission has any
+    /// that constrain ([`OdometryChain::with_motion_drift`]).
+    motion: Option<MotionDrift>,
 }
 
 /// p(k) of flat positions (2 intervals per state).
@@ -124,6 +128,7 @@ impl OdometryChain {
             turn,
             error,
             drift: None,
+            motion: None,
         }
     }
 
@@ -142,6 +147,18 @@ impl OdometryChain {
         let turn = &turn_rate[..n.min(turn_rate.len())];
         self.drift = HeadingDrift::new(dt, turn, heading_error, windows);
         self
+    }
+
+    /// The chain with the motion drift windows of the mission
+    /// (`motion_drift`; [`MotionDrift`]).
+    pub fn with_motion_drift(mut self, windows: &[MotionWindow]) -> OdometryChain {
+        self.motion = MotionDrift::new(windows, self.steps());
+        self
+    }
+
+    /// The motion drift windows, when any constrain.
+    pub fn motion_drift(&self) -> Option<&MotionDrift> {
+        self.motion.as_ref()
     }
 
     /// The heading drift windows, when any constrain.

@@ -8,6 +8,8 @@
 //!   forward and backward;
 //! - [`drift`]: the heading drift bound over windows of k steps
 //!   (`heading_drift`), from prefix sums of the turn inputs;
+//! - [`motion_drift`]: the position drift bound over windows of k steps
+//!   (`motion_drift`), read by the relative evidence;
 //! - [`sensor`]: a range (and bearing) detection measured from a point fixed
 //!   in the body frame (`sensor_offset`) under an uncertain heading;
 //! - [`sector`]: the detection's landmark set with an uncertain heading (an
@@ -25,6 +27,7 @@
 pub mod angle;
 pub mod chain;
 pub mod drift;
+pub mod motion_drift;
 pub mod pair_heading;
 pub mod relative;
 pub mod scan_pose;

@@ -26,6 +26,7 @@ use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::odometry::drift::{DriftWindow, MAX_EXEMPT_LEVELS};
+use crate::odometry::motion_drift::MotionWindow;
 use crate::slam::mission::{Detection, Mission, Model, Points, Truth, MAX_STEPS};
 use serde_json::{Map, Value};
 
@@ -134,6 +135,12 @@ pub fn encode(m: &Mission) -> Vec<u8> {
     o.f64(m.landmark_min_separation);
     o.len(m.heading_drift.len());
     m.heading_drift.iter().for_each(|w| {
+        o.u64(w.steps);
+        o.f64(w.error);
+        o.option(w.exempt_above, Out::f64);
+    });
+    o.len(m.motion_drift.len());
+    m.motion_drift.iter().for_each(|w| {
         o.u64(w.steps);
         o.f64(w.error);
         o.option(w.exempt_above, Out::f64);
@@ -359,6 +366,45 @@ fn heading_drift(i: &mut In) -> Result<Vec<DriftWindow>, InputError> {
     Ok(out)
 }
 
+/// The motion drift windows: a count, then (k >= 1, c >= 0 and not NaN,
+/// an optional `exempt_above` >= 0 and finite) of 17 or 25 bytes each, at
+/// most [`MAX_EXEMPT_LEVELS`] distinct `exempt_above`.
+fn motion_drift(i: &mut In) -> Result<Vec<MotionWindow>, InputError> {
+    let n = i.count(17)?;
+    let mut out = Vec::with_capacity(n);
+    let mut levels: Vec<f64> = Vec::new();
+    for _ in 0..n {
+        let steps = i.u64()?;
+        let error = i.f64()?;
+        let exempt_above = i.option(In::f64)?;
+        check(steps >= 1 && error >= 0.0, "a motion drift window")?;
+        if let Some(t) = exempt_above {
+            check(t >= 0.0 && t.is_finite(), "a motion drift window")?;
+            if !levels.contains(&t) {
+                levels.push(t);
+            }
+        }
+        check(levels.len() <= MAX_EXEMPT_LEVELS, "motion_drift levels")?;
+        out.push(MotionWindow {
+            steps,
+            error,
+            exempt_above,
+        });
+    }
+    Ok(out)
+}
+
+/// The heading then the motion drift windows, both empty unless the
+/// mission is `odometry`'s.
+type Windows = (Vec<DriftWindow>, Vec<MotionWindow>);
+fn drift_windows(i: &mut In, odometry: bool) -> Result<Windows, InputError> {
+    let heading = heading_drift(i)?;
+    check(odometry || heading.is_empty(), "heading_drift")?;
+    let motion = motion_drift(i)?;
+    check(odometry || motion.is_empty(), "motion_drift")?;
+    Ok((heading, motion))
+}
+
 /// A mission from its binary stream ([`encode`]); an error names what is
 /// malformed. Never panics; allocates at most in proportion to
 /// `bytes.len()`.
@@ -413,8 +459,7 @@ pub fn decode(bytes: &[u8]) -> Result<Mission, InputError> {
             && landmark_min_separation >= 0.0,
         "a negative bound",
     )?;
-    let heading_drift = heading_drift(&mut i)?;
-    check(odometry || heading_drift.is_empty(), "heading_drift")?;
+    let (heading_drift, motion_drift) = drift_windows(&mut i, odometry)?;
     check(i.bytes.is_empty(), "bytes after the mission")?;
     Ok(Mission {
         name,
@@ -436,6 +481,7 @@ pub fn decode(bytes: &[u8]) -> Result<Mission, InputError> {
         final_heading,
         heading_error,
         heading_drift,
+        motion_drift,
         sensor_offset,
         landmark_min_separation,
     })
@@ -481,6 +527,7 @@ mod tests {
             },
             "heading_error": [0.001, 0.002], "sensor_offset": [0.3, -0.0],
             "heading_drift": [{"steps": 1, "error": 0.0}, {"steps": 18446744073709551615u64, "error": 0.25, "exempt_above": 0.0015}],
+            "motion_drift": [{"steps": 2, "error": 0.0}, {"steps": 18446744073709551615u64, "error": 0.75, "exempt_above": 0.03}],
             "detections": [
                 {"step": 1, "range": [2, 3], "bearing": [0.1, 0.2], "scan": 18446744073709551615u64},
                 {"step": 2, "range": 4, "region": [[-9, 9], [0, 1]], "landmark": 2}

@@ -361,6 +361,7 @@ pub fn stripped(mission: &Mission, sure: &[bool]) -> Mission {
         final_heading: mission.final_heading,
         heading_error: mission.heading_error.clone(),
         heading_drift: mission.heading_drift.clone(),
+        motion_drift: mission.motion_drift.clone(),
         sensor_offset: mission.sensor_offset,
         landmark_min_separation: mission.landmark_min_separation,
     }

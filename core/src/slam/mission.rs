@@ -4,12 +4,15 @@
 
 use crate::error::InputError;
 use crate::format::leaf::{wrong_count, Finite, PointsIn};
-use crate::format::mission::{ChannelDoc, DetectionDoc, HeadingDriftDoc, MissionDoc, TruthDoc};
+use crate::format::mission::{
+    ChannelDoc, DetectionDoc, HeadingDriftDoc, MissionDoc, MotionDriftDoc, TruthDoc,
+};
 use crate::format::{self, leaf::List};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::json;
 use crate::odometry::drift::{DriftWindow, MAX_EXEMPT_LEVELS};
+use crate::odometry::motion_drift::MotionWindow;
 use serde::{Serialize, Serializer};
 use serde_json::{Map, Value};
 
@@ -208,6 +211,11 @@ pub struct Mission {
     /// [`MAX_EXEMPT_LEVELS`] distinct values); empty when none (always
     /// for the other models).
     pub heading_drift: Vec<DriftWindow>,
+    /// odometry2d: the motion drift windows (`motion_drift`: the norm of
+    /// `p(i+k) - p(i) - sum dt speed (cos th, sin th)` is at most c), k >= 1
+    /// (possibly above N: no constraint), c >= 0; empty when none (always
+    /// for the other models).
+    pub motion_drift: Vec<MotionWindow>,
     /// Where the sensor sits in the body frame, metres forward and left of
     /// p (2-D models; `None` is `[0, 0]`).
     pub sensor_offset: Option<[f64; 2]>,
@@ -374,6 +382,37 @@ struct Headings {
     last: Option<Interval>,
     error: Vec<f64>,
     drift: Vec<DriftWindow>,
+    motion: Vec<MotionWindow>,
+}
+
+/// A window's `exempt_above` (at `path`), >= 0 when given, added to the
+/// distinct `levels` of its list: at most [`MAX_EXEMPT_LEVELS`] (one
+/// prefix array or exempt sum each).
+fn exempt_level(
+    t: Option<Finite>,
+    path: &str,
+    levels: &mut Vec<f64>,
+) -> Result<Option<f64>, InputError> {
+    let Some(t) = t.map(|t| t.0) else {
+        return Ok(None);
+    };
+    let t_path = field_path(path, "exempt_above");
+    if t.is_nan() || t < 0.0 {
+        return Err(err(
+            t_path,
+            format!("the exemption threshold must be >= 0, found {t}"),
+        ));
+    }
+    if !levels.contains(&t) {
+        if levels.len() == MAX_EXEMPT_LEVELS {
+            return Err(err(
+                t_path,
+                format!("at most {MAX_EXEMPT_LEVELS} distinct exempt_above values over the windows (one prefix array each), found a {}th: {t}", MAX_EXEMPT_LEVELS + 1),
+            ));
+        }
+        levels.push(t);
+    }
+    Ok(Some(t))
 }
 
 /// `heading_drift`: each window's `steps` >= 1 (any size: a window longer
@@ -401,28 +440,43 @@ fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<DriftWindow>, InputE
                 format!("the drift bound must be >= 0, found {b}"),
             ));
         }
-        let exempt_above = w.exempt_above.map(|t| t.0);
-        if let Some(t) = exempt_above {
-            let t_path = field_path(&path, "exempt_above");
-            if t.is_nan() || t < 0.0 {
-                return Err(err(
-                    t_path,
-                    format!("the exemption threshold must be >= 0, found {t}"),
-                ));
-            }
-            if !levels.contains(&t) {
-                if levels.len() == MAX_EXEMPT_LEVELS {
-                    return Err(err(
-                        t_path,
-                        format!("at most {MAX_EXEMPT_LEVELS} distinct exempt_above values over the windows (one prefix array each), found a {}th: {t}", MAX_EXEMPT_LEVELS + 1),
-                    ));
-                }
-                levels.push(t);
-            }
-        }
+        let exempt_above = exempt_level(w.exempt_above, &path, &mut levels)?;
         out.push(DriftWindow {
             steps: k,
             error: b,
+            exempt_above,
+        });
+    }
+    Ok(out)
+}
+
+/// `motion_drift`: each window's `steps` >= 1 (any size: a window longer
+/// than N is kept and constrains nothing; nothing is sized by it),
+/// `error` >= 0, `exempt_above` as for `heading_drift`.
+fn motion_drift(list: List<MotionDriftDoc>) -> Result<Vec<MotionWindow>, InputError> {
+    let mut out = Vec::with_capacity(list.0.len());
+    let mut levels: Vec<f64> = Vec::new();
+    for (x, w) in list.0.into_iter().enumerate() {
+        let path = format!("motion_drift[{x}]");
+        let steps_path = field_path(&path, "steps");
+        let k = need(w.steps, &path, "steps")?.at_most(u64::MAX, &steps_path)?;
+        if k == 0 {
+            return Err(err(
+                steps_path,
+                "a window must span at least 1 step, found 0",
+            ));
+        }
+        let c = need(w.error, &path, "error")?.0;
+        if c.is_nan() || c < 0.0 {
+            return Err(err(
+                field_path(&path, "error"),
+                format!("the drift bound must be >= 0, found {c}"),
+            ));
+        }
+        let exempt_above = exempt_level(w.exempt_above, &path, &mut levels)?;
+        out.push(MotionWindow {
+            steps: k,
+            error: c,
             exempt_above,
         });
     }
@@ -436,6 +490,7 @@ fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings
             ("final_heading", doc.final_heading.is_some()),
             ("heading_error", doc.heading_error.is_some()),
             ("heading_drift", doc.heading_drift.is_some()),
+            ("motion_drift", doc.motion_drift.is_some()),
         ] {
             if present {
                 return Err(err(
@@ -449,6 +504,7 @@ fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings
             last: None,
             error: Vec::new(),
             drift: Vec::new(),
+            motion: Vec::new(),
         });
     }
     Ok(Headings {
@@ -462,6 +518,12 @@ fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings
             .heading_drift
             .take()
             .map(heading_drift)
+            .transpose()?
+            .unwrap_or_default(),
+        motion: doc
+            .motion_drift
+            .take()
+            .map(motion_drift)
             .transpose()?
             .unwrap_or_default(),
     })
@@ -669,9 +731,47 @@ impl Mission {
             final_heading: heading.last,
             heading_error: heading.error,
             heading_drift: heading.drift,
+            motion_drift: heading.motion,
             sensor_offset,
             landmark_min_separation: lm.min_separation,
         })
+    }
+
+    /// odometry2d's fields of [`Mission::to_value`]: `heading_error` and
+    /// the drift windows when there are any.
+    fn odometry_fields(&self, o: &mut Map<String, Value>) {
+        o.insert(
+            "heading_error".into(),
+            serde_json::json!(self.heading_error),
+        );
+        if !self.heading_drift.is_empty() {
+            let w: Vec<Value> = self
+                .heading_drift
+                .iter()
+                .map(|w| {
+                    let mut o = serde_json::json!({"steps": w.steps, "error": w.error});
+                    if let Some(t) = w.exempt_above {
+                        o["exempt_above"] = t.into();
+                    }
+                    o
+                })
+                .collect();
+            o.insert("heading_drift".into(), Value::Array(w));
+        }
+        if !self.motion_drift.is_empty() {
+            let w: Vec<Value> = self
+                .motion_drift
+                .iter()
+                .map(|w| {
+                    let mut o = serde_json::json!({"steps": w.steps, "error": w.error});
+                    if let Some(t) = w.exempt_above {
+                        o["exempt_above"] = t.into();
+                    }
+                    o
+                })
+                .collect();
+            o.insert("motion_drift".into(), Value::Array(w));
+        }
     }
 
     /// The mission in the spec's format (`from_value(to_value(m)) == m`).
@@ -709,24 +809,7 @@ impl Mission {
             o.insert("final_heading".into(), json::interval_to_json(h));
         }
         if self.model == Model::Odometry2d {
-            o.insert(
-                "heading_error".into(),
-                serde_json::json!(self.heading_error),
-            );
-            if !self.heading_drift.is_empty() {
-                let w: Vec<Value> = self
-                    .heading_drift
-                    .iter()
-                    .map(|w| {
-                        let mut o = serde_json::json!({"steps": w.steps, "error": w.error});
-                        if let Some(t) = w.exempt_above {
-                            o["exempt_above"] = t.into();
-                        }
-                        o
-                    })
-                    .collect();
-                o.insert("heading_drift".into(), Value::Array(w));
-            }
+            self.odometry_fields(&mut o);
         }
         if let Some(s) = self.sensor_offset {
             o.insert("sensor_offset".into(), serde_json::json!(s));
@@ -1461,6 +1544,28 @@ mod tests {
         assert_eq!(back["heading_drift"][3]["exempt_above"], json!(0.03));
         assert!(back["heading_drift"][10].get("exempt_above").is_none());
         assert_eq!(Mission::from_value(&back).unwrap(), m);
+        // motion_drift: windows kept as given (a huge k included), written
+        // back; absent: empty and not written.
+        assert!(m.motion_drift.is_empty());
+        assert!(back.get("motion_drift").is_none());
+        let mut v = odometry();
+        v["motion_drift"] = json!([
+            {"steps": 3, "error": 0.0},
+            {"steps": 18446744073709551615u64, "error": 0.4}
+        ]);
+        let m = Mission::from_value(&v).unwrap();
+        let w = MotionWindow::plain;
+        assert_eq!(m.motion_drift, vec![w(3, 0.0), w(u64::MAX, 0.4)]);
+        assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
+        // exempt_above: kept and written back.
+        v["motion_drift"][1]["exempt_above"] = json!(0.025);
+        let m = Mission::from_value(&v).unwrap();
+        assert_eq!(m.motion_drift[1].exempt_above, Some(0.025));
+        assert_eq!(
+            m.to_value()["motion_drift"][1]["exempt_above"],
+            json!(0.025)
+        );
+        assert_eq!(Mission::from_value(&m.to_value()).unwrap(), m);
         // sensor_offset on unicycle2d: parsed.
         let mut v = small();
         v["sensor_offset"] = json!([0.2, -0.1]);
@@ -1562,6 +1667,26 @@ mod tests {
                 "heading_drift[1].steps: a window must span at least 1 step, found 0",
             ),
             (
+                |v| v["motion_drift"] = json!([{"steps": 4, "error": 0.1}, {"steps": 0, "error": 0.1}]),
+                "motion_drift[1].steps: a window must span at least 1 step, found 0",
+            ),
+            (
+                |v| v["motion_drift"] = json!([{"steps": 2, "error": -0.1}]),
+                "motion_drift[0].error: the drift bound must be >= 0, found -0.1",
+            ),
+            (
+                |v| v["motion_drift"] = json!([{"steps": 2}]),
+                "motion_drift[0].error: missing",
+            ),
+            (
+                |v| v["motion_drift"] = json!([{"steps": 2, "error": 1, "exempt_above": -0.1}]),
+                "motion_drift[0].exempt_above: the exemption threshold must be >= 0, found -0.1",
+            ),
+            (
+                |v| v["motion_drift"] = json!([{"steps": 2, "error": 1, "t": 0.1}]),
+                "motion_drift[0].t: unknown field",
+            ),
+            (
                 |v| v["heading_drift"] = json!([{"steps": -3, "error": 0.1}]),
                 "heading_drift[0].steps: expected a non-negative integer, found -3",
             ),
@@ -1623,6 +1748,10 @@ mod tests {
             (
                 |v| v["heading_drift"] = json!([]),
                 "heading_drift: heading_drift is only for odometry2d missions",
+            ),
+            (
+                |v| v["motion_drift"] = json!([]),
+                "motion_drift: motion_drift is only for odometry2d missions",
             ),
             (
                 |v| v["truth"] = json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]], "matching": [0], "headings": [0, 0, 0]}),

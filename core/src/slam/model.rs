@@ -316,7 +316,8 @@ fn initial_headings(m: &Mission) -> (Vec<Interval>, Option<OdometryChain>) {
         &m.heading_error,
         &m.motion_error,
     )
-    .with_drift(m.dt, &m.inputs[1], &m.heading_error, &m.heading_drift);
+    .with_drift(m.dt, &m.inputs[1], &m.heading_error, &m.heading_drift)
+    .with_motion_drift(&m.motion_drift);
     (h, Some(chain))
 }
 

@@ -23,6 +23,9 @@
 //!   valid step bounded on each side by the narrowest line (in the measured
 //!   range r for ranges, in 1/r for bearings) that holds every residual,
 //!   intersected with the constant band, widened by a margin;
+//! - `heading_drift`, `motion_drift`: the truth's largest k-step heading
+//!   and (Euclidean) motion residuals over windows, at valid pairs and
+//!   over the completed truth, × a factor plus a margin;
 //! - `landmark_min_separation`: the smallest true distance between two
 //!   tubes less a margin; `scan`: detections at the same time.
 
@@ -81,6 +84,16 @@ pub mod bounds {
     pub const DRIFT_FACTOR: f64 = 1.1;
     /// Margin on a window's bound (rad), after the factor.
     pub const DRIFT_MARGIN: f64 = 0.02;
+    /// The motion drift windows (steps): every k of 3..=60 (the gaps
+    /// between sightings of a returning tube), then a ladder up to 300
+    /// steps (docs/utias-woods.md, "Motion drift over windows"); those up
+    /// to N are kept.
+    pub const MOTION_DRIFT_SHORT: std::ops::RangeInclusive<usize> = 3..=60;
+    pub const MOTION_DRIFT_LONG: [usize; 5] = [80, 100, 150, 200, 300];
+    /// Factor on a motion window's largest residual.
+    pub const MOTION_DRIFT_FACTOR: f64 = 1.1;
+    /// Margin on a motion window's bound (m), after the factor.
+    pub const MOTION_DRIFT_MARGIN: f64 = 0.01;
 }
 
 /// `a` taken into (-pi, pi].
@@ -471,6 +484,94 @@ fn woods_drift(
         .partition(|w| w.error < w.steps as f64 * ordinary)
 }
 
+/// One motion drift window: k, the truth's largest Euclidean k-step
+/// residual at valid pairs (both ends valid) and over the completed truth,
+/// and the bound.
+struct MotionWindow {
+    steps: usize,
+    valid_max: f64,
+    completed_max: f64,
+    error: f64,
+}
+
+/// The motion drift windows (`motion_drift`): for each k of
+/// [`bounds::MOTION_DRIFT_SHORT`] and [`bounds::MOTION_DRIFT_LONG`] up to
+/// N, the largest Euclidean residual
+/// `|p(i+k) - p(i) - sum_{j=i}^{i+k-1} dt v(j) (cos th(j), sin th(j))|`
+/// of the truth over the pairs whose two ends are valid rows (the
+/// headings inside from the completed truth: the true heading is what the
+/// statement quantifies, the completion its witness) and over the truth
+/// completed across its gaps (which tests/cli_woods.rs holds the mission
+/// to), the larger one × [`bounds::MOTION_DRIFT_FACTOR`] +
+/// [`bounds::MOTION_DRIFT_MARGIN`]. The speed's error is 0 (the
+/// odometry's speed is the true one of the model). A window whose bound is
+/// not below k × `ordinary` × √2 (k per-step bounds per axis, in any
+/// rotated frame) says nothing the per-step bounds do not: left out
+/// (returned apart). Sums from prefix sums of `dt v cos th`, `dt v sin th`
+/// (a rounding of ~1e-12 m over the log, far below the margin). O(N) per
+/// window.
+fn woods_motion_drift(
+    log: &WoodsLog,
+    c: &Completed,
+    ordinary: f64,
+) -> (Vec<MotionWindow>, Vec<MotionWindow>) {
+    use bounds::*;
+    let (mut sx, mut sy) = (vec![0.0f64], vec![0.0f64]);
+    for (j, &v) in log.v.iter().enumerate() {
+        let h = c.heading[j];
+        sx.push(sx[j] + log.dt * v * h.cos());
+        sy.push(sy[j] + log.dt * v * h.sin());
+    }
+    let cp = &c.position;
+    let window = |k: usize| {
+        let (mut valid_max, mut completed_max) = (0.0f64, 0.0f64);
+        for i in 0..=log.n - k {
+            let (dx, dy) = (sx[i + k] - sx[i], sy[i + k] - sy[i]);
+            if let (Some(a), Some(b)) = (log.position[i], log.position[i + k]) {
+                let r = (b[0] - a[0] - dx).hypot(b[1] - a[1] - dy);
+                valid_max = valid_max.max(r);
+            }
+            let r = (cp[i + k][0] - cp[i][0] - dx).hypot(cp[i + k][1] - cp[i][1] - dy);
+            completed_max = completed_max.max(r);
+        }
+        MotionWindow {
+            steps: k,
+            valid_max,
+            completed_max,
+            error: valid_max.max(completed_max) * MOTION_DRIFT_FACTOR + MOTION_DRIFT_MARGIN,
+        }
+    };
+    MOTION_DRIFT_SHORT
+        .chain(MOTION_DRIFT_LONG)
+        .filter(|&k| k <= log.n)
+        .map(window)
+        .partition(|w| w.error < w.steps as f64 * ordinary * std::f64::consts::SQRT_2)
+}
+
+/// `motion_drift` and its `meta.motion_drift` (method, constants, each
+/// window's figures, the windows left out).
+fn woods_motion_drift_meta(m: &mut Value, log: &WoodsLog, c: &Completed, motion: &WoodsMotion) {
+    let ordinary = motion.motion.1;
+    let (drift, dropped) = woods_motion_drift(log, c, ordinary);
+    m["motion_drift"] = drift
+        .iter()
+        .map(|w| json!({"steps": w.steps, "error": w.error}))
+        .collect();
+    let figures = |ws: &[MotionWindow]| {
+        ws.iter()
+            .map(|w| json!({"steps": w.steps, "valid_max": w.valid_max, "completed_max": w.completed_max, "error": w.error}))
+            .collect::<Vec<_>>()
+    };
+    m["meta"]["motion_drift"] = json!({
+        "method": "per window of k steps: the largest Euclidean |p(i+k) - p(i) - sum_{j=i}^{i+k-1} dt v(j) (cos th(j), sin th(j))| of the truth over the pairs with both ends valid (the headings inside from the completed truth) and over the truth completed across its gaps (linear interpolation), the larger one x factor + margin; a window whose bound is not below k x the ordinary per-step motion bound x sqrt 2 (what the per-axis per-step bounds give in any rotated frame) is left out (`dropped`)",
+        "factor": bounds::MOTION_DRIFT_FACTOR,
+        "margin": bounds::MOTION_DRIFT_MARGIN,
+        "ordinary": ordinary,
+        "windows": figures(&drift),
+        "dropped": figures(&dropped),
+    });
+}
+
 /// The tubes, indexed by their label, and the smallest true distance
 /// between two of them.
 fn woods_landmarks(f: &WoodsFiles) -> Result<(Vec<[f64; 2]>, f64), CliError> {
@@ -695,6 +796,7 @@ pub fn utias_woods(dir: &Path, operator: bool, outlier_share: f64) -> Result<Val
     woods_meta(&mut m["meta"], &dets, &bands, separation);
     m["meta"]["truth_gaps"] = json!(completed.gaps);
     woods_drift_meta(&mut m, &log, &completed, &motion);
+    woods_motion_drift_meta(&mut m, &log, &completed, &motion);
     m["landmark_count"] = json!(landmarks.len());
     m["landmark_min_separation"] = json!(separation - bounds::SEPARATION_MARGIN);
     m["truth"]["landmarks"] = json!(landmarks);

@@ -287,7 +287,7 @@ impl Bridge<'_> {
             p[0] = p[0].intersect(self.body[ai][0] - b[0]);
             p[1] = p[1].intersect(self.body[ai][1] - b[1]);
         }
-        (!p[0].is_empty() && !p[1].is_empty()).then_some(RelativePose { p, h })
+        (!p[0].is_empty() && !p[1].is_empty()).then_some(RelativePose { p, h, ..*odo })
     }
 
     /// Bridges (module doc): for each detection step i and the next
