@@ -447,7 +447,11 @@ mod tests {
         let n = 2 + (rng.bits() % 40) as usize;
         let dt = 0.05 + unit(rng) * 0.2;
         let jitter = unit(rng) * 0.02 * scale;
-        let drift = if case.is_multiple_of(3) { 0.0 } else { 0.002 * scale };
+        let drift = if case.is_multiple_of(3) {
+            0.0
+        } else {
+            0.002 * scale
+        };
         let flags = !case.is_multiple_of(4);
         let jit: Vec<[f64; 2]> = (0..=n)
             .map(|_| [(unit(rng) - 0.5) * 2.0, (unit(rng) - 0.5) * 2.0])
