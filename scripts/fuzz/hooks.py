@@ -247,6 +247,32 @@ def mission_rules(m):
                 raise Broken("truth.headings: not steps + 1 entries")
 
 
+def drift_rules(m, field, odometry):
+    """heading_drift or motion_drift: odometry2d only (even an empty list
+    is refused for the other models: the field itself is odometry2d's);
+    each window's steps >= 1 and error >= 0; exempt_above optional, >= 0,
+    at most 8 distinct values over the windows (one prefix array or exempt
+    sum each in the solver)."""
+    if absent(m, field):
+        return
+    if not odometry:
+        raise Broken(f"{field}: odometry2d only")
+    for i, w in enumerate(m[field]):
+        if w["steps"] < 1:
+            raise Broken(f"{field}[{i}].steps: below 1")
+        if w["error"] < 0:
+            raise Broken(f"{field}[{i}].error: negative")
+    levels = set()
+    for i, w in enumerate(m[field]):
+        if absent(w, "exempt_above"):
+            continue
+        if w["exempt_above"] < 0:
+            raise Broken(f"{field}[{i}].exempt_above: negative")
+        levels.add(w["exempt_above"])
+        if len(levels) > 8:
+            raise Broken(f"{field}[{i}].exempt_above: a ninth distinct value")
+
+
 def heading_rules(m, model, steps):
     """odometry2d's headings (initial_heading required, final_heading,
     heading_error, heading_drift and motion_drift optional, refused for
@@ -264,44 +290,8 @@ def heading_rules(m, model, steps):
         if not odometry:
             raise Broken("heading_error: odometry2d only")
         per_step(m["heading_error"], "heading_error", steps)
-    if not absent(m, "heading_drift"):
-        # Even an empty list is refused for the other models: the field
-        # itself is odometry2d's.
-        if not odometry:
-            raise Broken("heading_drift: odometry2d only")
-        for i, w in enumerate(m["heading_drift"]):
-            if w["steps"] < 1:
-                raise Broken(f"heading_drift[{i}].steps: below 1")
-            if w["error"] < 0:
-                raise Broken(f"heading_drift[{i}].error: negative")
-        # exempt_above: optional, >= 0, at most 8 distinct values over
-        # the windows (one prefix array each in the solver).
-        levels = set()
-        for i, w in enumerate(m["heading_drift"]):
-            if absent(w, "exempt_above"):
-                continue
-            if w["exempt_above"] < 0:
-                raise Broken(f"heading_drift[{i}].exempt_above: negative")
-            levels.add(w["exempt_above"])
-            if len(levels) > 8:
-                raise Broken(f"heading_drift[{i}].exempt_above: a ninth distinct value")
-    if not absent(m, "motion_drift"):
-        if not odometry:
-            raise Broken("motion_drift: odometry2d only")
-        for i, w in enumerate(m["motion_drift"]):
-            if w["steps"] < 1:
-                raise Broken(f"motion_drift[{i}].steps: below 1")
-            if w["error"] < 0:
-                raise Broken(f"motion_drift[{i}].error: negative")
-        levels = set()
-        for i, w in enumerate(m["motion_drift"]):
-            if absent(w, "exempt_above"):
-                continue
-            if w["exempt_above"] < 0:
-                raise Broken(f"motion_drift[{i}].exempt_above: negative")
-            levels.add(w["exempt_above"])
-            if len(levels) > 8:
-                raise Broken(f"motion_drift[{i}].exempt_above: a ninth distinct value")
+    for field in ("heading_drift", "motion_drift"):
+        drift_rules(m, field, odometry)
     if not absent(m, "sensor_offset") and DIMENSIONS[model] != 2:
         raise Broken("sensor_offset: 2-D models only")
 

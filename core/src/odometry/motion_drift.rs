@@ -54,7 +54,7 @@
 //! N or k.
 
 use crate::interval::Interval;
-use crate::odometry::drift::MAX_EXEMPT_LEVELS;
+use crate::odometry::drift::{DriftWindow, MAX_EXEMPT_LEVELS};
 
 /// √2 rounded up (the nearest double, 1.4142135623730951, is above √2).
 const SQRT_2_ABOVE: f64 = std::f64::consts::SQRT_2;
@@ -63,30 +63,12 @@ const SQRT_2_ABOVE: f64 = std::f64::consts::SQRT_2;
 /// pose, one sum per distinct `exempt_above` of the windows (rounded up).
 pub type Exempt = [f64; MAX_EXEMPT_LEVELS];
 
-/// One motion drift window: over any `steps` consecutive steps the
-/// position's residual against the odometry's nominal displacement has a
-/// Euclidean norm of at most `error` metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MotionWindow {
-    /// k >= 1.
-    pub steps: u64,
-    /// c >= 0 (metres).
-    pub error: f64,
-    /// t >= 0: the steps whose `motion_error` is above t are exempt (None:
-    /// no step is).
-    pub exempt_above: Option<f64>,
-}
-
-impl MotionWindow {
-    /// A window without exemptions.
-    pub fn plain(steps: u64, error: f64) -> MotionWindow {
-        MotionWindow {
-            steps,
-            error,
-            exempt_above: None,
-        }
-    }
-}
+/// One motion drift window: over any `steps` consecutive steps (k >= 1)
+/// the position's residual against the odometry's nominal displacement
+/// has a Euclidean norm of at most `error` metres (c >= 0), the steps whose
+/// `motion_error` is above `exempt_above` exempt. The same data as a
+/// heading drift window, read as metres.
+pub type MotionWindow = DriftWindow;
 
 /// The windows of a mission, by length, for [`MotionDrift::bound`].
 #[derive(Debug, Clone, PartialEq)]

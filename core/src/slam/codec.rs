@@ -26,7 +26,6 @@ use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::odometry::drift::{DriftWindow, MAX_EXEMPT_LEVELS};
-use crate::odometry::motion_drift::MotionWindow;
 use crate::slam::mission::{Detection, Mission, Model, Points, Truth, MAX_STEPS};
 use serde_json::{Map, Value};
 
@@ -133,18 +132,14 @@ pub fn encode(m: &Mission) -> Vec<u8> {
     o.floats(&m.heading_error);
     o.option(m.sensor_offset, |o, s| o.floats(&s));
     o.f64(m.landmark_min_separation);
-    o.len(m.heading_drift.len());
-    m.heading_drift.iter().for_each(|w| {
-        o.u64(w.steps);
-        o.f64(w.error);
-        o.option(w.exempt_above, Out::f64);
-    });
-    o.len(m.motion_drift.len());
-    m.motion_drift.iter().for_each(|w| {
-        o.u64(w.steps);
-        o.f64(w.error);
-        o.option(w.exempt_above, Out::f64);
-    });
+    for windows in [&m.heading_drift, &m.motion_drift] {
+        o.len(windows.len());
+        windows.iter().for_each(|w| {
+            o.u64(w.steps);
+            o.f64(w.error);
+            o.option(w.exempt_above, Out::f64);
+        });
+    }
     o.0
 }
 
@@ -338,10 +333,10 @@ fn header(i: &mut In) -> Result<(String, Model, f64, usize), InputError> {
     Ok((name, model, dt, steps))
 }
 
-/// The heading drift windows: a count, then (k >= 1, b >= 0 and not NaN,
-/// an optional `exempt_above` >= 0 and finite) of 17 or 25 bytes each,
-/// at most [`MAX_EXEMPT_LEVELS`] distinct `exempt_above`.
-fn heading_drift(i: &mut In) -> Result<Vec<DriftWindow>, InputError> {
+/// Drift windows (`what`: heading or motion): a count, then (k >= 1,
+/// b >= 0 and not NaN, an optional `exempt_above` >= 0 and finite) of 17
+/// or 25 bytes each, at most [`MAX_EXEMPT_LEVELS`] distinct `exempt_above`.
+fn windows(i: &mut In, what: &'static str) -> Result<Vec<DriftWindow>, InputError> {
     let n = i.count(17)?;
     let mut out = Vec::with_capacity(n);
     let mut levels: Vec<f64> = Vec::new();
@@ -349,43 +344,15 @@ fn heading_drift(i: &mut In) -> Result<Vec<DriftWindow>, InputError> {
         let steps = i.u64()?;
         let error = i.f64()?;
         let exempt_above = i.option(In::f64)?;
-        check(steps >= 1 && error >= 0.0, "a heading drift window")?;
+        check(steps >= 1 && error >= 0.0, what)?;
         if let Some(t) = exempt_above {
-            check(t >= 0.0 && t.is_finite(), "a heading drift window")?;
+            check(t >= 0.0 && t.is_finite(), what)?;
             if !levels.contains(&t) {
                 levels.push(t);
             }
         }
-        check(levels.len() <= MAX_EXEMPT_LEVELS, "heading_drift levels")?;
+        check(levels.len() <= MAX_EXEMPT_LEVELS, what)?;
         out.push(DriftWindow {
-            steps,
-            error,
-            exempt_above,
-        });
-    }
-    Ok(out)
-}
-
-/// The motion drift windows: a count, then (k >= 1, c >= 0 and not NaN,
-/// an optional `exempt_above` >= 0 and finite) of 17 or 25 bytes each, at
-/// most [`MAX_EXEMPT_LEVELS`] distinct `exempt_above`.
-fn motion_drift(i: &mut In) -> Result<Vec<MotionWindow>, InputError> {
-    let n = i.count(17)?;
-    let mut out = Vec::with_capacity(n);
-    let mut levels: Vec<f64> = Vec::new();
-    for _ in 0..n {
-        let steps = i.u64()?;
-        let error = i.f64()?;
-        let exempt_above = i.option(In::f64)?;
-        check(steps >= 1 && error >= 0.0, "a motion drift window")?;
-        if let Some(t) = exempt_above {
-            check(t >= 0.0 && t.is_finite(), "a motion drift window")?;
-            if !levels.contains(&t) {
-                levels.push(t);
-            }
-        }
-        check(levels.len() <= MAX_EXEMPT_LEVELS, "motion_drift levels")?;
-        out.push(MotionWindow {
             steps,
             error,
             exempt_above,
@@ -396,11 +363,11 @@ fn motion_drift(i: &mut In) -> Result<Vec<MotionWindow>, InputError> {
 
 /// The heading then the motion drift windows, both empty unless the
 /// mission is `odometry`'s.
-type Windows = (Vec<DriftWindow>, Vec<MotionWindow>);
+type Windows = (Vec<DriftWindow>, Vec<DriftWindow>);
 fn drift_windows(i: &mut In, odometry: bool) -> Result<Windows, InputError> {
-    let heading = heading_drift(i)?;
+    let heading = windows(i, "a heading drift window")?;
     check(odometry || heading.is_empty(), "heading_drift")?;
-    let motion = motion_drift(i)?;
+    let motion = windows(i, "a motion drift window")?;
     check(odometry || motion.is_empty(), "motion_drift")?;
     Ok((heading, motion))
 }

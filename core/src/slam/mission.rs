@@ -3,7 +3,7 @@
 //! path of the bad value.
 
 use crate::error::InputError;
-use crate::format::leaf::{wrong_count, Finite, PointsIn};
+use crate::format::leaf::{wrong_count, Finite, Integer, PointsIn};
 use crate::format::mission::{
     ChannelDoc, DetectionDoc, HeadingDriftDoc, MissionDoc, MotionDriftDoc, TruthDoc,
 };
@@ -415,32 +415,38 @@ fn exempt_level(
     Ok(Some(t))
 }
 
-/// `heading_drift`: each window's `steps` >= 1 (any size: a window longer
-/// than N is kept and constrains nothing; nothing is sized by it),
-/// `error` >= 0, `exempt_above` >= 0 when given, with at most
-/// [`MAX_EXEMPT_LEVELS`] distinct values over the windows (one prefix
-/// array each).
-fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<DriftWindow>, InputError> {
-    let mut out: Vec<DriftWindow> = Vec::with_capacity(list.0.len());
+/// A drift window's fields as read: `steps`, `error`, `exempt_above`.
+type WindowFields = (Option<Integer>, Option<Finite>, Option<Finite>);
+
+/// `heading_drift` or `motion_drift` (`name`): each window's `steps` >= 1
+/// (any size: a window longer than N is kept and constrains nothing;
+/// nothing is sized by it), `error` >= 0, `exempt_above` >= 0 when given,
+/// with at most [`MAX_EXEMPT_LEVELS`] distinct values over the windows
+/// (one prefix array or exempt sum each).
+fn drift_windows(
+    name: &str,
+    list: impl Iterator<Item = WindowFields>,
+) -> Result<Vec<DriftWindow>, InputError> {
+    let mut out: Vec<DriftWindow> = Vec::new();
     let mut levels: Vec<f64> = Vec::new();
-    for (x, w) in list.0.into_iter().enumerate() {
-        let path = format!("heading_drift[{x}]");
+    for (x, (steps, error, exempt)) in list.enumerate() {
+        let path = format!("{name}[{x}]");
         let steps_path = field_path(&path, "steps");
-        let k = need(w.steps, &path, "steps")?.at_most(u64::MAX, &steps_path)?;
+        let k = need(steps, &path, "steps")?.at_most(u64::MAX, &steps_path)?;
         if k == 0 {
             return Err(err(
                 steps_path,
                 "a window must span at least 1 step, found 0",
             ));
         }
-        let b = need(w.error, &path, "error")?.0;
+        let b = need(error, &path, "error")?.0;
         if b.is_nan() || b < 0.0 {
             return Err(err(
                 field_path(&path, "error"),
                 format!("the drift bound must be >= 0, found {b}"),
             ));
         }
-        let exempt_above = exempt_level(w.exempt_above, &path, &mut levels)?;
+        let exempt_above = exempt_level(exempt, &path, &mut levels)?;
         out.push(DriftWindow {
             steps: k,
             error: b,
@@ -450,37 +456,20 @@ fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<DriftWindow>, InputE
     Ok(out)
 }
 
-/// `motion_drift`: each window's `steps` >= 1 (any size: a window longer
-/// than N is kept and constrains nothing; nothing is sized by it),
-/// `error` >= 0, `exempt_above` as for `heading_drift`.
+fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<DriftWindow>, InputError> {
+    let fields = list
+        .0
+        .into_iter()
+        .map(|w| (w.steps, w.error, w.exempt_above));
+    drift_windows("heading_drift", fields)
+}
+
 fn motion_drift(list: List<MotionDriftDoc>) -> Result<Vec<MotionWindow>, InputError> {
-    let mut out = Vec::with_capacity(list.0.len());
-    let mut levels: Vec<f64> = Vec::new();
-    for (x, w) in list.0.into_iter().enumerate() {
-        let path = format!("motion_drift[{x}]");
-        let steps_path = field_path(&path, "steps");
-        let k = need(w.steps, &path, "steps")?.at_most(u64::MAX, &steps_path)?;
-        if k == 0 {
-            return Err(err(
-                steps_path,
-                "a window must span at least 1 step, found 0",
-            ));
-        }
-        let c = need(w.error, &path, "error")?.0;
-        if c.is_nan() || c < 0.0 {
-            return Err(err(
-                field_path(&path, "error"),
-                format!("the drift bound must be >= 0, found {c}"),
-            ));
-        }
-        let exempt_above = exempt_level(w.exempt_above, &path, &mut levels)?;
-        out.push(MotionWindow {
-            steps: k,
-            error: c,
-            exempt_above,
-        });
-    }
-    Ok(out)
+    let fields = list
+        .0
+        .into_iter()
+        .map(|w| (w.steps, w.error, w.exempt_above));
+    drift_windows("motion_drift", fields)
 }
 
 fn headings(doc: &mut MissionDoc, model: Model, steps: usize) -> Result<Headings, InputError> {
@@ -744,9 +733,14 @@ impl Mission {
             "heading_error".into(),
             serde_json::json!(self.heading_error),
         );
-        if !self.heading_drift.is_empty() {
-            let w: Vec<Value> = self
-                .heading_drift
+        for (name, windows) in [
+            ("heading_drift", &self.heading_drift),
+            ("motion_drift", &self.motion_drift),
+        ] {
+            if windows.is_empty() {
+                continue;
+            }
+            let w: Vec<Value> = windows
                 .iter()
                 .map(|w| {
                     let mut o = serde_json::json!({"steps": w.steps, "error": w.error});
@@ -756,21 +750,7 @@ impl Mission {
                     o
                 })
                 .collect();
-            o.insert("heading_drift".into(), Value::Array(w));
-        }
-        if !self.motion_drift.is_empty() {
-            let w: Vec<Value> = self
-                .motion_drift
-                .iter()
-                .map(|w| {
-                    let mut o = serde_json::json!({"steps": w.steps, "error": w.error});
-                    if let Some(t) = w.exempt_above {
-                        o["exempt_above"] = t.into();
-                    }
-                    o
-                })
-                .collect();
-            o.insert("motion_drift".into(), Value::Array(w));
+            o.insert(name.into(), Value::Array(w));
         }
     }
 
