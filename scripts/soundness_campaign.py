@@ -253,6 +253,8 @@ def _shift_value(m, delta, w):
             lo, hi = ival(det["depth"])
             det["depth"] = mk(down(lo + delta[2], 2), up(hi + delta[2], 2))
     add_error(m, "motion_error", w)
+    for win in m.get("motion_drift", []):
+        win["error"] = up(win["error"] + 4 * w, 2)
     widen_ranges(m, w)
 
 
@@ -291,6 +293,10 @@ def m_scale(m, rng):
                 ch["hi"] = [v * s for v in ch["hi"]]
     e = m.get("motion_error", 0)
     m["motion_error"] = [x * s for x in e] if isinstance(e, list) else e * s
+    for win in m.get("motion_drift", []):
+        win["error"] = win["error"] * s
+        if "exempt_above" in win:
+            win["exempt_above"] = win["exempt_above"] * s
     for det in m["detections"]:
         for key in ("range", "depth"):
             _scale_interval_key(det, key, s)
@@ -513,6 +519,63 @@ def m_drift_exact(m, rng):
     return "heading_drift exact %s" % ks
 
 
+def m_motion_exact(m, rng):
+    """odometry2d: motion_drift windows at the truth's largest k-step
+    residual (a hair above, for this script's float sums), the truth near
+    the constraint's boundary. The windows speak of the true speeds, which
+    a simulated mission does not hold: the speed error moves into the
+    per-step motion bound (|dt (v - v_measured)| per axis) and the speed
+    becomes exact, so the measured speeds are the true ones of a truth
+    that satisfies every constraint. Half of the time some steps get a
+    three times wider motion bound and the windows exempt them."""
+    if m["model"] != "odometry2d":
+        return None
+    t = m["truth"]
+    th, pos = t.get("headings"), t["positions"]
+    ch = m["inputs"]["speed"]
+    if "value" not in ch or not th or None in th or None in pos:
+        return None
+    n, dt = m["steps"], m["dt"]
+    es = ch.get("error", 0)
+    es = es if isinstance(es, list) else [es] * n
+    me = m.get("motion_error", 0)
+    me = me if isinstance(me, list) else [me] * n
+    me = [up(e + dt * x * (1 + 1e-12), 4) for e, x in zip(me, es)]
+    ch["error"] = 0
+    flagged = rng.random() < 0.5
+    t_exempt = None
+    if flagged:
+        t_exempt = max(me)
+        me = [up(3 * e, 2) if rng.random() < 0.1 else e for e in me]
+    m["motion_error"] = me
+    r = []
+    for j in range(n):
+        u = dt * ch["value"][j]
+        r.append((pos[j + 1][0] - pos[j][0] - u * math.cos(th[j]),
+                  pos[j + 1][1] - pos[j][1] - u * math.sin(th[j])))
+    extent = max(abs(x) for p in pos for x in p) + 1.0
+
+    def worst(k, exempt):
+        sx, sy = [0.0], [0.0]
+        for j in range(n):
+            keep = not (exempt and me[j] > t_exempt)
+            sx.append(sx[-1] + (r[j][0] if keep else 0.0))
+            sy.append(sy[-1] + (r[j][1] if keep else 0.0))
+        c = max(math.hypot(sx[i + k] - sx[i], sy[i + k] - sy[i]) for i in range(n - k + 1))
+        return up(c * (1 + 1e-9) + 8 * (k + 2) * math.ulp(extent), 2)
+
+    ks = sorted({k for k in rng.sample([1, 2, 3, 5, 10, 20, 50, n], 3) if 1 <= k <= n})
+    windows = []
+    for k in ks:
+        exempt = flagged and rng.random() < 0.5
+        w = {"steps": k, "error": worst(k, exempt)}
+        if exempt:
+            w["exempt_above"] = t_exempt
+        windows.append(w)
+    m["motion_drift"] = windows
+    return "motion_drift exact %s%s" % (ks, " flagged" if flagged else "")
+
+
 def m_mislabel(m, rng):
     """1-2 true detections given a wrong operator id, counted in
     max_outliers; their truth.matching set to null (a dropped detection's
@@ -590,7 +653,7 @@ MUTATIONS = [
     m_identity, m_widen, m_inf, m_huge, m_zero, m_shift, m_scale, m_heading_wrap,
     m_bearing_wrap, m_more_landmarks, m_min_sep, m_null_truth, m_shuffle, m_duplicate,
     m_scans, m_no_scans, m_more_outliers, m_operator_partial, m_motion_array, m_sensor_offset,
-    m_false, m_drift_exact, m_mislabel,
+    m_false, m_drift_exact, m_mislabel, m_motion_exact,
 ]
 
 
