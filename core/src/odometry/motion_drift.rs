@@ -57,7 +57,7 @@ use crate::interval::Interval;
 use crate::odometry::drift::{DriftWindow, MAX_EXEMPT_LEVELS};
 
 /// √2 rounded up (the nearest double, 1.4142135623730951, is above √2).
-const SQRT_2_ABOVE: f64 = std::f64::consts::SQRT_2;
+pub(crate) const SQRT_2_ABOVE: f64 = std::f64::consts::SQRT_2;
 
 /// The exempt steps' `e(j)·√2` summed since the first step of a relative
 /// pose, one sum per distinct `exempt_above` of the windows (rounded up).

@@ -59,7 +59,7 @@
 use crate::interval::Interval;
 use crate::odometry::chain::OdometryChain;
 use crate::odometry::drift::MAX_EXEMPT_LEVELS;
-use crate::odometry::motion_drift::Exempt;
+use crate::odometry::motion_drift::{Exempt, SQRT_2_ABOVE};
 
 /// The pose of a step in the body frame of an earlier step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -97,9 +97,6 @@ impl RelativePose {
         }
     }
 }
-
-/// √2 rounded up (the nearest double, 1.4142135623730951, is above √2).
-const SQRT_2_ABOVE: f64 = std::f64::consts::SQRT_2;
 
 /// The pose of step i + 1 from the pose of step i (module doc).
 pub fn advance(chain: &OdometryChain, pose: &RelativePose, i: usize) -> RelativePose {
