@@ -24,12 +24,6 @@ pub fn propagate(
     cancel: &AtomicBool,
 ) -> Solution {
     if mission.max_outliers > 0 {
-        // The robust propagation knows no sensor offset: it reads the
-        // detections restated from p (sound, see `seen_from_position`).
-        if mission.sensor_offset.is_some_and(|o| o != [0.0, 0.0]) {
-            let seen = mission.seen_from_position();
-            return solve_robust(&seen, seen.max_outliers, options, progress, cancel);
-        }
         return solve_robust(mission, mission.max_outliers, options, progress, cancel);
     }
     rounds(mission, options, progress, cancel)

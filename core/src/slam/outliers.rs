@@ -759,6 +759,20 @@ pub fn solve_robust(
     progress: &mut dyn FnMut(&Progress),
     cancel: &AtomicBool,
 ) -> Solution {
+    // The robust rounds know no sensor offset: they read the detections
+    // restated from p (sound, see `Mission::seen_from_position`). The
+    // ordinary propagations (consensus over subsets, conflict packing, the
+    // refinement) read the mission as given: they know the offset, and the
+    // restated detections are wider (measured on the woods scenario with
+    // 2 false detections: a subset solved at 8.3 m instead of 0.8 m).
+    let given = mission;
+    let seen_owned;
+    let mission = if mission.sensor_offset.is_some_and(|o| o != [0.0, 0.0]) {
+        seen_owned = mission.seen_from_position();
+        &seen_owned
+    } else {
+        mission
+    };
     let k = mission.detections.len();
     // At most k detections can be dropped: q >= k reads as q = k. (q is an
     // input number, up to u32::MAX, that the mission's size does not bound:
@@ -769,7 +783,7 @@ pub fn solve_robust(
     if let Err(reason) = model.dead_reckoning(mission.final_position.is_some()) {
         return infeasible(model, reason, 0, 0);
     }
-    let mut r = Robust::new(mission, q, options, model);
+    let mut r = Robust::new((mission, given), q, options, model);
     let proof = loop {
         if r.round >= options.max_rounds || cancel.load(Ordering::Relaxed) {
             return r.stopped();
@@ -791,7 +805,7 @@ pub fn solve_robust(
     }
     let mut model = r.model;
     let refined = refine(
-        mission,
+        given,
         &mut model,
         &proof,
         options,
@@ -822,7 +836,10 @@ fn infeasible(model: Model, reason: String, rounds: u32, contractions: u64) -> S
 
 /// The state of the robust rounds of one mission (see the module doc).
 struct Robust<'a> {
+    /// The mission the robust rounds read (the detections seen from p).
     mission: &'a Mission,
+    /// The mission as given, for the ordinary propagations.
+    given: &'a Mission,
     options: &'a SolveOptions,
     /// Most false detections (at most k).
     q: usize,
@@ -854,7 +871,12 @@ struct Robust<'a> {
 
 impl<'a> Robust<'a> {
     /// After dead reckoning.
-    fn new(mission: &'a Mission, q: usize, options: &'a SolveOptions, model: Model) -> Robust<'a> {
+    fn new(
+        (mission, given): (&'a Mission, &'a Mission),
+        q: usize,
+        options: &'a SolveOptions,
+        model: Model,
+    ) -> Robust<'a> {
         let k = mission.detections.len();
         let dim = model.dim;
         let mut order: Vec<usize> = (0..k).collect();
@@ -863,6 +885,7 @@ impl<'a> Robust<'a> {
         let groups = operator_groups(mission);
         Robust {
             mission,
+            given,
             options,
             q,
             prior: model.det.clone(),
@@ -891,7 +914,7 @@ impl<'a> Robust<'a> {
     /// when any); `Err`: no reading exists.
     fn consensus(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
         let (proved_false, positions, headings, contractions) =
-            match consensus(self.mission, self.q, self.options, cancel) {
+            match consensus(self.given, self.q, self.options, cancel) {
                 Consensus::Skipped => return self.packing(cancel),
                 Consensus::Infeasible(reason) => return Err(reason),
                 Consensus::Proved {
@@ -911,7 +934,7 @@ impl<'a> Robust<'a> {
     /// consensus over subsets does not apply. As [`Self::consensus`].
     fn packing(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
         let (proved_false, positions, conflicts, contractions) = match pack(
-            self.mission,
+            self.given,
             self.q,
             &self.ev.proved_false,
             &self.order,

@@ -255,6 +255,17 @@ pub fn consensus(
 /// Step 3 of the module doc: the detections left out of every feasible
 /// set, each proved false when adding it to every feasible set is
 /// infeasible (at most [`MAX_TESTS`] propagations).
+///
+/// The candidates (often a quarter of the detections or more, and a few
+/// false among them) are searched by halving against the first feasible
+/// set F: a run of candidates whose union with F is not proved infeasible
+/// is not searched further (one propagation for the whole run); an
+/// infeasible run is halved (the second half's own test is skipped when
+/// the first half was feasible: the parent's conflict then lies in it or
+/// across). Only the single-candidate tests prove anything, `F ∪ {j}`
+/// infeasible, and each such j is then tested against the other feasible
+/// sets. The halving only orders the work: a candidate it skips is not
+/// claimed, which is sound.
 fn prove_false(
     mission: &Mission,
     feasible: &[Vec<bool>],
@@ -265,25 +276,69 @@ fn prove_false(
 ) -> Vec<bool> {
     let k = mission.detections.len();
     let mut proved_false = vec![false; k];
+    let Some(first) = feasible.first() else {
+        return proved_false;
+    };
+    let candidates: Vec<usize> = (0..k).filter(|&j| feasible.iter().all(|s| !s[j])).collect();
     let mut tests = 0usize;
-    for j in (0..k).filter(|&j| feasible.iter().all(|s| !s[j])) {
-        let mut refuted = true;
-        for set in feasible {
-            if tests == MAX_TESTS {
-                return proved_false;
-            }
-            tests += 1;
-            let mut keep = set.clone();
+    let mut infeasible_with = |set: &[bool], add: &[usize], tests: &mut usize| -> Option<bool> {
+        if *tests == MAX_TESTS {
+            return None;
+        }
+        *tests += 1;
+        let mut keep = set.to_vec();
+        for &j in add {
             keep[j] = true;
-            let (status, _, c) = solve_kept(mission, &keep, options, cancel);
-            *solves += 1;
-            *contractions += c;
-            if !matches!(status, SolveStatus::Infeasible(_)) {
-                refuted = false;
-                break;
+        }
+        let (status, _, c) = solve_kept(mission, &keep, options, cancel);
+        *solves += 1;
+        *contractions += c;
+        Some(matches!(status, SolveStatus::Infeasible(_)))
+    };
+    // Runs of candidates still to search: (run, its infeasibility with F
+    // inferred (its test skipped), it is a first half whose sibling lies
+    // just below it on the stack).
+    let mut runs: Vec<(&[usize], bool, bool)> = vec![(&candidates[..], false, false)];
+    let mut found: Vec<usize> = Vec::new();
+    while let Some((run, inferred, first_half)) = runs.pop() {
+        if run.is_empty() {
+            continue;
+        }
+        if run.len() > 1 && inferred {
+            let (a, b) = run.split_at(run.len() / 2);
+            runs.push((b, false, false));
+            runs.push((a, false, true));
+            continue;
+        }
+        let Some(infeasible) = infeasible_with(first, run, &mut tests) else {
+            break;
+        };
+        if !infeasible {
+            // The parent's conflict then lies in the sibling (or across).
+            if first_half {
+                if let Some(sibling) = runs.last_mut() {
+                    sibling.1 = true;
+                }
+            }
+            continue;
+        }
+        if run.len() == 1 {
+            found.push(run[0]);
+            continue;
+        }
+        let (a, b) = run.split_at(run.len() / 2);
+        runs.push((b, false, false));
+        runs.push((a, false, true));
+    }
+    'found: for j in found {
+        for set in &feasible[1..] {
+            match infeasible_with(set, &[j], &mut tests) {
+                Some(true) => {}
+                Some(false) => continue 'found,
+                None => break 'found,
             }
         }
-        proved_false[j] = refuted;
+        proved_false[j] = true;
     }
     proved_false
 }
