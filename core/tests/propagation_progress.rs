@@ -131,8 +131,10 @@ fn max_rounds_stops_below_one() {
 }
 
 /// With false detections allowed (the robust propagation), the reports
-/// follow the same rules: one per round, the fraction rising below 1 until
-/// the last round, where nothing moves any more and it is exactly 1.
+/// follow the same rules: one `"round"` report per round, the fraction
+/// rising below 1 until the last round, where nothing moves any more and
+/// it is exactly 1. Consensus over subsets (q = 3 here) reports between
+/// them (`"association"`, one per propagation), the fraction rising too.
 #[test]
 fn robust_propagation_reports_its_rounds() {
     let mut o = SimulateOptions::new(Scenario::Paper, 4);
@@ -149,6 +151,18 @@ fn robust_propagation_reports_its_rounds() {
         &AtomicBool::new(false),
     );
     assert_eq!(s.status, SolveStatus::Consistent);
+    for (a, b) in reports.iter().zip(&reports[1..]) {
+        assert!(b.fraction >= a.fraction && a.fraction < 1.0, "{a:?} {b:?}");
+    }
+    let told = reports.iter().filter(|p| p.pass == "association").count();
+    assert!(told > 0, "consensus over subsets told nothing");
+    for p in reports.iter().filter(|p| p.pass == "association") {
+        assert!(
+            p.fraction < 0.99 && p.detections_done <= p.detections,
+            "{p:?}"
+        );
+    }
+    reports.retain(|p| p.pass == "round");
     assert_eq!(reports.len(), s.rounds as usize);
     assert!(s.rounds >= 2, "{} rounds", s.rounds);
     for (a, b) in reports.iter().zip(&reports[1..]) {

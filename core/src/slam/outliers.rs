@@ -89,7 +89,7 @@ use super::robust_conflicts::{pack, Packing};
 use super::robust_heading::{cut_headings, robust_heading};
 pub use super::robust_regions::relaxed_intersection;
 use super::robust_regions::{regions_with, Regions};
-use super::robust_subsets::{consensus, Consensus};
+use super::robust_subsets::{consensus_told, Consensus};
 use super::robust_tracks::robust_track_groups;
 use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
@@ -912,19 +912,46 @@ impl<'a> Robust<'a> {
     /// detections proved false and the positions cut to the hull. Returns
     /// how many detections and positions it changed (more rounds follow
     /// when any); `Err`: no reading exists.
-    fn consensus(&mut self, cancel: &AtomicBool) -> Result<usize, String> {
-        let (proved_false, positions, headings, contractions) =
-            match consensus(self.given, self.q, self.options, cancel) {
-                Consensus::Skipped => return self.packing(cancel),
-                Consensus::Infeasible(reason) => return Err(reason),
-                Consensus::Proved {
-                    proved_false,
-                    positions,
-                    headings,
-                    contractions,
-                    ..
-                } => (proved_false, positions, headings, contractions),
-            };
+    ///
+    /// While it runs (28 propagations of three quarters of the mission for
+    /// q = 2: minutes on a long mission) the job's progress goes on:
+    /// `"association"` reports after each propagation, the fraction moving
+    /// over half of what is left below 0.99.
+    fn consensus(
+        &mut self,
+        progress: &mut dyn FnMut(&Progress),
+        cancel: &AtomicBool,
+    ) -> Result<usize, String> {
+        let k = self.mission.detections.len();
+        let mut report = Progress {
+            round: self.round,
+            max_trajectory_diameter: self.model.trajectory_diameters().0,
+            fraction: self.fraction,
+            pass: "association",
+            detections: k,
+            detections_done: 0,
+            moving: k,
+            initial_max_trajectory_diameter: self.initial_max_trajectory_diameter,
+        };
+        let start = self.fraction.min(0.99);
+        let mut tell = |share: f64| {
+            report.fraction = report.fraction.max(start + (0.99 - start) * 0.5 * share);
+            report.detections_done = (k as f64 * share) as usize;
+            progress(&report);
+        };
+        let told = consensus_told(self.given, self.q, self.options, cancel, &mut tell);
+        self.fraction = self.fraction.max(report.fraction);
+        let (proved_false, positions, headings, contractions) = match told {
+            Consensus::Skipped => return self.packing(cancel),
+            Consensus::Infeasible(reason) => return Err(reason),
+            Consensus::Proved {
+                proved_false,
+                positions,
+                headings,
+                contractions,
+                ..
+            } => (proved_false, positions, headings, contractions),
+        };
         self.contractions += contractions;
         let turned = cut_headings(self.mission, &mut self.model, &headings)?;
         Ok(turned + self.apply(&proved_false, &positions)?)
@@ -1074,7 +1101,7 @@ impl<'a> Robust<'a> {
         // round's move.
         if matches!(proof, Some(Ok(None))) && !self.consensus_done {
             self.consensus_done = true;
-            let changed = self.consensus(cancel)?;
+            let changed = self.consensus(progress, cancel)?;
             if changed > 0 {
                 (moving, proof) = (changed, None);
             }

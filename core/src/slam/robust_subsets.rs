@@ -196,6 +196,20 @@ pub fn consensus(
     options: &SolveOptions,
     cancel: &AtomicBool,
 ) -> Consensus {
+    consensus_told(mission, q, options, cancel, &mut |_| {})
+}
+
+/// [`consensus`], telling `tell` after each propagation the share of its
+/// most propagations ([`MAX_SETS`] + [`MAX_TESTS`] at most) run so far, a
+/// number in (0, 1] that never decreases (for a job's progress: on a
+/// long mission the rule runs for minutes).
+pub fn consensus_told(
+    mission: &Mission,
+    q: usize,
+    options: &SolveOptions,
+    cancel: &AtomicBool,
+    tell: &mut dyn FnMut(f64),
+) -> Consensus {
     let k = mission.detections.len();
     if !within_work(mission.steps, k) {
         return Consensus::Skipped;
@@ -211,6 +225,8 @@ pub fn consensus(
     for (rank, &j) in order.iter().enumerate() {
         block[j] = rank % b;
     }
+    let most = (binomial_capped(b as u64, q as u64) as usize + MAX_TESTS) as f64;
+    let mut told = |solves: usize| tell((solves as f64 / most).min(1.0));
     let mut excluded: Vec<usize> = (0..q).collect();
     let mut feasible: Vec<Vec<bool>> = Vec::new();
     let mut positions: Option<Vec<Interval>> = None;
@@ -221,6 +237,7 @@ pub fn consensus(
         let (status, (pos, heading), c) = solve_kept(mission, &keep, options, cancel);
         solves += 1;
         contractions += c;
+        told(solves);
         if !matches!(status, SolveStatus::Infeasible(_)) {
             positions = Some(hull_of(positions, pos));
             headings = Some(hull_of(headings, heading));
@@ -240,8 +257,8 @@ pub fn consensus(
         &feasible,
         options,
         cancel,
-        &mut solves,
-        &mut contractions,
+        (&mut solves, &mut contractions),
+        &mut told,
     );
     Consensus::Proved {
         proved_false,
@@ -259,13 +276,14 @@ fn prove_false(
     feasible: &[Vec<bool>],
     options: &SolveOptions,
     cancel: &AtomicBool,
-    solves: &mut usize,
-    contractions: &mut u64,
+    (solves, contractions): (&mut usize, &mut u64),
+    told: &mut dyn FnMut(usize),
 ) -> Vec<bool> {
     search_false(feasible, MAX_TESTS, &mut |keep: &[bool]| {
         let (status, _, c) = solve_kept(mission, keep, options, cancel);
         *solves += 1;
         *contractions += c;
+        told(*solves);
         matches!(status, SolveStatus::Infeasible(_))
     })
 }
