@@ -632,6 +632,20 @@ impl Mission {
     /// in the box L, its norm in range' and its angle in bearing' + 2πZ,
     /// which is how every bearing contractor reads a bearing. O(k).
     pub fn seen_from_position(&self) -> Mission {
+        self.restated_from_p()
+    }
+
+    /// [`Mission::seen_from_position`], borrowing `self` when it has no
+    /// sensor offset (nothing to restate, no copy).
+    pub fn seen_from_p(&self) -> std::borrow::Cow<'_, Mission> {
+        if !self.sensor_offset.is_some_and(|o| o != [0.0, 0.0]) {
+            return std::borrow::Cow::Borrowed(self);
+        }
+        std::borrow::Cow::Owned(self.restated_from_p())
+    }
+
+    /// The restatement of [`Mission::seen_from_position`] (a copy).
+    fn restated_from_p(&self) -> Mission {
         let mut m = self.clone();
         let Some(o) = m.sensor_offset.take() else {
             return m;

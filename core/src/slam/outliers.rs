@@ -766,13 +766,8 @@ pub fn solve_robust(
     // restated detections are wider (measured on the woods scenario with
     // 2 false detections: a subset solved at 8.3 m instead of 0.8 m).
     let given = mission;
-    let seen_owned;
-    let mission = if mission.sensor_offset.is_some_and(|o| o != [0.0, 0.0]) {
-        seen_owned = mission.seen_from_position();
-        &seen_owned
-    } else {
-        mission
-    };
+    let seen = mission.seen_from_p();
+    let mission = &*seen;
     let k = mission.detections.len();
     // At most k detections can be dropped: q >= k reads as q = k. (q is an
     // input number, up to u32::MAX, that the mission's size does not bound:

@@ -283,14 +283,8 @@ pub fn pack(
     let open: Vec<bool> = proved_false.iter().map(|&f| !f).collect();
     // The cliques read detections seen from p (the distinct pairs know no
     // sensor offset); the propagations read the mission as given.
-    let seen_owned;
-    let seen = if mission.sensor_offset.is_some_and(|o| o != [0.0, 0.0]) {
-        seen_owned = mission.seen_from_position();
-        &seen_owned
-    } else {
-        mission
-    };
-    let mut free = clique_conflicts(seen, &Model::new(seen), &open, order);
+    let seen = mission.seen_from_p();
+    let mut free = clique_conflicts(&seen, &Model::new(&seen), &open, order);
     if let Err(reason) = st.free(&mut free) {
         return Packing::Infeasible(reason);
     }
