@@ -230,11 +230,6 @@ fn simulate_passes_the_option_to_woods() {
     );
 }
 
-/// A short woods mission (300 steps, seed 4) with 2 false detections, ids
-/// hidden, solved with `best`: the truth inside every box and no pair
-/// grouped that truth says differ (the robust engine may group nothing at
-/// all: that is sound). One mission, the fastest of seeds 1-5 (14 s in a
-/// release build, BENCHMARKS.md, "Issue 18 on the woods scenario").
 /// Solves `m` (ids hidden, `best`) and checks that the phantoms (`null`
 /// in `truth.matching`) are proved false and every true detection is
 /// reported, one group per landmark of the truth: consistent, truth
