@@ -78,3 +78,100 @@ fn worst_case_contractions_are_bounded_and_the_service_keeps_answering() {
         );
     }
 }
+
+/// Writes `head`, then `total` bytes of body in 64 KiB writes (each framed
+/// as a chunk when `chunked`), and only then reads the answer, as a client
+/// that sends its whole body first does (Python's urllib). Panics when a
+/// write fails: a service that answers an oversized body and closes the
+/// connection while the client still sends resets it, and the client sees
+/// a broken pipe instead of the 413.
+fn send_whole_then_read(
+    addr: &str,
+    head: &str,
+    total: usize,
+    chunked: bool,
+) -> (u16, String, Value) {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    s.write_all(head.as_bytes()).unwrap();
+    let piece = vec![b' '; 64 << 10];
+    let mut sent = 0;
+    while sent < total {
+        let n = piece.len().min(total - sent);
+        let r = if chunked {
+            s.write_all(format!("{n:x}\r\n").as_bytes())
+                .and_then(|_| s.write_all(&piece[..n]))
+                .and_then(|_| s.write_all(b"\r\n"))
+        } else {
+            s.write_all(&piece[..n])
+        };
+        if let Err(e) = r {
+            panic!("writing the body failed after {sent} of {total} bytes: {e}");
+        }
+        sent += n;
+    }
+    if chunked {
+        s.write_all(b"0\r\n\r\n").unwrap();
+    }
+    let mut buf = Vec::new();
+    let _ = s.read_to_end(&mut buf);
+    let (st, head, body) = nvector_tests::parse_response(&buf);
+    (
+        st,
+        head,
+        serde_json::from_slice(&body).unwrap_or(Value::Null),
+    )
+}
+
+/// A body over `--max-body` is answered 413 `body_too_large`, naming the
+/// limit, and a client that writes its whole body before reading reads
+/// that answer (with a declared length and chunked); bodies within the
+/// limit, chunked too, are still taken; what was stored stays.
+#[test]
+fn an_oversized_body_is_answered_413_to_a_client_that_sends_it_whole() {
+    let limit: usize = 1 << 20;
+    let s = Server::start(&["--workers", "1", "--max-body", &limit.to_string()]);
+    let (st, kept) = s.post("/api/v1/missions", &small_mission(3, 50));
+    assert_eq!(st, 201, "{kept}");
+    // 48 times the limit: far more than the sockets' buffers hold.
+    let total = 48 * limit;
+    for chunked in [false, true] {
+        let length = if chunked {
+            "Transfer-Encoding: chunked".to_string()
+        } else {
+            format!("Content-Length: {total}")
+        };
+        let head = format!(
+            "POST /api/v1/missions HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\nConnection: close\r\n{length}\r\n\r\n",
+            s.addr
+        );
+        let (st, _, v) = send_whole_then_read(&s.addr, &head, total, chunked);
+        assert_eq!(st, 413, "chunked {chunked}: {v}");
+        assert_eq!(v["error"]["code"], "body_too_large", "{v}");
+        let message = v["error"]["message"].as_str().unwrap_or("");
+        assert!(
+            message.contains(&limit.to_string()),
+            "names the limit: {message}"
+        );
+    }
+    // Within the limit, chunked: taken.
+    let body = serde_json::to_vec(&small_mission(4, 50)).unwrap();
+    assert!(body.len() < limit);
+    let head = format!(
+        "POST /api/v1/missions HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked\r\nConnection: close\r\n\r\n{:x}\r\n",
+        s.addr,
+        body.len()
+    );
+    let mut request = head.into_bytes();
+    request.extend_from_slice(&body);
+    request.extend_from_slice(b"\r\n0\r\n\r\n");
+    let (st, _, b) = s.raw(&request);
+    assert_eq!(st, 201, "{}", String::from_utf8_lossy(&b));
+    let (st, again) = s.get(&format!(
+        "/api/v1/missions/{}",
+        kept["id"].as_str().unwrap()
+    ));
+    assert_eq!(st, 200, "{again}");
+    assert_eq!(again["steps"], 50, "the mission stored before is intact");
+}

@@ -10,6 +10,7 @@
 //! readiness, the `/metrics` endpoint) and `meters` (the metric families),
 //! `openapi` (the document, from the handlers and from core's format types), `store` (storage).
 
+mod body_limit;
 pub mod config;
 mod contract;
 mod docs_page;
@@ -110,7 +111,11 @@ pub fn app(state: AppState) -> Router {
     let mut router = router
         .merge(docs_page::router())
         .layer(Extension(doc))
-        .layer(DefaultBodyLimit::max(state.config.max_body));
+        .layer(DefaultBodyLimit::max(state.config.max_body))
+        .layer(middleware::from_fn_with_state(
+            state.clone(),
+            body_limit::limit_body,
+        ));
     let dir = state.config.static_dir.clone();
     if dir.join("index.html").exists() {
         router = router.fallback_service(static_files(dir));
