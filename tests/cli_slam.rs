@@ -513,11 +513,94 @@ fn cmu_plaza_with_planted_false_ranges_keeps_the_truth() {
         assert_eq!(result["status"], "consistent", "{}", result["reason"]);
         assert_eq!(result["score"]["truth_inside"], true, "operator {operator}");
         assert_eq!(result["score"]["matching_errors"], 0, "operator {operator}");
+        check_outlier_tally(&result, 71, &String::from_utf8_lossy(&out.stderr));
     }
     // Planting needs a real log.
     let out = run(&["import", "--false-detections", "3", "--model", "unicycle2d"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--cmu-plaza"));
+}
+
+/// The result's tally of a robust solve (`max_outliers` = q): its
+/// `false_detections` are the detections whose box is empty, at most q
+/// with the open drops; while a drop is open no group is reported
+/// (monotonicity: every detection is then dropped by some reading); the
+/// summary line says both.
+fn check_outlier_tally(result: &serde_json::Value, q: u64, summary: &str) {
+    let metrics = &result["metrics"];
+    let proved = metrics["false_detections"]
+        .as_u64()
+        .expect("false_detections");
+    let open = metrics["open_outliers"].as_u64().expect("open_outliers");
+    let empty = result["detections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| *b == "empty")
+        .count() as u64;
+    assert_eq!(proved, empty, "{metrics}");
+    assert!(proved + open <= q, "{metrics}");
+    if open > 0 {
+        assert_eq!(result["matching"], serde_json::json!([]), "{metrics}");
+    }
+    let clause = format!("max_outliers {q}: {proved} proved false");
+    assert!(summary.contains(&clause), "{clause:?} in {summary}");
+    assert_eq!(
+        summary.contains(&format!("{open} not accounted for")),
+        open > 0,
+        "{summary}"
+    );
+}
+
+/// The tally on the paper scenario with 2 phantoms (both proved false on
+/// every seed measured, BENCHMARKS "Issue 18 on the woods scenario"'s
+/// paper figures: recall 1.00): 2 proved false, none open, the groups
+/// reported; a mission without `max_outliers` has no tally.
+#[test]
+fn a_robust_result_tells_what_it_proved_of_the_false_detections() {
+    let m = temp_file("tally-paper.json");
+    let r = temp_file("tally-paper-result.json");
+    for (false_detections, q) in [(2, Some(2)), (0, None)] {
+        let k = false_detections.to_string();
+        let out = run(&[
+            "simulate",
+            "--scenario",
+            "paper",
+            "--seed",
+            "1",
+            "--false-detections",
+            &k,
+            "--out",
+            m.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let out = run(&["run", m.to_str().unwrap(), "--out", r.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let result = read_json(&r);
+        let summary = String::from_utf8_lossy(&out.stderr).to_string();
+        assert_eq!(result["score"]["truth_inside"], true);
+        match q {
+            Some(q) => {
+                check_outlier_tally(&result, q, &summary);
+                assert_eq!(result["metrics"]["false_detections"], 2, "{summary}");
+                assert_eq!(result["metrics"]["open_outliers"], 0, "{summary}");
+                assert!(result["metrics"]["matched_detections"].as_u64().unwrap() > 0);
+            }
+            None => {
+                assert!(result["metrics"].get("false_detections").is_none());
+                assert!(result["metrics"].get("open_outliers").is_none());
+                assert!(!summary.contains("max_outliers"), "{summary}");
+            }
+        }
+    }
 }
 
 /// Damaged copies of Plaza 1: a row short of a column the importer reads

@@ -111,7 +111,27 @@ pub fn kept(
     q: usize,
     n: Option<usize>,
 ) -> Result<Option<Kept>, String> {
-    kept_with_conflicts(det, proved_false, &[], groups, q, n)
+    kept_with_conflicts(det, proved_false, &[], groups, q, n).map(Accounted::kept)
+}
+
+/// What the boxes prove of every reading's drops ([`kept_with_conflicts`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Accounted {
+    /// The drops account for q: the detections kept in every reading.
+    Kept(Kept),
+    /// This many drops of q are accounted for by nothing proved: every
+    /// detection is dropped by some reading (monotonicity), none is kept.
+    Open(usize),
+}
+
+impl Accounted {
+    /// The detections kept in every reading, if any is proved.
+    pub fn kept(self) -> Option<Kept> {
+        match self {
+            Accounted::Kept(k) => Some(k),
+            Accounted::Open(_) => None,
+        }
+    }
 }
 
 /// [`kept`], with `conflicts`: pairwise disjoint sets of detections of
@@ -126,7 +146,7 @@ pub fn kept_with_conflicts(
     groups: &[Vec<usize>],
     q: usize,
     n: Option<usize>,
-) -> Result<Option<Kept>, String> {
+) -> Result<Accounted, String> {
     let dropped: Vec<usize> = (0..det.len()).filter(|&j| proved_false[j]).collect();
     let counted: Vec<&Vec<usize>> = conflicts
         .iter()
@@ -172,7 +192,7 @@ pub fn kept_with_conflicts(
     let mut witnesses = Vec::new();
     if pairs.len() < budget {
         let (Some(n), left) = (n, budget - pairs.len()) else {
-            return Ok(None);
+            return Ok(Accounted::Open(budget - pairs.len()));
         };
         witnesses = disjoint_witnesses(det, &sure, n.saturating_add(left).saturating_add(1));
         if witnesses.len().saturating_sub(n) > left {
@@ -182,14 +202,15 @@ pub fn kept_with_conflicts(
                 n
             ));
         }
-        if witnesses.len().saturating_sub(n) < left {
-            return Ok(None);
+        let counted = witnesses.len().saturating_sub(n);
+        if counted < left {
+            return Ok(Accounted::Open(left - counted));
         }
         for &w in &witnesses {
             sure[w] = false;
         }
     }
-    Ok(Some(Kept {
+    Ok(Accounted::Kept(Kept {
         sure,
         proved_false: dropped,
         pairs,
@@ -572,8 +593,23 @@ mod tests {
         let pair_low = k.pairs[0].0;
         let expect: Vec<bool> = (0..5).map(|j| j != 3 && j != 2 && j != pair_low).collect();
         assert_eq!(k.sure, expect);
-        // q = 3: a reading may drop one more of anything: nothing is sure.
+        // q = 3: a reading may drop one more of anything: nothing is sure,
+        // and one drop is open (q = 5: three).
         assert_eq!(kept(&det, &falses, &groups, 3, None).unwrap(), None);
+        for (q, open) in [(3, 1), (5, 3)] {
+            let a = kept_with_conflicts(&det, &falses, &[], &groups, q, None).unwrap();
+            assert_eq!(a, Accounted::Open(open), "q = {q}");
+        }
+        // A conflict {0, 4} counts one drop more: q = 3 is accounted for.
+        let a = kept_with_conflicts(&det, &falses, &[vec![0, 4]], &groups, 3, None).unwrap();
+        assert!(matches!(a, Accounted::Kept(_)), "{a:?}");
+        // Witnesses: the sure detections left (the pair's other member and
+        // 4) have disjoint boxes. With n = 2 they count nothing (one drop
+        // open); with n = 1 one drop: q = 3 is accounted for.
+        let a = kept_with_conflicts(&det, &falses, &[], &groups, 3, Some(2)).unwrap();
+        assert_eq!(a, Accounted::Open(1));
+        let a = kept_with_conflicts(&det, &falses, &[], &groups, 3, Some(1)).unwrap();
+        assert!(matches!(a, Accounted::Kept(_)), "{a:?}");
         // Groups cut to the sure set.
         let mut sure = vec![true; 5];
         sure[1] = false;

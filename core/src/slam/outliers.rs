@@ -82,7 +82,7 @@
 //! merge is given up and the one-sided bounds stay).
 
 use super::association::tracks::TrackOptions;
-use super::kept::{kept_with_conflicts, refine, sure_groups, Kept};
+use super::kept::{kept_with_conflicts, refine, sure_groups, Accounted};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
 use super::robust_conflicts::{pack, Packing};
@@ -91,7 +91,7 @@ pub use super::robust_regions::relaxed_intersection;
 use super::robust_regions::{regions_with, Regions};
 use super::robust_subsets::{consensus_told, Consensus};
 use super::robust_tracks::robust_track_groups;
-use super::types::{Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
+use super::types::{OutlierTally, Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
 use crate::contractors::motion_chain::shrinkage;
@@ -791,13 +791,17 @@ pub fn solve_robust(
     };
     let proof = match proof {
         Err(reason) => return r.infeasible(reason),
-        Ok(None) => return r.finish(SolveStatus::Consistent, Vec::new()),
-        Ok(Some(p)) => p,
+        Ok(Accounted::Open(open)) => return r.finish(SolveStatus::Consistent, Vec::new(), open),
+        Ok(Accounted::Kept(p)) => p,
     };
     if r.round >= options.max_rounds {
         let matching = sure_groups(&r.groups, &proof.sure);
-        return r.finish(SolveStatus::Consistent, matching);
+        return r.finish(SolveStatus::Consistent, matching, 0);
     }
+    let tally = OutlierTally {
+        proved_false: proof.proved_false.len(),
+        open: 0,
+    };
     let mut model = r.model;
     let refined = refine(
         given,
@@ -814,7 +818,13 @@ pub fn solve_robust(
     );
     match refined.status {
         SolveStatus::Infeasible(reason) => infeasible(model, reason, rounds, contractions),
-        status => finish(model, status, refined.matching, rounds, contractions),
+        status => finish(
+            model,
+            status,
+            refined.matching,
+            (rounds, contractions),
+            tally,
+        ),
     }
 }
 
@@ -826,6 +836,7 @@ fn infeasible(model: Model, reason: String, rounds: u32, contractions: u64) -> S
         rounds,
         contractions,
         model,
+        outliers: None,
     }
 }
 
@@ -1012,8 +1023,20 @@ impl<'a> Robust<'a> {
         infeasible(self.model, reason, self.round, self.contractions)
     }
 
-    fn finish(self, status: SolveStatus, matching: Vec<Vec<usize>>) -> Solution {
-        finish(self.model, status, matching, self.round, self.contractions)
+    /// The solution with the boxes as they are; `open`: the drops of q
+    /// left unaccounted for.
+    fn finish(self, status: SolveStatus, matching: Vec<Vec<usize>>, open: usize) -> Solution {
+        let tally = OutlierTally {
+            proved_false: self.ev.proved_false.iter().filter(|&&f| f).count(),
+            open,
+        };
+        finish(
+            self.model,
+            status,
+            matching,
+            (self.round, self.contractions),
+            tally,
+        )
     }
 
     /// Stopped (`max_rounds` or cancelled): the boxes are sound, and so is
@@ -1021,18 +1044,17 @@ impl<'a> Robust<'a> {
     fn stopped(self) -> Solution {
         match self.kept_now() {
             Err(reason) => self.infeasible(reason),
-            Ok(proof) => {
-                let matching = proof
-                    .as_ref()
-                    .map_or_else(Vec::new, |p| sure_groups(&self.groups, &p.sure));
-                self.finish(SolveStatus::Stopped, matching)
+            Ok(Accounted::Open(open)) => self.finish(SolveStatus::Stopped, Vec::new(), open),
+            Ok(Accounted::Kept(p)) => {
+                let matching = sure_groups(&self.groups, &p.sure);
+                self.finish(SolveStatus::Stopped, matching, 0)
             }
         }
     }
 
     /// What the current boxes prove of the detections kept in every
     /// reading ([`kept`]).
-    fn kept_now(&self) -> Result<Option<Kept>, String> {
+    fn kept_now(&self) -> Result<Accounted, String> {
         kept_with_conflicts(
             &self.model.det,
             &self.ev.proved_false,
@@ -1050,7 +1072,7 @@ impl<'a> Robust<'a> {
         &mut self,
         progress: &mut dyn FnMut(&Progress),
         cancel: &AtomicBool,
-    ) -> Result<Option<Result<Option<Kept>, String>>, String> {
+    ) -> Result<Option<Result<Accounted, String>>, String> {
         let k = self.mission.detections.len();
         let tol = self.options.tolerance.max(0.0);
         self.round += 1;
@@ -1094,7 +1116,7 @@ impl<'a> Robust<'a> {
         // proves nothing kept (it costs ordinary propagations; the cheap
         // rules and their reasons come first); what it changes is this
         // round's move.
-        if matches!(proof, Some(Ok(None))) && !self.consensus_done {
+        if matches!(proof, Some(Ok(Accounted::Open(_)))) && !self.consensus_done {
             self.consensus_done = true;
             let changed = self.consensus(progress, cancel)?;
             if changed > 0 {
@@ -1103,7 +1125,8 @@ impl<'a> Robust<'a> {
         }
         let (max_d, _) = self.model.trajectory_diameters();
         self.fraction = self.fraction.max(self.work.end_round(moving));
-        let refines = matches!(proof, Some(Ok(Some(_)))) && self.round < self.options.max_rounds;
+        let refines =
+            matches!(proof, Some(Ok(Accounted::Kept(_)))) && self.round < self.options.max_rounds;
         progress(&Progress {
             round: self.round,
             max_trajectory_diameter: max_d,
@@ -1184,8 +1207,8 @@ fn finish(
     mut model: Model,
     status: SolveStatus,
     matching: Vec<Vec<usize>>,
-    rounds: u32,
-    contractions: u64,
+    (rounds, contractions): (u32, u64),
+    tally: OutlierTally,
 ) -> Solution {
     model.max_outliers = 0;
     Solution {
@@ -1194,6 +1217,7 @@ fn finish(
         rounds,
         contractions,
         model,
+        outliers: Some(tally),
     }
 }
 

@@ -250,11 +250,13 @@ impl ResultView<'_> {
         Metrics {
             contractions: s.contractions,
             elapsed_ms: self.elapsed_ms,
+            false_detections: s.outliers.map(|t| t.proved_false),
             matched_detections: matched,
             max_detection_diameter: Diameter(max_det),
             max_heading_width: (!m.heading.is_empty()).then(|| Diameter(m.max_heading_width())),
             max_trajectory_diameter: Diameter(max_d),
             mean_trajectory_diameter: Diameter(mean_d),
+            open_outliers: s.outliers.map(|t| t.open),
             rounds: s.rounds,
         }
     }
@@ -340,6 +342,11 @@ struct Metrics {
     contractions: u64,
     /// Wall time (ms).
     elapsed_ms: f64,
+    /// With `max_outliers` > 0: the detections proved false (their boxes
+    /// are empty).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<u64>, nullable = false))]
+    false_detections: Option<usize>,
     /// Detections in a proved group.
     #[cfg_attr(feature = "openapi", schema(value_type = u64))]
     matched_detections: usize,
@@ -353,6 +360,13 @@ struct Metrics {
     max_trajectory_diameter: Diameter,
     /// Mean trajectory box diameter.
     mean_trajectory_diameter: Diameter,
+    /// With `max_outliers` > 0: the drops of `max_outliers` that nothing
+    /// proved accounts for (neither detections proved false nor sets of
+    /// which every reading drops one). While above 0, every detection is
+    /// dropped by some reading, so `matching` is empty.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "openapi", schema(value_type = Option<u64>, nullable = false))]
+    open_outliers: Option<usize>,
     /// Propagation rounds.
     #[cfg_attr(feature = "openapi", schema(value_type = u64))]
     rounds: u32,
@@ -602,6 +616,10 @@ mod tests {
                 "elapsed_ms": 0.0,
             }),
         );
+        if let Some(t) = s.outliers {
+            o["metrics"]["false_detections"] = json!(t.proved_false);
+            o["metrics"]["open_outliers"] = json!(t.open);
+        }
         if let Some((inside, errors, recall)) = score(mission, s) {
             o.insert(
                 "score".into(),
@@ -760,6 +778,7 @@ mod tests {
             rounds: 1,
             contractions: 0,
             model,
+            outliers: None,
         }
     }
 

@@ -950,6 +950,7 @@ fn run_rounds(
         rounds: p.round,
         contractions: p.contractions,
         model: p.model,
+        outliers: None,
     }
 }
 

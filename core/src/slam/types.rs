@@ -203,6 +203,23 @@ pub struct Solution {
     pub contractions: u64,
     /// Final domains.
     pub model: Model,
+    /// With `max_outliers` > 0 (and a consistent or stopped solve): what
+    /// the solver proved of the false detections.
+    pub outliers: Option<OutlierTally>,
+}
+
+/// What a robust solve (`max_outliers` = q > 0) proved of the false
+/// detections: how many are proved false, and how many of the q drops
+/// nothing accounts for. While `open` > 0, every detection is dropped by
+/// some reading (monotonicity, docs/outliers.md), so `matching` is empty.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutlierTally {
+    /// Detections proved false (no reading keeps them).
+    pub proved_false: usize,
+    /// Drops of q that neither the detections proved false nor the sets
+    /// of which every reading drops one (conflicts, disjoint pairs and
+    /// witnesses) account for.
+    pub open: usize,
 }
 
 #[cfg(test)]

@@ -82,6 +82,7 @@ pub fn reference_solve(mission: &Mission, options: &SolveOptions, cancel: &Atomi
         rounds,
         contractions,
         model,
+        outliers: None,
     };
 
     // Dead reckoning from the start, and back from the end when known.

@@ -8,7 +8,7 @@ use nvector_core::figure::metres;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::result::{result_json, score, write_result, Solution, SolveStatus};
 use nvector_core::slam::solve::solve_model;
-use nvector_core::slam::types::{Association, Progress, SolveOptions};
+use nvector_core::slam::types::{Association, OutlierTally, Progress, SolveOptions};
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -151,6 +151,9 @@ pub fn summary(
         solution.matching.len(),
         if solution.matching.len() == 1 { "" } else { "s" },
     );
+    if let Some(t) = solution.outliers {
+        line.push_str(&outliers_clause(mission.max_outliers, t));
+    }
     if let Some((inside, errors, _)) = score(mission, solution) {
         line.push_str(if inside {
             "; truth inside"
@@ -169,6 +172,21 @@ pub fn summary(
         line.push_str(&format!("; figure in {}", p.display()));
     }
     line
+}
+
+/// What a robust solve proved of the false detections, for the summary:
+/// how many are proved false and, while some of `max_outliers` is left
+/// unaccounted for, why no group can be reported.
+fn outliers_clause(q: usize, t: OutlierTally) -> String {
+    let mut s = format!(" (max_outliers {q}: {} proved false", t.proved_false);
+    if t.open > 0 {
+        s.push_str(&format!(
+            ", {} not accounted for, so any detection may be one of them and no group is proved",
+            t.open
+        ));
+    }
+    s.push(')');
+    s
 }
 
 /// The progress line: round, pass, detections processed, detections still
