@@ -74,7 +74,10 @@
 //! The packing stops (a work heuristic, sound whatever it says) when it
 //! has run more than [`PATIENCE`] / (N + k) propagations and, with the conflicts
 //! still to find as large as those found, N' would keep under a third of
-//! the detections: too few to refute anything.
+//! the detections: too few to refute anything. Without free conflicts,
+//! each conflict's shrinking keeps to its share of the propagations
+//! left (`State::shrink_in_share`), and past it the packing and the
+//! overlapping conflicts give up (another work heuristic).
 //!
 //! # Soundness
 //!
@@ -274,6 +277,8 @@ pub fn pack(
         budget: q - p,
         positions: None,
         open: k - p,
+        shares: false,
+        gave_up: false,
     };
     for (r, &j) in order.iter().enumerate() {
         st.rank[j] = r;
@@ -313,9 +318,11 @@ impl State<'_> {
         // With free conflicts the disjoint packing is not needed first:
         // the overlapping conflicts start from them.
         if free.is_empty() || self.budget == 0 || !within_hit_work(steps, k) {
+            self.shares = true;
             self.pack_and_resolve(q, p)?;
+            self.shares = false;
         }
-        if self.conflicts.len() < self.budget && within_hit_work(steps, k) {
+        if self.conflicts.len() < self.budget && within_hit_work(steps, k) && !self.gave_up {
             self.s.cap = HIT_SOLVES;
             self.hit(free)?;
             // What the overlapping conflicts left open: the disjoint
@@ -350,6 +357,12 @@ struct State<'a> {
     positions: Option<Vec<Interval>>,
     /// How many detections the packing started with.
     open: usize,
+    /// Whether each conflict's shrinking keeps to its share of the
+    /// propagations left ([`State::shrink_in_share`]).
+    shares: bool,
+    /// A shrinking went past its share: the packing and the overlapping
+    /// conflicts are not run further (they would find conflicts as large).
+    gave_up: bool,
 }
 
 impl State<'_> {
@@ -382,7 +395,7 @@ impl State<'_> {
                 }
                 return Ok(true);
             }
-            let Some(c) = self.s.shrink(&self.rest) else {
+            let Some(c) = self.shrink_in_share() else {
                 return Ok(false);
             };
             self.rest.retain(|j| !c.contains(j));
@@ -394,6 +407,32 @@ impl State<'_> {
                 return Ok(false);
             }
         }
+    }
+
+    /// Step 2 on `rest`, within this conflict's share of the propagations
+    /// left when [`State::shares`] is set (a work heuristic, sound
+    /// whatever it does: stopping claims less). The packing proves
+    /// something only once its conflicts leave at most [`MAX_OPEN`] drops
+    /// open (step 4), so each of the `d = budget - MAX_OPEN - m` conflicts
+    /// still needed may take `1 / d` of what is left; one that takes more
+    /// means conflicts too large to be found in time (measured on the
+    /// woods scenario, 300 steps, 10 phantoms: a first conflict of 52
+    /// detections took the whole cap of 600 propagations, 75 s, for
+    /// nothing), and the packing gives up.
+    fn shrink_in_share(&mut self) -> Option<Vec<usize>> {
+        let needed = self.budget.saturating_sub(MAX_OPEN + self.conflicts.len());
+        if !self.shares || needed <= 1 {
+            return self.s.shrink(&self.rest);
+        }
+        let cap = self.s.cap;
+        let share = cap.saturating_sub(self.s.solves) / needed;
+        self.s.cap = self.s.solves + share;
+        let c = self.s.shrink(&self.rest);
+        if c.is_none() && self.s.solves >= self.s.cap {
+            self.gave_up = true;
+        }
+        self.s.cap = cap;
+        c
     }
 
     /// A work heuristic (any answer is sound: stopping the packing only
