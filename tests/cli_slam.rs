@@ -3,7 +3,7 @@
 
 use nvector_core::contractors::motion_chain::unicycle_displacement;
 use nvector_core::slam::mission::Mission;
-use nvector_tests::{read_json, run, temp_dir, temp_file};
+use nvector_tests::{read_json, run, succeeded, temp_dir, temp_file};
 use std::path::{Path, PathBuf};
 
 #[test]
@@ -562,7 +562,7 @@ fn a_robust_result_tells_what_it_proved_of_the_false_detections() {
     let r = temp_file("tally-paper-result.json");
     for (false_detections, q) in [(2, Some(2)), (0, None)] {
         let k = false_detections.to_string();
-        let out = run(&[
+        succeeded(&run(&[
             "simulate",
             "--scenario",
             "paper",
@@ -572,20 +572,14 @@ fn a_robust_result_tells_what_it_proved_of_the_false_detections() {
             &k,
             "--out",
             m.to_str().unwrap(),
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let out = run(&["run", m.to_str().unwrap(), "--out", r.to_str().unwrap()]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        ]));
+        let summary = succeeded(&run(&[
+            "run",
+            m.to_str().unwrap(),
+            "--out",
+            r.to_str().unwrap(),
+        ]));
         let result = read_json(&r);
-        let summary = String::from_utf8_lossy(&out.stderr).to_string();
         assert_eq!(result["score"]["truth_inside"], true);
         match q {
             Some(q) => {
