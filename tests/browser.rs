@@ -519,6 +519,8 @@ fn the_page_in_headless_chromium() {
             "2",
             "--steps",
             "3000",
+            "--false-detections",
+            "2",
             "--out",
         ])
         .arg(&upload)
@@ -567,6 +569,17 @@ fn the_page_in_headless_chromium() {
     assert_eq!(
         d.js("return document.getElementById('rv-summary').dataset.truthInside"),
         "true"
+    );
+    // The mission has 2 planted phantoms (`max_outliers` 2): the summary
+    // says both were proved false (metrics.false_detections) and nothing
+    // is left open.
+    let summary = d.js("return document.getElementById('rv-summary').textContent");
+    assert!(
+        summary
+            .as_str()
+            .unwrap()
+            .contains("(max_outliers 2: 2 proved false)"),
+        "{summary}"
     );
     d.screenshot("missions-result");
 

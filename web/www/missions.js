@@ -122,7 +122,17 @@ export function groupsText(result, mission) {
   const k = Array.isArray(result.matching) ? result.matching.length : 0;
   const n = mission && mission.landmark_count;
   const g = `${k} proved group${k === 1 ? '' : 's'}`;
-  return n === undefined || n === null ? `${g} (number of landmarks not given)` : `${g} of at most ${n} landmark${n === 1 ? '' : 's'}`;
+  const text = n === undefined || n === null ? `${g} (number of landmarks not given)` : `${g} of at most ${n} landmark${n === 1 ? '' : 's'}`;
+  return text + outliersText(result, mission);
+}
+
+/** With max_outliers: the detections proved false, and the drops nothing accounts for (then no group can be proved). */
+function outliersText(result, mission) {
+  const m = result.metrics || {};
+  if (m.open_outliers === undefined) return '';
+  const q = mission && mission.max_outliers;
+  const open = m.open_outliers > 0 ? `, ${m.open_outliers} not accounted for, so no group can be proved` : '';
+  return ` (max_outliers ${q}: ${m.false_detections} proved false${open})`;
 }
 
 /** A number of metres, rounded for reading. */
