@@ -48,6 +48,21 @@ fn missions_jobs_results(b: &Backend) {
     let (_, page2) = s.get(&format!("/api/v1/missions?limit=10&after={next}"));
     assert_eq!(page2["missions"].as_array().unwrap().len(), 1);
     assert_ne!(page1["missions"][0]["id"], page2["missions"][0]["id"]);
+    // The cursor's mission deleted between two pages: the next page is
+    // still the missions after it (it was empty: a client lost the rest).
+    let (st, extra) = s.post("/api/v1/missions", &small_mission(7, 200));
+    assert_eq!(st, 201, "{extra}");
+    let (_, first) = s.get("/api/v1/missions?limit=2");
+    let cursor = first["next"].as_str().unwrap().to_string();
+    assert_eq!(
+        s.req("DELETE", &format!("/api/v1/missions/{cursor}"), None, &[])
+            .0,
+        204
+    );
+    let (st, rest) = s.get(&format!("/api/v1/missions?limit=10&after={cursor}"));
+    assert_eq!(st, 200, "{rest}");
+    assert_eq!(rest["missions"].as_array().unwrap().len(), 1, "{rest}");
+    assert_eq!(rest["missions"][0]["id"], extra["id"], "{rest}");
 
     // A job to the end, with its events.
     let (st, job) = s.post(
@@ -71,6 +86,16 @@ fn missions_jobs_results(b: &Backend) {
     let (st, result) = s.get(&format!("/api/v1/jobs/{jid}/result"));
     assert_eq!(st, 200);
     assert_eq!(result["format"], "nvector-result/1");
+    // A finished job's progress is its result's (the last progress line
+    // came within the throttle of the one before and was dropped).
+    assert_eq!(
+        done["progress"]["round"], result["metrics"]["rounds"],
+        "{done}"
+    );
+    assert_eq!(
+        done["progress"]["max_trajectory_diameter"], result["metrics"]["max_trajectory_diameter"],
+        "{done}"
+    );
     assert_eq!(result["score"]["truth_inside"], true);
     assert_eq!(result["trajectory"].as_array().unwrap().len(), 2501);
     let (st, _, csv) = s.req(
@@ -102,12 +127,12 @@ fn missions_jobs_results(b: &Backend) {
     );
     assert!(
         metrics
-            .contains("nvector_http_requests_total{route=\"/api/v1/missions\",status=\"201\"} 2"),
+            .contains("nvector_http_requests_total{route=\"/api/v1/missions\",status=\"201\"} 3"),
         "{metrics}"
     );
     assert!(
         metrics.contains(
-            "nvector_http_request_duration_ms_count{route=\"/api/v1/missions\",status=\"201\"} 2"
+            "nvector_http_request_duration_ms_count{route=\"/api/v1/missions\",status=\"201\"} 3"
         ),
         "{metrics}"
     );
@@ -333,8 +358,35 @@ fn malformed_requests_get_4xx_naming_the_problem(b: &Backend) {
     assert_eq!((st, v["error"]["path"].as_str()), (422, Some("max_rounds")));
     let (st, v) = s.post("/api/v1/jobs", &json!({"mission": mid, "colour": "red"}));
     assert_eq!((st, v["error"]["path"].as_str()), (422, Some("colour")));
-    let (st, _, b) = s.req("GET", "/api/v1/missions?limit=zero", None, &[]);
-    check(st, &b, "invalid_query");
+    // A bad query names its parameter (a non-integer `limit` said "").
+    for (query, path) in [
+        ("limit=zero", "limit"),
+        ("limit=1.5", "limit"),
+        ("limit=", "limit"),
+        ("limit=2&limit=3", "limit"),
+        ("after=m-never", "after"),
+        ("after=", "after"),
+    ] {
+        let (st, _, b) = s.req("GET", &format!("/api/v1/missions?{query}"), None, &[]);
+        assert_eq!(
+            check(st, &b, "invalid_query")["error"]["path"],
+            path,
+            "{query}"
+        );
+    }
+    // The framework's own answers carry the JSON error body too (a 405
+    // and a 404 past the routes had an empty body, a path that is not
+    // UTF-8 a text one).
+    let (st, head, b) = s.req("GET", "/api/v1/jobs", None, &[]);
+    assert_eq!(st, 405);
+    check(st, &b, "method_not_allowed");
+    assert!(head.to_ascii_lowercase().contains("allow: post"), "{head}");
+    let (st, _, b) = s.req("PUT", "/api/v1/missions/m-nope", None, &[]);
+    check(st, &b, "method_not_allowed");
+    let (st, _, b) = s.req("GET", "/api/v1/", None, &[]);
+    check(st, &b, "not_found");
+    let (st, _, b) = s.req("GET", "/api/v1/missions/%ff", None, &[]);
+    assert_eq!(check(st, &b, "bad_request")["error"]["path"], "id");
     // The queue limit: 429 with Retry-After once one job waits.
     let (_, auv) = s.post(
         "/api/v1/simulate",
@@ -378,13 +430,26 @@ fn api_keys_separate_owners(b: &Backend) {
         &[],
     );
     assert_eq!(st, 401);
-    let (st, _, _) = s.req(
+    let (st, head, _) = s.req(
         "POST",
         "/api/v1/missions",
         Some(("application/json", body.as_bytes())),
         &[("Authorization", "Bearer gamma")],
     );
     assert_eq!(st, 401);
+    assert!(
+        head.to_ascii_lowercase()
+            .contains("www-authenticate: bearer"),
+        "a 401 names its scheme: {head}"
+    );
+    // The scheme's name is case-insensitive.
+    let (st, _, b) = s.req(
+        "GET",
+        "/api/v1/missions",
+        None,
+        &[("Authorization", "bearer beta")],
+    );
+    assert_eq!(st, 200, "{}", String::from_utf8_lossy(&b));
     let (st, _, b) = s.req(
         "POST",
         "/api/v1/missions",

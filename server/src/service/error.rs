@@ -100,11 +100,79 @@ impl IntoResponse for AppError {
             r.headers_mut()
                 .insert(header::RETRY_AFTER, HeaderValue::from(s));
         }
+        if self.status == StatusCode::UNAUTHORIZED {
+            // RFC 9110, 15.5.2: a 401 names the scheme it wants.
+            r.headers_mut().insert(
+                header::WWW_AUTHENTICATE,
+                HeaderValue::from_static("Bearer realm=\"nvector\""),
+            );
+        }
         r
     }
 }
 
 pub(super) type ApiResult<T> = Result<T, AppError>;
+
+/// The answers the framework gives on its own under `/api/` (405 for a
+/// method a route does not have; 400 for a path segment
+/// that is not UTF-8; 404 past the routes) carry the spec's JSON error
+/// body too, as every 4xx and 5xx must. A JSON answer passes untouched;
+/// the other headers are kept; the framework's text, if any, becomes the
+/// message.
+pub(super) async fn json_errors(req: Request, next: axum::middleware::Next) -> Response {
+    let api = req.uri().path().starts_with("/api/");
+    let method = req.method().clone();
+    let resp = next.run(req).await;
+    let status = resp.status();
+    if !api || !(status.is_client_error() || status.is_server_error()) {
+        return resp;
+    }
+    let json = resp
+        .headers()
+        .get(header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|t| t.starts_with("application/json"));
+    if json {
+        return resp;
+    }
+    let (parts, body) = resp.into_parts();
+    let text = axum::body::to_bytes(body, 16 * 1024)
+        .await
+        .unwrap_or_default();
+    let text = String::from_utf8_lossy(&text).trim().to_string();
+    let (code, message) = match status {
+        // axum adds the `Allow` header to a 405 outside this layer.
+        StatusCode::METHOD_NOT_ALLOWED => (
+            "method_not_allowed",
+            format!("method {method} is not allowed here (the Allow header lists those that are)"),
+        ),
+        StatusCode::NOT_FOUND => ("not_found", "no such endpoint".to_string()),
+        StatusCode::URI_TOO_LONG => ("uri_too_long", "the URI is too long".to_string()),
+        s if s.is_server_error() => ("internal", "the service failed; this is a bug".to_string()),
+        s => (
+            "bad_request",
+            if text.is_empty() {
+                s.canonical_reason().unwrap_or("bad request").to_string()
+            } else {
+                text
+            },
+        ),
+    };
+    // axum's path rejection names the segment: "Invalid URL: ... in `id`".
+    let path = message
+        .split_once("in `")
+        .and_then(|(_, rest)| rest.split_once('`'))
+        .map_or(String::new(), |(name, _)| name.to_string());
+    let mut r = AppError::new(status, code, message)
+        .at(path)
+        .into_response();
+    for (name, value) in &parts.headers {
+        if name != header::CONTENT_TYPE && name != header::CONTENT_LENGTH {
+            r.headers_mut().insert(name.clone(), value.clone());
+        }
+    }
+    r
+}
 
 /// A JSON body; a syntax error (a NaN or Infinity literal, a number out
 /// of range, a truncated body) is a 400 whose `path` names the value being

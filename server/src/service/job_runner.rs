@@ -305,6 +305,18 @@ fn send_result(out: &mut impl Write, mission: Mission, run: Finished) -> Result<
         elapsed_ms,
         timed_out,
     } = run;
+    // The final figures as the last progress (the progress lines are sent
+    // at most ten a second, so the last round's may not have gone out):
+    // a finished job's progress agrees with its result.
+    let diameter = solution.model.trajectory_diameters().0;
+    send(
+        out,
+        &Report::Progress {
+            round: u64::from(solution.rounds),
+            diameter: diameter.is_finite().then_some(diameter),
+            fraction: 1.0,
+        },
+    )?;
     // The whole result first: its length goes before it.
     let mut text = Vec::new();
     if let Err(e) = write_result(&mut text, &mission, &options, &solution, elapsed_ms) {

@@ -16,7 +16,7 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use nvector_core::format::mission::MissionDoc;
 use nvector_core::slam::mission::Mission;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use serde_json::Value;
 use utoipa::{IntoParams, ToSchema};
 
@@ -231,7 +231,7 @@ pub(super) async fn post_mission(
 }
 
 /// The page of `GET /missions`.
-#[derive(Deserialize, IntoParams)]
+#[derive(IntoParams)]
 #[into_params(parameter_in = Query)]
 pub(super) struct Page {
     /// Most missions in the page (default 100).
@@ -239,6 +239,51 @@ pub(super) struct Page {
     limit: Option<i64>,
     /// The `next` of the previous page: list the missions after this id.
     after: Option<String>,
+}
+
+impl Page {
+    /// The page of a query's pairs: each parameter at most once, `limit` an
+    /// integer in 1..=1000; an error names the parameter. Other parameters
+    /// are ignored.
+    fn read(pairs: &[(String, String)]) -> ApiResult<Page> {
+        let bad = |name: &str, message: String| {
+            AppError::new(StatusCode::BAD_REQUEST, "invalid_query", message).at(name)
+        };
+        let mut page = Page {
+            limit: None,
+            after: None,
+        };
+        for (name, value) in pairs {
+            match name.as_str() {
+                "limit" => {
+                    if page.limit.is_some() {
+                        return Err(bad("limit", "limit is given twice".into()));
+                    }
+                    let n = value
+                        .parse::<i64>()
+                        .ok()
+                        .filter(|n| (1..=1000).contains(n) && !value.starts_with('+'))
+                        .ok_or_else(|| {
+                            bad(
+                                "limit",
+                                format!(
+                                    "limit must be an integer between 1 and 1000, not `{value}`"
+                                ),
+                            )
+                        })?;
+                    page.limit = Some(n);
+                }
+                "after" => {
+                    if page.after.is_some() {
+                        return Err(bad("after", "after is given twice".into()));
+                    }
+                    page.after = Some(value.clone());
+                }
+                _ => {}
+            }
+        }
+        Ok(page)
+    }
 }
 
 /// List missions, oldest first, a page at a time.
@@ -250,7 +295,7 @@ pub(super) struct Page {
     params(Page),
     responses(
         (status = 200, description = "A page of missions", body = MissionList),
-        (status = 400, description = "Bad `limit`", body = ErrorBody),
+        (status = 400, description = "Bad `limit`, or an `after` that was never a mission of this key", body = ErrorBody),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 503, description = "Storage unavailable", body = ErrorBody),
     )
@@ -258,23 +303,24 @@ pub(super) struct Page {
 pub(super) async fn list_missions(
     State(state): State<AppState>,
     Owner(owner): Owner,
-    page: Result<Query<Page>, axum::extract::rejection::QueryRejection>,
+    pairs: Result<Query<Vec<(String, String)>>, axum::extract::rejection::QueryRejection>,
 ) -> ApiResult<Json<MissionList>> {
-    let Query(page) =
-        page.map_err(|e| AppError::new(StatusCode::BAD_REQUEST, "invalid_query", e.body_text()))?;
+    let Query(pairs) = pairs
+        .map_err(|e| AppError::new(StatusCode::BAD_REQUEST, "invalid_query", e.body_text()))?;
+    let page = Page::read(&pairs)?;
     let limit = page.limit.unwrap_or(100);
-    if !(1..=1000).contains(&limit) {
+    let after = page.after.clone();
+    let Some(rows) = state
+        .db(move |st| st.list_missions(&owner, after.as_deref(), limit))
+        .await?
+    else {
         return Err(AppError::new(
             StatusCode::BAD_REQUEST,
             "invalid_query",
-            "limit must be between 1 and 1000",
+            "after: no mission of yours has this id (give the `next` of a page, or leave `after` out to start from the first)",
         )
-        .at("limit"));
-    }
-    let after = page.after.clone();
-    let rows = state
-        .db(move |st| st.list_missions(&owner, after.as_deref(), limit))
-        .await?;
+        .at("after"));
+    };
     let next = if rows.len() as i64 == limit {
         rows.last().map(|r| r.id.clone())
     } else {

@@ -149,6 +149,7 @@ pub fn app(state: AppState) -> Router {
             state.clone(),
             metrics::count_requests,
         ))
+        .layer(middleware::from_fn(error::json_errors))
         .with_state(state)
 }
 

@@ -47,11 +47,14 @@ pub(super) fn owner(state: &AppState, headers: &HeaderMap) -> ApiResult<String> 
     if state.config.api_keys.is_empty() {
         return Ok(String::new());
     }
+    // The scheme's name is case-insensitive (RFC 9110, 11.1): "bearer"
+    // and "BEARER" name it too.
     let key = headers
         .get(header::AUTHORIZATION)
         .and_then(|v| v.to_str().ok())
-        .and_then(|v| v.strip_prefix("Bearer "))
-        .map(str::trim);
+        .and_then(|v| v.split_once(' '))
+        .filter(|(scheme, _)| scheme.eq_ignore_ascii_case("bearer"))
+        .map(|(_, k)| k.trim());
     match key {
         Some(k) if state.config.api_keys.contains(k) => Ok(k.to_string()),
         _ => Err(AppError::new(

@@ -310,6 +310,7 @@ fn supervise(
     let hard_limit =
         Duration::from_secs_f64(job.time_limit_s.max(0.001)) + time_limit_grace(job.time_limit_s);
     let mut last_saved: Option<Instant> = None;
+    let mut unsaved: Option<(i64, f64, f64)> = None;
     let mut last_check = Instant::now();
     let kill = |process: &mut Option<WorkerProcess>| {
         if let Some(p) = process.take() {
@@ -324,16 +325,24 @@ fn supervise(
                 diameter,
                 fraction,
             })) => {
+                let round = i64::try_from(round).unwrap_or(i64::MAX);
+                let diameter = diameter.unwrap_or(f64::INFINITY);
                 if last_saved.is_none_or(|t| t.elapsed() >= Duration::from_millis(200)) {
                     last_saved = Some(Instant::now());
-                    let round = i64::try_from(round).unwrap_or(i64::MAX);
-                    let diameter = diameter.unwrap_or(f64::INFINITY);
+                    unsaved = None;
                     let _ = store.progress(&job.id, round, diameter, fraction);
                     workers.changed(&job.id);
+                } else {
+                    unsaved = Some((round, diameter, fraction));
                 }
             }
             Ok(Some(Message::Done { result, timed_out })) => {
-                return store_result(store, job, &result, timed_out)
+                // The last progress (the result's own figures) is stored
+                // even when it came within the 200 ms of the one before.
+                if let Some((round, diameter, fraction)) = unsaved {
+                    let _ = store.progress(&job.id, round, diameter, fraction);
+                }
+                return store_result(store, job, &result, timed_out);
             }
             Ok(Some(Message::Failed(e))) => return fail(store, job, e.code, e.message),
             Ok(None) => {}

@@ -51,6 +51,9 @@ const MIGRATIONS: &[&str] = &[
          * (CASE WHEN m.detections > 1 THEN m.detections ELSE 1 END)
          FROM missions m WHERE m.id = jobs.mission), 1);
      CREATE INDEX jobs_queue ON jobs (state, queue_order, seq);",
+    // The places of deleted missions, for paging cursors (`list_missions`).
+    "CREATE TABLE deleted_missions (
+        id TEXT PRIMARY KEY, owner TEXT NOT NULL, seq BIGINT NOT NULL);",
 ];
 
 /// An arbitrary key for `pg_advisory_xact_lock` around migrations.
@@ -187,15 +190,18 @@ impl Store for PostgresStore {
         owner: &str,
         after: Option<&str>,
         limit: i64,
-    ) -> StoreResult<Vec<MissionRow>> {
+    ) -> StoreResult<Option<Vec<MissionRow>>> {
         self.with(|c| {
             let after_seq: i64 = match after {
-                Some(a) => c
-                    .query_opt(
-                        "SELECT seq FROM missions WHERE id = $1 AND owner = $2",
-                        &[&a, &owner],
-                    )?
-                    .map_or(i64::MAX, |r| r.get(0)),
+                Some(a) => match c.query_opt(
+                    "SELECT seq FROM missions WHERE id = $1 AND owner = $2
+                     UNION ALL
+                     SELECT seq FROM deleted_missions WHERE id = $1 AND owner = $2",
+                    &[&a, &owner],
+                )? {
+                    Some(r) => r.get(0),
+                    None => return Ok(None),
+                },
                 None => 0,
             };
             let rows = c.query(
@@ -203,16 +209,17 @@ impl Store for PostgresStore {
                  WHERE owner = $1 AND seq > $2 AND id NOT LIKE 't-%' ORDER BY seq LIMIT $3",
                 &[&owner, &after_seq, &limit],
             )?;
-            Ok(rows
-                .iter()
-                .map(|r| MissionRow {
-                    id: r.get(0),
-                    name: r.get(1),
-                    steps: r.get(2),
-                    detections: r.get(3),
-                    created: r.get(4),
-                })
-                .collect())
+            Ok(Some(
+                rows.iter()
+                    .map(|r| MissionRow {
+                        id: r.get(0),
+                        name: r.get(1),
+                        steps: r.get(2),
+                        detections: r.get(3),
+                        created: r.get(4),
+                    })
+                    .collect(),
+            ))
         })
     }
 
@@ -249,6 +256,12 @@ impl Store for PostgresStore {
     fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool> {
         self.with(|c| {
             let mut tx = c.transaction()?;
+            tx.execute(
+                "INSERT INTO deleted_missions (id, owner, seq)
+                 SELECT id, owner, seq FROM missions WHERE id = $1 AND owner = $2
+                 ON CONFLICT (id) DO NOTHING",
+                &[&id, &owner],
+            )?;
             let n = tx.execute(
                 "DELETE FROM missions WHERE id = $1 AND owner = $2",
                 &[&id, &owner],

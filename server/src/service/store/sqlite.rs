@@ -41,6 +41,9 @@ const MIGRATIONS: &[&str] = &[
          * (CASE WHEN m.detections > 1 THEN m.detections ELSE 1 END)
          FROM missions m WHERE m.id = jobs.mission), 1);
      CREATE INDEX IF NOT EXISTS jobs_queue ON jobs (state, queue_order, seq)",
+    // The places of deleted missions, for paging cursors (`list_missions`).
+    "CREATE TABLE IF NOT EXISTS deleted_missions (
+        id TEXT PRIMARY KEY, owner TEXT NOT NULL, seq INTEGER NOT NULL)",
 ];
 
 impl SqliteStore {
@@ -126,17 +129,24 @@ impl Store for SqliteStore {
         owner: &str,
         after: Option<&str>,
         limit: i64,
-    ) -> StoreResult<Vec<MissionRow>> {
+    ) -> StoreResult<Option<Vec<MissionRow>>> {
         self.with(|c| {
             let after_seq: i64 = match after {
-                Some(a) => c
-                    .query_row(
-                        "SELECT seq FROM missions WHERE id = ?1 AND owner = ?2",
-                        params![a, owner],
-                        |r| r.get(0),
-                    )
-                    .optional()?
-                    .unwrap_or(i64::MAX),
+                Some(a) => {
+                    let seq: Option<i64> = c
+                        .query_row(
+                            "SELECT seq FROM missions WHERE id = ?1 AND owner = ?2
+                             UNION ALL
+                             SELECT seq FROM deleted_missions WHERE id = ?1 AND owner = ?2",
+                            params![a, owner],
+                            |r| r.get(0),
+                        )
+                        .optional()?;
+                    match seq {
+                        Some(s) => s,
+                        None => return Ok(None),
+                    }
+                }
                 None => 0,
             };
             let mut st = c.prepare(
@@ -152,7 +162,7 @@ impl Store for SqliteStore {
                     created: r.get(4)?,
                 })
             })?;
-            rows.collect()
+            rows.collect::<rusqlite::Result<Vec<_>>>().map(Some)
         })
     }
 
@@ -191,6 +201,11 @@ impl Store for SqliteStore {
 
     fn delete_mission(&self, owner: &str, id: &str) -> StoreResult<bool> {
         self.with(|c| {
+            c.execute(
+                "INSERT OR IGNORE INTO deleted_missions (id, owner, seq)
+                 SELECT id, owner, seq FROM missions WHERE id = ?1 AND owner = ?2",
+                params![id, owner],
+            )?;
             let n = c.execute("DELETE FROM missions WHERE id = ?1 AND owner = ?2", params![id, owner])?;
             if n > 0 {
                 c.execute("UPDATE jobs SET state = 'cancelled' WHERE mission = ?1 AND state IN ('queued', 'running')", params![id])?;

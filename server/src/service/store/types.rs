@@ -235,12 +235,15 @@ pub trait Store: Send + Sync {
     /// Stores a mission (body = its JSON text).
     fn insert_mission(&self, owner: &str, row: &MissionRow, body: &str) -> StoreResult<()>;
     /// Missions of an owner, by creation, after an id, at most `limit`.
+    /// The id may be of a mission deleted since (its place is kept: a
+    /// client paging through the list loses nothing when the last mission
+    /// of its page is deleted); None when the owner never had it.
     fn list_missions(
         &self,
         owner: &str,
         after: Option<&str>,
         limit: i64,
-    ) -> StoreResult<Vec<MissionRow>>;
+    ) -> StoreResult<Option<Vec<MissionRow>>>;
     /// A mission's JSON text.
     fn mission_body(&self, owner: &str, id: &str) -> StoreResult<Option<String>>;
     /// A mission's JSON text, whoever owns it (for workers).
