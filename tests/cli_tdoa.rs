@@ -243,6 +243,62 @@ fn radar_truth_inside_and_no_matching_error() {
     }
 }
 
+/// A round cap that ends the rounds while they still shrink the boxes is
+/// `"stopped"` (formats.md: `max_rounds` reached before the fixpoint), not
+/// `"consistent"`; the figure of `--plot` is SVG, so another name is
+/// refused before the solve (a .png name got SVG bytes).
+#[test]
+fn a_round_cap_before_the_fixpoint_is_stopped() {
+    let m = temp_file("capped.json");
+    let (code, err) = run(&[
+        "simulate",
+        "--scenario",
+        "radar",
+        "--pulses",
+        "30",
+        "--seed",
+        "3",
+        "--emitters",
+        "3",
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let solve = |rounds: &str, name: &str| {
+        let r = temp_file(name);
+        let (code, err) = run(&[
+            "tdoa",
+            m.to_str().unwrap(),
+            "--budget",
+            "32",
+            "--max-rounds",
+            rounds,
+            "--out",
+            r.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        read_json(&r)
+    };
+    let full = solve("1000", "capped-full.json");
+    assert_eq!(full["status"], "consistent", "{full}");
+    assert_eq!(full["score"]["truth_inside"], true);
+    let one = solve("1", "capped-one.json");
+    assert_ne!(
+        one["emission_times"], full["emission_times"],
+        "one round is short of the fixpoint here"
+    );
+    assert_eq!(one["status"], "stopped");
+    assert_eq!(one["score"]["truth_inside"], true);
+    let (code, err) = run(&[
+        "tdoa",
+        m.to_str().unwrap(),
+        "--plot",
+        &temp_file("fig.png").to_string_lossy(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("must end in .svg"), "{err}");
+}
+
 #[test]
 fn bad_problem_names_the_path_and_exits_1() {
     let m = temp_file("bad.json");

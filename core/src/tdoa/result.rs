@@ -99,7 +99,13 @@ pub fn tdoa_result_json(
     let mut out = json!({
         "format": RESULT_FORMAT,
         "name": p.name,
-        "status": if s.infeasible.is_some() { "infeasible" } else { "consistent" },
+        "status": if s.infeasible.is_some() {
+            "infeasible"
+        } else if s.stopped {
+            "stopped"
+        } else {
+            "consistent"
+        },
         "contractor": o.mode.map_or("none", |m| m.name()),
         "pulses": s.vars.iter().map(|v| box_to_json(&IntervalBox::new(&v.x))).collect::<Vec<_>>(),
         "emission_times": s.vars.iter().map(|v| interval_to_json(v.tau)).collect::<Vec<_>>(),
@@ -147,7 +153,7 @@ pub fn result_schema() -> Value {
         "properties": {
             "format": {"type": "string", "enum": [RESULT_FORMAT]},
             "name": {"type": "string", "description": "The problem's name."},
-            "status": {"type": "string", "enum": ["consistent", "infeasible"]},
+            "status": {"type": "string", "enum": ["consistent", "infeasible", "stopped"]},
             "reason": {"type": "string", "description": "Why it is infeasible (with `infeasible`)."},
             "contractor": {"type": "string", "description": "The atmost_nvector contractor, or `none`."},
             "pulses": {"type": "array", "items": boxed,

@@ -72,6 +72,10 @@ pub struct TdoaSolution {
     pub infeasible: Option<String>,
     /// Rounds run.
     pub rounds: usize,
+    /// Whether `max_rounds` or the caller (`go_on`: a time limit) ended the
+    /// rounds while they still shrank the boxes: no fixpoint, the boxes
+    /// are sound but not the fixpoint's (status `"stopped"`).
+    pub stopped: bool,
 }
 
 struct Run<'a> {
@@ -222,6 +226,9 @@ pub fn solve_tdoa_with(
     }
     let mut rounds = 0;
     let mut infeasible = None;
+    // Until a round shrinks nothing more (the fixpoint), a cap or the
+    // caller stops the rounds early.
+    let mut stopped = true;
     while rounds < o.max_rounds.max(1) {
         if rounds > 0 && !go_on(rounds) {
             break;
@@ -237,12 +244,14 @@ pub fn solve_tdoa_with(
             .and_then(|_| run.share());
         if let Err(e) = step {
             infeasible = Some(e);
+            stopped = false;
             break;
         }
         let after = total_width(&run.vars);
         // NaN (unbounded widths) ends the rounds too.
         let shrank = before - after > super::pulse::SHRINK * before;
         if !shrank {
+            stopped = false;
             break;
         }
     }
@@ -266,5 +275,6 @@ pub fn solve_tdoa_with(
         groups,
         infeasible,
         rounds,
+        stopped,
     }
 }

@@ -65,6 +65,19 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if a.budget > MAX_BUDGET {
         return Err(CliError(format!("--budget must be at most {MAX_BUDGET}")));
     }
+    if let Some(p) = &a.plot {
+        // The figure is SVG only: a .png name got SVG bytes.
+        let svg = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+        if !svg {
+            return Err(CliError(format!(
+                "--plot {}: the figure must end in .svg",
+                p.display()
+            )));
+        }
+    }
     let options = TdoaOptions {
         mode: a.contractor.map_or(Some(Contractor::Best), |m| m.0),
         budget: a.budget,
