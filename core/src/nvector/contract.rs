@@ -77,7 +77,7 @@ impl ContractRequest {
             Some(s) => Contractor::parse(&s).ok_or_else(|| {
                 InputError::new(
                     "contractor",
-                    format!("unknown contractor \"{s}\" (expected nvalue, projection, independent, exact or best)"),
+                    format!("unknown contractor \"{s}\" (expected nvalue, projection, independent, exact, shapes or best)"),
                 )
             })?,
         };

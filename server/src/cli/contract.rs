@@ -26,6 +26,14 @@ pub fn run(mode: Option<Contractor>, node_budget: Option<u64>) -> Result<(), Cli
         .map_err(|e| CliError(format!("reading standard input: {e}")))?;
     let request: serde_json::Value = serde_json::from_str(&text)
         .map_err(|e| CliError(format!("invalid JSON on standard input: {e}")))?;
+    // A `Value` keeps the last of a repeated key silently (`"n": 1, "n":
+    // 5` was read as 5): refused, as the service and the typed reads of
+    // missions and TDOA problems refuse it.
+    if let Some(path) = nvector_core::format::duplicate_key(&text) {
+        return Err(CliError(format!(
+            "{path}: duplicate key: a key may appear once in an object"
+        )));
+    }
     let start = Instant::now();
     let mut limits = Limits::default();
     if let Some(b) = node_budget {
