@@ -73,7 +73,8 @@ fn bad_input_exits_1_naming_the_path() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("invalid JSON"));
     // A repeated key was read as its last value (n = 5 here): refused,
     // named, as the service refuses it.
-    let twice = r#"{"format": "nvector-contract/1", "n": 1, "n": 5, "boxes": [[[0, 1]], [[5, 6]]]}"#;
+    let twice =
+        r#"{"format": "nvector-contract/1", "n": 1, "n": 5, "boxes": [[[0, 1]], [[5, 6]]]}"#;
     let out = contract(&[], twice);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);

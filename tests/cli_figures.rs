@@ -232,20 +232,33 @@ fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
         "matching": [[0]],
         "metrics": {"max_trajectory_diameter": "inf", "mean_trajectory_diameter": "inf"}
     });
-    let mission = serde_json::json!({
-        "name": "u", "steps": 3,
-        "truth": {"positions": [[0, 0], [1e308, -1e308], [5, 5], [-1.7e308, 1.7e308]],
-                  "landmarks": [[0, 0]]}
-    });
+    // A valid mission of 3 steps (plot reads its mission as `run` does),
+    // its truth moved to the extremes.
+    let sim = temp_file("huge-sim.json");
+    succeeded(&run(&[
+        "simulate",
+        "--scenario",
+        "paper",
+        "--steps",
+        "3",
+        "--seed",
+        "1",
+        "--out",
+        sim.to_str().unwrap(),
+    ]));
+    let mut mission: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&sim).unwrap()).unwrap();
+    mission["name"] = serde_json::json!("u");
+    mission["truth"]["positions"] =
+        serde_json::json!([[0, 0], [1e308, -1e308], [5, 5], [-1.7e308, 1.7e308]]);
+    // The least result: one empty box, nothing matched.
     let empty = serde_json::json!({
-        "format": "nvector-result/1", "trajectory": [], "detections": [],
-        "landmarks": [], "matching": []
+        "format": "nvector-result/1", "mission": "u", "status": "infeasible",
+        "trajectory": ["empty"], "detections": [], "landmarks": [], "matching": [],
+        "metrics": {}
     });
     let mut huge_svg = None;
-    for (name, r, m) in [
-        ("huge", &result, &mission),
-        ("empty", &empty, &serde_json::json!({})),
-    ] {
+    for (name, r, m) in [("huge", &result, &mission), ("empty", &empty, &mission)] {
         let rp = temp_file(&format!("{name}-r.json"));
         let mp = temp_file(&format!("{name}-m.json"));
         std::fs::write(&rp, r.to_string()).unwrap();
@@ -272,6 +285,77 @@ fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
         svg.contains("trajectory: 2 position boxes (2 more unbounded or empty, not drawn)"),
         "{svg}"
     );
+}
+
+/// `plot` checks what it draws from: a result or a mission with an
+/// unknown field, a reversed interval, a group naming no detection, or a
+/// mission file that is not a mission is refused, named, exit 1 (each was
+/// drawn, or drawn without its truth, exit 0).
+#[test]
+fn plot_refuses_a_broken_result_or_mission_naming_the_fault() {
+    let (mission, result, _, _) = drawn("paper", "40");
+    let plot = |r: &serde_json::Value, m: &serde_json::Value, name: &str| {
+        let rp = temp_file(&format!("refuse-{name}-r.json"));
+        let mp = temp_file(&format!("refuse-{name}-m.json"));
+        std::fs::write(&rp, r.to_string()).unwrap();
+        std::fs::write(&mp, m.to_string()).unwrap();
+        run(&[
+            "plot",
+            rp.to_str().unwrap(),
+            "--mission",
+            mp.to_str().unwrap(),
+            "--out",
+            temp_file(&format!("refuse-{name}.svg")).to_str().unwrap(),
+        ])
+    };
+    succeeded(&plot(&result, &mission, "whole"));
+    let edits: Vec<(
+        &str,
+        Box<dyn Fn(&mut serde_json::Value, &mut serde_json::Value)>,
+        &str,
+    )> = vec![
+        (
+            "unknown",
+            Box::new(|r, _| r["bogus"] = serde_json::json!(1)),
+            "bogus: unknown field",
+        ),
+        (
+            "reversed",
+            Box::new(|r, _| r["trajectory"][2][0] = serde_json::json!([3, 2])),
+            "trajectory[2][0]: lower bound 3",
+        ),
+        (
+            "index",
+            Box::new(|r, _| {
+                r["matching"] = serde_json::json!([[0, 99999]]);
+                r["landmarks"] = serde_json::json!([[[0, 1], [0, 1]]]);
+            }),
+            "matching[0][",
+        ),
+        (
+            "status",
+            Box::new(|r, _| r["status"] = serde_json::json!("weird")),
+            "status:",
+        ),
+        (
+            "mission",
+            Box::new(|_, m| m["landmark_cuont"] = serde_json::json!(4)),
+            "landmark_cuont: unknown field",
+        ),
+        (
+            "not a mission",
+            Box::new(|_, m| *m = serde_json::json!({})),
+            "format",
+        ),
+    ];
+    for (name, edit, want) in edits {
+        let (mut r, mut m) = (result.clone(), mission.clone());
+        edit(&mut r, &mut m);
+        let out = plot(&r, &m, name);
+        assert_eq!(out.status.code(), Some(1), "{name}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(want), "{name}: {err}");
+    }
 }
 
 /// The heading marks' outline colour (core::figure::HEADINGS, #e67e22),

@@ -413,6 +413,12 @@ fn contract(
             break;
         }
     }
+    if !run.whole_boxes {
+        if let Some(reason) = run.group_without_common_point() {
+            let lower = run.lower;
+            return Ok(run.infeasible(reason, lower));
+        }
+    }
     let mut upper = run.hitting_set_upper().max(run.lower);
     if mode == Contractor::Exact {
         if let Some(out) = run.exact(limits, &mut upper)? {
@@ -511,6 +517,38 @@ impl<'a> Run<'a> {
     /// The boxes emptied, with `reason`: the infeasible outcome.
     fn infeasible(&mut self, reason: String, lower: usize) -> Outcome {
         infeasible(self.boxes, reason, lower, self.rounds)
+    }
+
+    /// `nvalue` proves groups (one kernel on an axis with n values) but
+    /// does not intersect their boxes: a group whose members have no
+    /// common point is a proof of infeasibility, which it would otherwise
+    /// report as "unchanged" with that group (boxes proved to take one
+    /// vector that they cannot share). The reason names the first member
+    /// and the one that empties the common box. O(k d).
+    fn group_without_common_point(&mut self) -> Option<String> {
+        let k = self.boxes.len();
+        let roots: Vec<u32> = (0..k as u32).map(|i| self.groups.find(i)).collect();
+        if roots.iter().enumerate().all(|(i, &r)| r == i as u32) {
+            return None;
+        }
+        let mut first = vec![u32::MAX; k];
+        for axis in 0..self.dim {
+            let mut common = vec![Interval::ENTIRE; k];
+            for (i, (b, &r)) in self.boxes.iter().zip(&roots).enumerate() {
+                let r = r as usize;
+                if first[r] == u32::MAX {
+                    first[r] = i as u32;
+                }
+                common[r] = common[r].intersect(b[axis]);
+                if common[r].is_empty() {
+                    return Some(format!(
+                        "boxes {} and {i} are proved to take one vector, but their group has no common point on axis {axis}",
+                        first[r]
+                    ));
+                }
+            }
+        }
+        None
     }
 
     /// Fills `domains` with the boxes' intervals on `axis`: one per group
@@ -738,6 +776,37 @@ mod tests {
 
     fn b2(x0: f64, x1: f64, y0: f64, y1: f64) -> IntervalBox {
         IntervalBox::new(&[Interval::new(x0, x1), Interval::new(y0, y1)])
+    }
+
+    /// n = 2: axis 0 groups boxes 0 and 1, axis 1 groups 0 and 2, so the
+    /// three take one vector, which boxes 1 and 2 (disjoint) cannot. The
+    /// naive contractor reported "unchanged" with the group [0, 1, 2];
+    /// every mode now proves it infeasible, and a group whose members meet
+    /// is still reported as before.
+    #[test]
+    fn nvalue_groups_without_a_common_point_are_infeasible() {
+        for mode in [Contractor::Nvalue, Contractor::Projection, Contractor::Best] {
+            let mut boxes = vec![
+                b2(0.0, 1.0, 0.0, 1.0),
+                b2(0.0, 1.0, 2.0, 3.0),
+                b2(2.0, 3.0, 0.0, 1.0),
+            ];
+            let out = atmost_nvector(2, &mut boxes, mode).unwrap();
+            assert!(
+                matches!(out.status, Status::Infeasible { .. }),
+                "{mode:?}: {out:?}"
+            );
+            assert!(boxes.iter().all(|b| b.is_empty()), "{mode:?}");
+        }
+        // Boxes 0 and 1 meet: the same group, no contradiction.
+        let mut boxes = vec![
+            b2(0.0, 1.0, 0.0, 1.0),
+            b2(0.5, 1.0, 0.0, 3.0),
+            b2(2.0, 3.0, 2.0, 3.0),
+        ];
+        let out = atmost_nvector(2, &mut boxes, Contractor::Nvalue).unwrap();
+        assert!(!matches!(out.status, Status::Infeasible { .. }), "{out:?}");
+        assert_eq!(out.groups, vec![vec![0, 1], vec![2]]);
     }
 
     #[test]

@@ -10,6 +10,7 @@ pub mod import_locards;
 pub mod import_woods;
 pub mod measure;
 pub mod plot;
+mod result_check;
 pub mod run;
 pub mod serve;
 pub mod simulate;

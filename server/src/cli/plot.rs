@@ -86,13 +86,17 @@ pub fn mismatch(result: &Value, mission: &Value) -> Option<String> {
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
     let result = read_json(&a.result)?;
-    if result["format"] != "nvector-result/1" {
-        return Err(CliError(format!(
-            "{}: format: expected \"nvector-result/1\"",
-            a.result.display()
-        )));
-    }
-    let mission = read_json(&a.mission)?;
+    super::result_check::check_result(&result)
+        .map_err(|e| CliError(format!("{}: {e}", a.result.display())))?;
+    // The mission as `run` reads it (unknown fields, bad bounds, a step
+    // count its file cannot hold are refused, named); the figure reads
+    // the value.
+    let text = std::fs::read_to_string(&a.mission)
+        .map_err(|e| CliError(format!("reading {}: {e}", a.mission.display())))?;
+    nvector_core::slam::mission::Mission::from_json(&text)
+        .map_err(|e| CliError(format!("{}: {e}", a.mission.display())))?;
+    let mission: Value = serde_json::from_str(&text)
+        .map_err(|e| CliError(format!("{}: invalid JSON: {e}", a.mission.display())))?;
     if let Some(why) = mismatch(&result, &mission) {
         eprintln!(
             "nvector: warning: {} does not look computed from {}: {why} (the truth drawn may not be this result's)",
