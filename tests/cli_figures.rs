@@ -287,6 +287,9 @@ fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
     );
 }
 
+/// An edit of a (result, mission) pair.
+type Edit = Box<dyn Fn(&mut serde_json::Value, &mut serde_json::Value)>;
+
 /// `plot` checks what it draws from: a result or a mission with an
 /// unknown field, a reversed interval, a group naming no detection, or a
 /// mission file that is not a mission is refused, named, exit 1 (each was
@@ -309,11 +312,7 @@ fn plot_refuses_a_broken_result_or_mission_naming_the_fault() {
         ])
     };
     succeeded(&plot(&result, &mission, "whole"));
-    let edits: Vec<(
-        &str,
-        Box<dyn Fn(&mut serde_json::Value, &mut serde_json::Value)>,
-        &str,
-    )> = vec![
+    let edits: Vec<(&str, Edit, &str)> = vec![
         (
             "unknown",
             Box::new(|r, _| r["bogus"] = serde_json::json!(1)),

@@ -203,7 +203,8 @@ mod tests {
     #[test]
     fn a_whole_result_passes_and_each_fault_is_named() {
         assert_eq!(check_result(&good()), Ok(()));
-        let cases: Vec<(Box<dyn Fn(&mut serde_json::Value)>, &str)> = vec![
+        type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+        let cases: Vec<(Edit, &str)> = vec![
             (Box::new(|v| v["bogus"] = json!(1)), "bogus: unknown field"),
             (Box::new(|v| v["status"] = json!("weird")), "status:"),
             (
