@@ -645,3 +645,44 @@ fn damaged_cmu_plaza_copies_are_refused_with_a_message() {
         assert!(err.contains(named), "{file} case {k}: {err}");
     }
 }
+
+/// `simulate` raised `--steps 0` or `1` to 2 and `--landmarks 0` to 1
+/// without a word, and ignored a flag of another scenario (`--landmarks`
+/// for auv, `--layout` for radar, `--pulses` for paper): each is refused
+/// now, named, exit 1.
+#[test]
+fn simulate_refuses_out_of_range_and_foreign_flags_by_name() {
+    for (args, want) in [
+        (&["--scenario", "paper", "--steps", "0"][..], "--steps"),
+        (&["--scenario", "woods", "--steps", "1"][..], "--steps"),
+        (
+            &["--scenario", "paper", "--landmarks", "0"][..],
+            "--landmarks",
+        ),
+        (
+            &["--scenario", "auv", "--landmarks", "5"][..],
+            "--landmarks",
+        ),
+        (&["--scenario", "radar", "--layout", "ring"][..], "--layout"),
+        (&["--scenario", "radar", "--steps", "10"][..], "--steps"),
+        (&["--scenario", "paper", "--pulses", "3"][..], "--pulses"),
+    ] {
+        let mut all = vec!["simulate"];
+        all.extend_from_slice(args);
+        let out = run(&all);
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    let m = temp_file("two-steps.json");
+    succeeded(&run(&[
+        "simulate",
+        "--scenario",
+        "paper",
+        "--steps",
+        "2",
+        "--out",
+        m.to_str().unwrap(),
+    ]));
+    assert_eq!(read_json(&m)["steps"], 2);
+}

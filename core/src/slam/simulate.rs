@@ -808,8 +808,7 @@ pub struct SimulateRequest {
     pub scenario: Option<Value>,
     /// Seed (default 1).
     pub seed: Option<Integer>,
-    /// Steps (default: the scenario's, at most the limit; below 2 reads
-    /// as 2).
+    /// Steps (default: the scenario's; at least 2, at most the limit).
     pub steps: Option<Integer>,
     /// Landmarks (paper; default 4, at most 64; 0 reads as 1).
     pub landmarks: Option<Integer>,
@@ -853,12 +852,27 @@ impl SimulateRequest {
             Some(s) => s.at_most(limits.max_steps, "steps")?,
             None => default_steps.min(limits.max_steps),
         };
-        o.steps = Some(steps.max(2) as usize);
+        // A mission has at least one motion step between two positions
+        // and one landmark: a smaller value was raised silently before.
+        if steps < 2 {
+            return Err(bad(
+                "steps",
+                format!("steps must be at least 2, not {steps}"),
+            ));
+        }
+        o.steps = Some(steps as usize);
         o.landmarks = self
             .landmarks
             .map(|n| n.at_most(MAX_LANDMARKS as u64, "landmarks"))
             .transpose()?
-            .map(|n| n.max(1) as usize);
+            .map(|n| {
+                if n == 0 {
+                    Err(bad("landmarks", "landmarks must be at least 1, not 0"))
+                } else {
+                    Ok(n as usize)
+                }
+            })
+            .transpose()?;
         o.operator = self.operator.unwrap_or(false);
         if let Some(Finite(n)) = self.noise {
             if !(0.0..=100.0).contains(&n) {
@@ -903,6 +917,12 @@ impl SimulateRequest {
                 not_woods,
                 "the paper and auv scenarios",
             ),
+            (
+                "landmarks",
+                o.landmarks.is_some(),
+                not_auv,
+                "the paper and woods scenarios",
+            ),
         ];
         if let Some((field, _, _, owner)) = only.iter().find(|(_, set, takes, _)| *set && !takes) {
             return Err(bad(field, format!("{field} applies to {owner} only")));
@@ -915,6 +935,39 @@ impl SimulateRequest {
 mod tests {
     use super::*;
     use crate::slam::mission::Mission;
+
+    /// Values that were changed silently (steps 0 or 1 became 2, 0
+    /// landmarks 1) or ignored (landmarks for auv) are refused, named.
+    #[test]
+    fn out_of_range_and_foreign_options_are_refused_by_name() {
+        let ask = |scenario: &str, steps: Option<u64>, landmarks: Option<u64>| {
+            SimulateRequest {
+                scenario: Some(Value::from(scenario)),
+                seed: None,
+                steps: steps.map(Integer::Value),
+                landmarks: landmarks.map(Integer::Value),
+                operator: None,
+                noise: None,
+                layout: None,
+                range_only: None,
+                false_detections: None,
+            }
+            .options(SimulateLimits::CORE)
+        };
+        for (scenario, steps, landmarks, path) in [
+            ("paper", Some(0), None, "steps"),
+            ("woods", Some(1), None, "steps"),
+            ("paper", None, Some(0), "landmarks"),
+            ("woods", None, Some(0), "landmarks"),
+            ("auv", None, Some(5), "landmarks"),
+        ] {
+            let e = ask(scenario, steps, landmarks).expect_err(path);
+            assert_eq!(e.path, path, "{scenario} {steps:?} {landmarks:?}: {e:?}");
+        }
+        let o = ask("paper", Some(2), Some(1)).unwrap();
+        assert_eq!((o.steps, o.landmarks), (Some(2), Some(1)));
+        assert!(ask("woods", None, Some(5)).is_ok());
+    }
 
     #[test]
     fn deterministic_for_a_seed() {
@@ -1262,9 +1315,11 @@ mod request_tests {
     fn defaults_and_limits() {
         let o = options(json!({"scenario": "paper"})).unwrap();
         assert_eq!((o.seed, o.steps, o.landmarks), (1, Some(PAPER_STEPS), None));
-        let o =
-            options(json!({"scenario": "auv", "steps": 0, "landmarks": 0, "seed": null})).unwrap();
-        assert_eq!((o.steps, o.landmarks), (Some(2), Some(1)));
+        // Below 2 steps was read as 2, 0 landmarks as 1: refused now.
+        let e = options(json!({"scenario": "auv", "steps": 0, "seed": null})).unwrap_err();
+        assert_eq!(e.path, "steps");
+        let o = options(json!({"scenario": "auv", "steps": 2, "seed": null})).unwrap();
+        assert_eq!((o.steps, o.landmarks), (Some(2), None));
         let limits = SimulateLimits {
             max_steps: 20_000,
             max_false_detections: 7,

@@ -20,12 +20,12 @@ use utoipa::openapi::schema::{AdditionalProperties, ObjectBuilder, OneOfBuilder,
 use utoipa::openapi::RefOr;
 use utoipa::{PartialSchema, ToSchema};
 
-/// `{"type": "integer", "minimum": 0, "maximum": max}` or null.
-fn count(max: u64, description: &str) -> RefOr<Schema> {
+/// `{"type": "integer", "minimum": min, "maximum": max}` or null.
+fn count(min: u64, max: u64, description: &str) -> RefOr<Schema> {
     nullable(
         ObjectBuilder::new()
             .schema_type(Type::Integer)
-            .minimum(Some(0))
+            .minimum(Some(min))
             .maximum(Some(max)),
         description,
     )
@@ -51,6 +51,8 @@ struct Scenario {
     description: &'static str,
     steps: &'static str,
     landmarks: &'static str,
+    /// `landmarks` taken (the auv survey has its own seamarks: only null).
+    takes_landmarks: bool,
     /// The layouts accepted (`line` only but for the paper).
     layouts: &'static [&'static str],
     /// `range_only` accepted true.
@@ -65,8 +67,9 @@ const SCENARIOS: [Scenario; 3] = [
     Scenario {
         name: "paper",
         description: "A simulation of the paper's experiment.",
-        steps: "Steps (default 10,000, at most this service's limit; below 2 reads as 2).",
-        landmarks: "Landmarks (default 4; 0 reads as 1).",
+        steps: "Steps (default 10,000; at least 2, at most this service's limit).",
+        landmarks: "Landmarks (default 4; at least 1).",
+        takes_landmarks: true,
         layouts: &["line", "ring", "random"],
         range_only: true,
         false_detections: MAX_FALSE_DETECTIONS as u64,
@@ -75,8 +78,9 @@ const SCENARIOS: [Scenario; 3] = [
     Scenario {
         name: "auv",
         description: "A simulated AUV survey (the paper-only options at their defaults).",
-        steps: "Steps (default 60,000, at most this service's limit; below 2 reads as 2).",
-        landmarks: "Ignored: the survey always has its 6 seamarks.",
+        steps: "Steps (default 60,000; at least 2, at most this service's limit).",
+        landmarks: "Not taken: the survey always has its 6 seamarks (null only).",
+        takes_landmarks: false,
         layouts: &["line"],
         range_only: false,
         false_detections: 0,
@@ -89,8 +93,9 @@ const SCENARIOS: [Scenario; 3] = [
             `false_detections` adds false range-and-bearing detections in the robot's \
             scans). A service refuses (413) a request whose mission could hold more true \
             detections than its limit: (steps / 2 + 1) x landmarks.",
-        steps: "Steps (default 3,000, at most this service's limit; below 2 reads as 2).",
-        landmarks: "Landmarks (default 17; 0 reads as 1).",
+        steps: "Steps (default 3,000; at least 2, at most this service's limit).",
+        landmarks: "Landmarks (default 17; at least 1).",
+        takes_landmarks: true,
         layouts: &["line"],
         range_only: false,
         false_detections: MAX_FALSE_DETECTIONS as u64,
@@ -130,9 +135,19 @@ impl Scenario {
                     .enum_values(Some([self.name])),
             )
             .required("scenario")
-            .property("seed", count(u64::MAX, "The seed (default 1)."))
-            .property("steps", count(MAX_STEPS as u64, self.steps))
-            .property("landmarks", count(MAX_LANDMARKS as u64, self.landmarks))
+            .property("seed", count(0, u64::MAX, "The seed (default 1)."))
+            .property("steps", count(2, MAX_STEPS as u64, self.steps))
+            .property(
+                "landmarks",
+                if self.takes_landmarks {
+                    count(1, MAX_LANDMARKS as u64, self.landmarks)
+                } else {
+                    ObjectBuilder::new()
+                        .schema_type(Type::Null)
+                        .description(Some(self.landmarks))
+                        .into()
+                },
+            )
             .property(
                 "operator",
                 one_of(
@@ -154,6 +169,7 @@ impl Scenario {
             .property(
                 "false_detections",
                 count(
+                    0,
                     self.false_detections,
                     "Extra detections of no landmark (`null` in truth.matching, \
                      `max_outliers` set; default 0). Fewer are drawn when the mission would \
@@ -203,7 +219,18 @@ mod tests {
             let name = v["properties"]["scenario"]["enum"][0].as_str().unwrap();
             let max = |field: &str| v["properties"][field]["oneOf"][1]["maximum"].as_f64();
             for field in ["steps", "landmarks", "false_detections"] {
-                let m = max(field).unwrap() as u64;
+                let Some(m) = max(field) else {
+                    // Null only (auv's landmarks): any number is refused.
+                    assert_eq!(v["properties"][field]["type"], "null", "{name}.{field}");
+                    let r = serde_json::from_value::<SimulateRequest>(
+                        json!({"scenario": name, field: 1}),
+                    )
+                    .unwrap()
+                    .options(SimulateLimits::CORE);
+                    assert_eq!(r.unwrap_err().path, field, "{name}.{field}");
+                    continue;
+                };
+                let m = m as u64;
                 let parse = |n: u64| {
                     serde_json::from_value::<SimulateRequest>(json!({"scenario": name, field: n}))
                         .unwrap()

@@ -10,18 +10,21 @@ use std::path::PathBuf;
 /// Arguments of `nvector simulate`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// paper (the paper's section 6 experiment), auv (Redermor-scale survey)
-    /// or woods (an odometry2d robot among identical landmarks, with scans).
+    /// paper (the paper's section 6 experiment), auv (Redermor-scale
+    /// survey), woods (an odometry2d robot among identical landmarks, with
+    /// scans) or radar (TDOA: static emitters, fixed receivers, pulse
+    /// trains; an `nvector-tdoa/1` problem).
     #[arg(long, value_parser = parse_scenario)]
     scenario: Which,
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Number of steps (default: 10000 for paper, 60000 for auv, 3000 for
-    /// woods).
+    /// Number of steps (at least 2; default: 10000 for paper, 60000 for
+    /// auv, 3000 for woods).
     #[arg(long)]
     steps: Option<usize>,
-    /// Number of landmarks (paper only; default 4; at most 64).
+    /// Number of landmarks (paper and woods; default 4 for paper, 17 for
+    /// woods; at least 1, at most 64).
     #[arg(long)]
     landmarks: Option<usize>,
     /// Scale of the sensor noise bounds (default 1).
@@ -90,6 +93,29 @@ fn parse_layout(s: &str) -> Result<Layout, String> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
+    // A flag of the other kind of scenario was ignored without a word.
+    let radar_flags = [
+        ("--emitters", a.emitters.is_some()),
+        ("--receivers", a.receivers.is_some()),
+        ("--pulses", a.pulses.is_some()),
+        ("--missing", a.missing.is_some()),
+        ("--false-arrivals", a.false_arrivals > 0),
+    ];
+    let slam_flags = [
+        ("--steps", a.steps.is_some()),
+        ("--landmarks", a.landmarks.is_some()),
+        ("--noise", a.noise != 1.0),
+        ("--layout", a.layout != Layout::Line),
+        ("--range-only", a.range_only),
+        ("--false-detections", a.false_detections > 0),
+    ];
+    let (foreign, why) = match a.scenario {
+        Which::Slam(_) => (&radar_flags[..], "applies to the radar scenario only"),
+        Which::Radar => (&slam_flags[..], "does not apply to the radar scenario"),
+    };
+    if let Some((flag, _)) = foreign.iter().find(|(_, set)| *set) {
+        return Err(CliError(format!("{flag} {why}")));
+    }
     let scenario = match a.scenario {
         Which::Slam(scenario) => scenario,
         Which::Radar => return radar(a),
