@@ -686,3 +686,17 @@ fn simulate_refuses_out_of_range_and_foreign_flags_by_name() {
     ]));
     assert_eq!(read_json(&m)["steps"], 2);
 }
+
+/// `import` with no source, or an unknown `--model`, is a usage error
+/// (exit 2, as `simulate --scenario foo`): both exited 1.
+#[test]
+fn import_without_a_source_or_with_an_unknown_model_is_a_usage_error() {
+    for args in [&["import"][..], &["import", "--model", "foo"][..]] {
+        let out = run(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("--model"),
+            "{args:?}"
+        );
+    }
+}

@@ -18,8 +18,14 @@ use std::path::{Path, PathBuf};
 /// Arguments of `nvector import`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Motion model of the log: unicycle2d, auv3d or odometry2d.
-    #[arg(long)]
+    /// Motion model of the log: unicycle2d, auv3d or odometry2d (required
+    /// unless a data set is named: --cmu-plaza, --utias-woods or
+    /// --locards-mlat; a missing or unknown model is a usage error, exit 2).
+    #[arg(
+        long,
+        value_parser = ["unicycle2d", "auv3d", "odometry2d"],
+        required_unless_present_any = ["cmu_plaza", "utias_woods", "locards_mlat"]
+    )]
     model: Option<String>,
     /// Sensor log CSV: header row with `t` and the model's channels.
     #[arg(long)]
