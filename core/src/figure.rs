@@ -166,6 +166,8 @@ pub fn metres(x: Option<f64>) -> String {
         None => "?".to_string(),
         Some(x) if x.is_nan() => "?".to_string(),
         Some(x) if x.is_infinite() => "unbounded".to_string(),
+        // Not 300 digits for 1e300.
+        Some(x) if x.abs() >= 1e7 => format!("{x:.2e} m"),
         Some(x) if x.abs() >= 100.0 => format!("{x:.0} m"),
         Some(x) if x.abs() >= 1.0 => format!("{x:.1} m"),
         Some(x) if x.abs() >= 0.01 => format!("{x:.3} m"),
@@ -981,5 +983,8 @@ mod tests {
         assert_eq!(metres(None), "?");
         assert_eq!(metres(Some(0.0)), "0 m");
         assert_eq!(metres(Some(0.004)), "4.00e-3 m");
+        assert_eq!(metres(Some(9_999_999.0)), "9999999 m");
+        assert_eq!(metres(Some(1e308)), "1.00e308 m");
+        assert_eq!(metres(Some(-1.7e308)), "-1.70e308 m");
     }
 }

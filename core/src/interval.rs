@@ -620,7 +620,23 @@ impl fmt::Display for Interval {
         if self.is_empty() {
             write!(f, "empty")
         } else {
-            write!(f, "[{}, {}]", self.lo, self.hi)
+            write!(f, "[{}, {}]", Bound(self.lo), Bound(self.hi))
+        }
+    }
+}
+
+/// A bound in a message: as `f64`'s Display (shortest round-trip digits),
+/// but with an exponent beyond 1e15 and below 1e-6, where Display writes
+/// every digit (1e308 was 309 characters).
+struct Bound(f64);
+
+impl fmt::Display for Bound {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let x = self.0;
+        if x.is_finite() && x != 0.0 && !(1e-6..1e15).contains(&x.abs()) {
+            write!(f, "{x:e}")
+        } else {
+            write!(f, "{x}")
         }
     }
 }
@@ -652,6 +668,19 @@ impl std::ops::Neg for Interval {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Messages name intervals: huge and tiny bounds with an exponent (1e308
+    /// was written with all its 309 digits), others as before.
+    #[test]
+    fn display_is_short_at_the_extremes() {
+        assert_eq!(Interval::new(0.5, 2.0).to_string(), "[0.5, 2]");
+        assert_eq!(Interval::new(4.9, 5.3).to_string(), "[4.9, 5.3]");
+        assert_eq!(Interval::new(1e308, f64::INFINITY).to_string(), "[1e308, inf]");
+        assert_eq!(Interval::new(-1.7e308, -1e15).to_string(), "[-1.7e308, -1e15]");
+        assert_eq!(Interval::new(-1e-7, 0.0).to_string(), "[-1e-7, 0]");
+        assert_eq!(Interval::new(123456.0, 1e14).to_string(), "[123456, 100000000000000]");
+        assert_eq!(Interval::EMPTY.to_string(), "empty");
+    }
 
     #[test]
     fn constructors_reject_non_intervals() {

@@ -299,6 +299,8 @@ def metres(x: Any) -> str:
     if not isinstance(x, (int, float)) or x != x:
         return "?"
     a = abs(x)
+    if a >= 1e7:
+        return _exp(x)
     if a >= 100:
         return f"{x:.0f} m"
     if a >= 1:
@@ -307,7 +309,14 @@ def metres(x: Any) -> str:
         return "0 m"
     if a >= 0.01:
         return f"{x:.3f} m"
-    return f"{x:.2e} m"
+    return _exp(x)
+
+
+def _exp(x: float) -> str:
+    """Two decimals and an exponent as Rust's `{:.2e}` writes them:
+    "4.00e-3 m", "1.00e308 m" (Python's own would be "4.00e-03")."""
+    mantissa, exponent = f"{x:.2e}".split("e")
+    return f"{mantissa}e{int(exponent)} m"
 
 
 def final_message(result: dict[str, Any]) -> str:

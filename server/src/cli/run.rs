@@ -157,6 +157,10 @@ pub fn summary(
     if let Some((inside, errors, _)) = score(mission, solution) {
         line.push_str(if inside {
             "; truth inside"
+        } else if matches!(solution.status, SolveStatus::Infeasible(_)) {
+            // No box holds anything: either the mission's truth breaks
+            // one of its own constraints, or the proof is wrong.
+            "; TRUTH OUTSIDE: the mission was proved infeasible, so its truth breaks one of its constraints (or this is a soundness bug: please report it if the truth fits)"
         } else {
             "; TRUTH OUTSIDE (a soundness bug: please report it)"
         });
