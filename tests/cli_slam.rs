@@ -700,3 +700,19 @@ fn import_without_a_source_or_with_an_unknown_model_is_a_usage_error() {
         );
     }
 }
+
+/// A closed standard error (`2>&1 | true`) loses the message but keeps
+/// the exit status: 1 for bad input, not a panic's 101.
+#[test]
+fn a_closed_standard_error_is_not_a_panic() {
+    let bad = temp_file("closed-stderr.json");
+    std::fs::write(&bad, "{\"format\": \"nvector-mission/1\", \"bogus\": 1}").unwrap();
+    let mut child = nvector_tests::nvector()
+        .args(["run", bad.to_str().unwrap()])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stderr.take());
+    assert_eq!(child.wait().unwrap().code(), Some(1));
+}

@@ -675,10 +675,19 @@ mod tests {
     fn display_is_short_at_the_extremes() {
         assert_eq!(Interval::new(0.5, 2.0).to_string(), "[0.5, 2]");
         assert_eq!(Interval::new(4.9, 5.3).to_string(), "[4.9, 5.3]");
-        assert_eq!(Interval::new(1e308, f64::INFINITY).to_string(), "[1e308, inf]");
-        assert_eq!(Interval::new(-1.7e308, -1e15).to_string(), "[-1.7e308, -1e15]");
+        assert_eq!(
+            Interval::new(1e308, f64::INFINITY).to_string(),
+            "[1e308, inf]"
+        );
+        assert_eq!(
+            Interval::new(-1.7e308, -1e15).to_string(),
+            "[-1.7e308, -1e15]"
+        );
         assert_eq!(Interval::new(-1e-7, 0.0).to_string(), "[-1e-7, 0]");
-        assert_eq!(Interval::new(123456.0, 1e14).to_string(), "[123456, 100000000000000]");
+        assert_eq!(
+            Interval::new(123456.0, 1e14).to_string(),
+            "[123456, 100000000000000]"
+        );
         assert_eq!(Interval::EMPTY.to_string(), "empty");
     }
 

@@ -1,6 +1,16 @@
 //! The `nvector` command-line tool and HTTP service (docs/formats.md,
 //! "Command-line contract"). Exit status: 0 success, 1 bad input, 2 usage.
 
+/// `eprintln!` that does not panic when standard error is closed (`2>&1 |
+/// true`: the message is lost, the exit status stays the command's own,
+/// not a panic's 101).
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($t)*);
+    }};
+}
+
 mod cli;
 mod render;
 mod service;
@@ -107,13 +117,17 @@ fn main() -> ExitCode {
             database,
             workers,
         })
-        .map(|v| println!("{v}")),
+        .and_then(|v| {
+            use std::io::Write as _;
+            writeln!(std::io::stdout(), "{v}")
+                .map_err(|e| CliError(format!("writing standard output: {e}")))
+        }),
         Command::Bench { quick, only, .. } => cli::bench::run(quick, only.as_deref()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(CliError(msg)) => {
-            eprintln!("nvector: {msg}");
+            say!("nvector: {msg}");
             ExitCode::from(1)
         }
     }

@@ -149,9 +149,9 @@ fn mark(mut v: Value, quick: bool) -> Value {
                 ""
             };
             let verdict = if met { "goal met" } else { "GOAL MISSED" };
-            eprintln!("{name}: {verdict}: {words}{quick}");
+            say!("{name}: {verdict}: {words}{quick}");
         }
-        None => eprintln!("{name}: no goal"),
+        None => say!("{name}: no goal"),
     }
     v
 }
@@ -162,7 +162,7 @@ fn check_only(only: Option<&str>, suffix: &str) {
     if let Some(o) = only {
         let known = MEASURES.iter().any(|m| format!("{m}{suffix}").contains(o));
         if !known {
-            eprintln!(
+            say!(
                 "nvector: bench --only '{o}' names no measure{}; the measures are: {}",
                 if suffix.is_empty() { "" } else { " of --quick" },
                 MEASURES.map(|m| format!("{m}{suffix}")).join(", ")
@@ -264,7 +264,11 @@ fn exact_max_k_1s(b: &mut Bench) {
 pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
     let suffix = if quick { "_quick" } else { "" };
     check_only(only, suffix);
-    let mut print = |v: Value| println!("{}", mark(v, quick));
+    let mut print = |v: Value| {
+        use std::io::Write as _;
+        // A closed standard output loses the line, it does not panic.
+        let _ = writeln!(std::io::stdout(), "{}", mark(v, quick));
+    };
     let mut b = Bench {
         quick,
         suffix,

@@ -214,7 +214,7 @@ fn check_columns(csv: &Csv, path: &Path, read: &[&str]) -> Result<(), CliError> 
         .filter(|h| !read.contains(h))
         .collect();
     if !unread.is_empty() {
-        eprintln!(
+        say!(
             "nvector import: {}: ignoring column(s) {} (read: {})",
             path.display(),
             unread.join(", "),

@@ -936,7 +936,11 @@ pub fn write_json(doc: &Value, out: Option<&Path>) -> Result<(), CliError> {
     match out {
         Some(p) => std::fs::write(p, text + "\n")
             .map_err(|e| CliError(format!("writing {}: {e}", p.display())))?,
-        None => println!("{text}"),
+        None => {
+            use std::io::Write as _;
+            writeln!(std::io::stdout(), "{text}")
+                .map_err(|e| CliError(format!("writing standard output: {e}")))?
+        }
     }
     Ok(())
 }

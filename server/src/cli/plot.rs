@@ -98,7 +98,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let mission: Value = serde_json::from_str(&text)
         .map_err(|e| CliError(format!("{}: invalid JSON: {e}", a.mission.display())))?;
     if let Some(why) = mismatch(&result, &mission) {
-        eprintln!(
+        say!(
             "nvector: warning: {} does not look computed from {}: {why} (the truth drawn may not be this result's)",
             a.result.display(),
             a.mission.display()

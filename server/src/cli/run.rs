@@ -112,7 +112,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         None => write(&mut std::io::stdout().lock())
             .map_err(|e| CliError(format!("writing the result: {e}")))?,
     }
-    eprintln!(
+    say!(
         "nvector: {}",
         summary(
             &mission,

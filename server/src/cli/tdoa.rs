@@ -94,12 +94,17 @@ pub fn run(a: Args) -> Result<(), CliError> {
     match &a.out {
         Some(p) => std::fs::write(p, text)
             .map_err(|e| CliError(format!("writing {}: {e}", p.display())))?,
-        None => print!("{text}"),
+        None => {
+            use std::io::Write as _;
+            std::io::stdout()
+                .write_all(text.as_bytes())
+                .map_err(|e| CliError(format!("writing standard output: {e}")))?
+        }
     }
     if let Some(p) = &a.plot {
         plot(&problem, &s, p)?;
     }
-    eprintln!(
+    say!(
         "{}: {} pulses, {} groups, {} in {:.0} ms",
         problem.name,
         problem.pulses.len(),
