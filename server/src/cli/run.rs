@@ -49,7 +49,13 @@ fn parse_association(s: &str) -> Result<Association, String> {
 pub fn read_mission(path: &PathBuf) -> Result<Mission, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError(format!("reading {}: {e}", path.display())))?;
-    Mission::from_json(&text).map_err(|e| CliError(format!("{}: {e}", path.display())))
+    Mission::from_json(&text).map_err(|e| {
+        CliError(format!(
+            "{}: {}",
+            path.display(),
+            super::wrong_kind(&text, "nvector-mission/1", e.to_string())
+        ))
+    })
 }
 
 /// Runs the subcommand.

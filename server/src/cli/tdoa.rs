@@ -60,8 +60,13 @@ const MAX_BUDGET: usize = 100_000;
 pub fn run(a: Args) -> Result<(), CliError> {
     let text = std::fs::read_to_string(&a.mission)
         .map_err(|e| CliError(format!("reading {}: {e}", a.mission.display())))?;
-    let problem = TdoaProblem::from_json_str(&text)
-        .map_err(|e| CliError(format!("{}: {e}", a.mission.display())))?;
+    let problem = TdoaProblem::from_json_str(&text).map_err(|e| {
+        CliError(format!(
+            "{}: {}",
+            a.mission.display(),
+            super::wrong_kind(&text, "nvector-tdoa/1", e.to_string())
+        ))
+    })?;
     if a.budget > MAX_BUDGET {
         return Err(CliError(format!("--budget must be at most {MAX_BUDGET}")));
     }
