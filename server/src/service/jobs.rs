@@ -603,7 +603,12 @@ pub(super) async fn job_result(
         return Err(AppError::new(
             StatusCode::CONFLICT,
             "not_done",
-            format!("the job is {}, no result yet", job.state),
+            match job.state {
+                JobState::Failed | JobState::Cancelled => {
+                    format!("the job is {}: it has no result and will have none", job.state)
+                }
+                _ => format!("the job is {}, no result yet", job.state),
+            },
         ));
     }
     let text = {

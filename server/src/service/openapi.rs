@@ -251,9 +251,16 @@ fn security(doc: &mut Value, config: &Config) {
             })
             .unwrap_or_default();
         for path in api_paths {
+            // The document itself is served without a key (it holds no
+            // data: docs/api.md, "The reference page").
+            let open = path == "/api/v1/openapi.json";
             if let Some(ops) = doc["paths"][&path].as_object_mut() {
                 for op in ops.values_mut() {
-                    op["security"] = json!([{"apiKey": []}]);
+                    op["security"] = if open {
+                        json!([])
+                    } else {
+                        json!([{"apiKey": []}])
+                    };
                 }
             }
         }
@@ -281,6 +288,28 @@ mod tests {
 
     fn document() -> Value {
         super::super::document(&super::super::test_state())
+    }
+
+    /// With API keys, every /api/v1 operation needs one but the document
+    /// itself, which the service serves without a key (it was marked as
+    /// needing one).
+    #[test]
+    fn with_keys_every_call_but_the_document_needs_one() {
+        let mut config = super::super::test_state();
+        config.api_keys.insert("alpha".into());
+        let doc = super::super::document(&config);
+        assert_eq!(
+            doc["paths"]["/api/v1/openapi.json"]["get"]["security"],
+            json!([])
+        );
+        assert_eq!(
+            doc["paths"]["/api/v1/missions"]["get"]["security"],
+            json!([{"apiKey": []}])
+        );
+        let without = document();
+        assert!(without["paths"]["/api/v1/missions"]["get"]
+            .get("security")
+            .is_none());
     }
 
     /// Every `$ref` resolves, every operation has an id, every link names
