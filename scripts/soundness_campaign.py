@@ -220,12 +220,15 @@ def m_huge(m, rng):
 
 def m_zero(m, rng):
     t = m["truth"]
-    m["initial_position"] = [[x, x] for x in t["positions"][0]]
+    if t["positions"][0] is not None:
+        # A null truth at step 0 (an earlier mutation) leaves the box as it is.
+        m["initial_position"] = [[x, x] for x in t["positions"][0]]
     if t["positions"][-1] is not None:
         m["final_position"] = [[x, x] for x in t["positions"][-1]]
     if m["model"] == "odometry2d" and t.get("headings"):
         h = t["headings"][0]
-        m["initial_heading"] = [h, h]
+        if h is not None:
+            m["initial_heading"] = [h, h]
         if t["headings"][-1] is not None and rng.random() < 0.5:
             m["final_heading"] = [t["headings"][-1]] * 2
     for i, det in enumerate(m["detections"]):
