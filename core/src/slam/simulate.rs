@@ -893,41 +893,49 @@ impl SimulateRequest {
         o.false_detections =
             self.false_detections
                 .map_or(Ok(0), |k| k.at_most(max_false, "false_detections"))? as usize;
-        // Options of other scenarios pass only at their defaults: (field,
-        // set away from its default, this scenario takes it, who does).
-        let (paper, not_woods) = (scenario == Scenario::Paper, scenario != Scenario::Woods);
-        let not_auv = scenario != Scenario::Auv;
-        let only = [
-            (
-                "layout",
-                o.layout != Layout::Line,
-                paper,
-                "the paper scenario",
-            ),
-            ("range_only", o.range_only, paper, "the paper scenario"),
-            (
-                "false_detections",
-                o.false_detections > 0,
-                not_auv,
-                "the paper and woods scenarios",
-            ),
-            (
-                "noise",
-                o.noise != 1.0,
-                not_woods,
-                "the paper and auv scenarios",
-            ),
-            (
-                "landmarks",
-                o.landmarks.is_some(),
-                not_auv,
-                "the paper and woods scenarios",
-            ),
-        ];
-        if let Some((field, _, _, owner)) = only.iter().find(|(_, set, takes, _)| *set && !takes) {
-            return Err(bad(field, format!("{field} applies to {owner} only")));
-        }
+        foreign_options(&o)?;
         Ok(o)
+    }
+}
+
+/// Options of other scenarios pass only at their defaults: the first set
+/// away from its default that `o`'s scenario does not take is an error
+/// naming it.
+fn foreign_options(o: &SimulateOptions) -> Result<(), InputError> {
+    let scenario = o.scenario;
+    // (field, set away from its default, this scenario takes it, who does)
+    let (paper, not_woods) = (scenario == Scenario::Paper, scenario != Scenario::Woods);
+    let not_auv = scenario != Scenario::Auv;
+    let only = [
+        (
+            "layout",
+            o.layout != Layout::Line,
+            paper,
+            "the paper scenario",
+        ),
+        ("range_only", o.range_only, paper, "the paper scenario"),
+        (
+            "false_detections",
+            o.false_detections > 0,
+            not_auv,
+            "the paper and woods scenarios",
+        ),
+        (
+            "noise",
+            o.noise != 1.0,
+            not_woods,
+            "the paper and auv scenarios",
+        ),
+        (
+            "landmarks",
+            o.landmarks.is_some(),
+            not_auv,
+            "the paper and woods scenarios",
+        ),
+    ];
+    match only.iter().find(|(_, set, takes, _)| *set && !takes) {
+        Some((field, _, _, owner)) => Err(bad(field, format!("{field} applies to {owner} only"))),
+        None => Ok(()),
     }
 }
 

@@ -95,6 +95,45 @@ fn total_width(v: &[PulseVars]) -> f64 {
 }
 
 impl Run<'_> {
+    /// The rounds to their fixpoint (a round shrinks no box by more than
+    /// [`super::pulse::SHRINK`] of the total width), to an empty box, to
+    /// `max_rounds` or until `go_on` says stop: (rounds run, the reason of
+    /// an infeasibility, whether the rounds stopped before the fixpoint).
+    fn rounds(&mut self, go_on: &mut dyn FnMut(usize) -> bool) -> (usize, Option<String>, bool) {
+        let mut rounds = 0;
+        let mut infeasible = None;
+        // Until a round shrinks nothing more (the fixpoint), a cap or the
+        // caller stops the rounds early.
+        let mut stopped = true;
+        while rounds < self.o.max_rounds.max(1) {
+            if rounds > 0 && !go_on(rounds) {
+                break;
+            }
+            rounds += 1;
+            let before = total_width(&self.vars);
+            let step = self
+                .readings()
+                .and_then(|_| self.share())
+                .and_then(|_| self.nvector())
+                .and_then(|_| self.share())
+                .and_then(|_| self.shells())
+                .and_then(|_| self.share());
+            if let Err(e) = step {
+                infeasible = Some(e);
+                stopped = false;
+                break;
+            }
+            let after = total_width(&self.vars);
+            // NaN (unbounded widths) ends the rounds too.
+            let shrank = before - after > super::pulse::SHRINK * before;
+            if !shrank {
+                stopped = false;
+                break;
+            }
+        }
+        (rounds, infeasible, stopped)
+    }
+
     /// Step 1: every pulse's box becomes the hull of its readings.
     fn readings(&mut self) -> Result<(), String> {
         let q = self.p.max_outliers;
@@ -224,37 +263,7 @@ pub fn solve_tdoa_with(
             }
         }
     }
-    let mut rounds = 0;
-    let mut infeasible = None;
-    // Until a round shrinks nothing more (the fixpoint), a cap or the
-    // caller stops the rounds early.
-    let mut stopped = true;
-    while rounds < o.max_rounds.max(1) {
-        if rounds > 0 && !go_on(rounds) {
-            break;
-        }
-        rounds += 1;
-        let before = total_width(&run.vars);
-        let step = run
-            .readings()
-            .and_then(|_| run.share())
-            .and_then(|_| run.nvector())
-            .and_then(|_| run.share())
-            .and_then(|_| run.shells())
-            .and_then(|_| run.share());
-        if let Err(e) = step {
-            infeasible = Some(e);
-            stopped = false;
-            break;
-        }
-        let after = total_width(&run.vars);
-        // NaN (unbounded widths) ends the rounds too.
-        let shrank = before - after > super::pulse::SHRINK * before;
-        if !shrank {
-            stopped = false;
-            break;
-        }
-    }
+    let (rounds, infeasible, stopped) = run.rounds(go_on);
     let groups = if infeasible.is_some() {
         run.vars.iter_mut().for_each(|v| {
             *v = PulseVars {

@@ -54,7 +54,28 @@ pub fn check_result(v: &Value) -> Result<(), String> {
     }
     let detections = boxes(need("detections")?, "detections", &mut dim)?;
     let landmarks = boxes(need("landmarks")?, "landmarks", &mut dim)?;
-    let matching = need("matching")?
+    check_matching(need("matching")?, detections, landmarks)?;
+    if !need("metrics")?.is_object() {
+        return Err("metrics: expected an object".into());
+    }
+    for k in ["options", "score"] {
+        if o.get(k).is_some_and(|x| !x.is_object()) {
+            return Err(format!("{k}: expected an object"));
+        }
+    }
+    if o.get("reason").is_some_and(|x| !x.is_string()) {
+        return Err("reason: expected a string".into());
+    }
+    check_headings(o.get("headings"), trajectory)?;
+    if let Some(r) = o.get("landmark_regions") {
+        check_regions(r, landmarks, &mut dim)?;
+    }
+    Ok(())
+}
+
+/// `matching`: one group per landmark box, each of detection indices.
+fn check_matching(v: &Value, detections: usize, landmarks: usize) -> Result<(), String> {
+    let matching = v
         .as_array()
         .ok_or("matching: expected an array of groups")?;
     if matching.len() != landmarks {
@@ -78,18 +99,12 @@ pub fn check_result(v: &Value) -> Result<(), String> {
             }
         }
     }
-    if !need("metrics")?.is_object() {
-        return Err("metrics: expected an object".into());
-    }
-    for k in ["options", "score"] {
-        if o.get(k).is_some_and(|x| !x.is_object()) {
-            return Err(format!("{k}: expected an object"));
-        }
-    }
-    if o.get("reason").is_some_and(|x| !x.is_string()) {
-        return Err("reason: expected a string".into());
-    }
-    if let Some(h) = o.get("headings") {
+    Ok(())
+}
+
+/// `headings` (optional): one interval per trajectory box.
+fn check_headings(v: Option<&Value>, trajectory: usize) -> Result<(), String> {
+    if let Some(h) = v {
         let h = h
             .as_array()
             .ok_or("headings: expected an array of intervals")?;
@@ -105,19 +120,22 @@ pub fn check_result(v: &Value) -> Result<(), String> {
             }
         }
     }
-    if let Some(r) = o.get("landmark_regions") {
-        let r = r
-            .as_array()
-            .ok_or("landmark_regions: expected one paving per landmark")?;
-        if r.len() != landmarks {
-            return Err(format!(
-                "landmark_regions: {} pavings for {landmarks} landmarks",
-                r.len()
-            ));
-        }
-        for (i, p) in r.iter().enumerate() {
-            boxes(p, &format!("landmark_regions[{i}]"), &mut dim)?;
-        }
+    Ok(())
+}
+
+/// `landmark_regions` (optional): one paving per landmark.
+fn check_regions(r: &Value, landmarks: usize, dim: &mut Option<usize>) -> Result<(), String> {
+    let r = r
+        .as_array()
+        .ok_or("landmark_regions: expected one paving per landmark")?;
+    if r.len() != landmarks {
+        return Err(format!(
+            "landmark_regions: {} pavings for {landmarks} landmarks",
+            r.len()
+        ));
+    }
+    for (i, p) in r.iter().enumerate() {
+        boxes(p, &format!("landmark_regions[{i}]"), dim)?;
     }
     Ok(())
 }

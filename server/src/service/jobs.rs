@@ -563,6 +563,18 @@ pub(super) struct ResultQuery {
     format: Option<String>,
 }
 
+/// The 409 of a result asked for before the job is done: it may still
+/// come (queued, running), or never (failed, cancelled).
+fn not_done(state: JobState) -> AppError {
+    let message = match state {
+        JobState::Failed | JobState::Cancelled => {
+            format!("the job is {state}: it has no result and will have none")
+        }
+        _ => format!("the job is {state}, no result yet"),
+    };
+    AppError::new(StatusCode::CONFLICT, "not_done", message)
+}
+
 /// The result of a finished job.
 #[utoipa::path(
     get,
@@ -600,16 +612,7 @@ pub(super) async fn job_result(
             .ok_or_else(|| AppError::not_found("job"))?
     };
     if job.state != JobState::Done {
-        return Err(AppError::new(
-            StatusCode::CONFLICT,
-            "not_done",
-            match job.state {
-                JobState::Failed | JobState::Cancelled => {
-                    format!("the job is {}: it has no result and will have none", job.state)
-                }
-                _ => format!("the job is {}, no result yet", job.state),
-            },
-        ));
+        return Err(not_done(job.state));
     }
     let text = {
         let (o, i) = (owner.clone(), id.clone());
