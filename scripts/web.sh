@@ -131,8 +131,12 @@ FIGURES_BROTLI_BUDGET=18500
 # packing's cancel) were merged; the simulators' 87,207 once a channel's
 # lo/hi were read as bounds ("-inf", "inf"); the solver's 155,563 once the
 # robust rounds' headings (robust_heading.rs) and the valid track groups
-# (robust_tracks.rs) were merged (still within issue 17's 160,000).
-SLAM_BROTLI_BUDGET=158700
+# (robust_tracks.rs) were merged (still within issue 17's 160,000);
+# 158,731 once intervals in messages took an exponent beyond 1e15
+# (core/src/interval.rs: `{:e}` is 457 of those bytes; 1e308 was 309
+# digits in a `reason`) and the robust tally and nvalue's group check were
+# in (2026-11-29): the budget raised to 159,300, within issue 17's 160,000.
+SLAM_BROTLI_BUDGET=159300
 # The simulators' 88,955 with the woods phantoms (branch woodsfalse), 89,229
 # once merged with the other branches of 2026-11-25 (third session).
 SIM_BROTLI_BUDGET=91000
