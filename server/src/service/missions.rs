@@ -295,7 +295,8 @@ impl Page {
     params(Page),
     responses(
         (status = 200, description = "A page of missions", body = MissionList),
-        (status = 400, description = "Bad `limit`, or an `after` that was never a mission of this key", body = ErrorBody),
+        (status = 400, description = "Bad `limit`", body = ErrorBody),
+        (status = 404, description = "An `after` that was never a mission of this key", body = ErrorBody),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 503, description = "Storage unavailable", body = ErrorBody),
     )
@@ -314,9 +315,11 @@ pub(super) async fn list_missions(
         .db(move |st| st.list_missions(&owner, after.as_deref(), limit))
         .await?
     else {
+        // 404, not 400: any string is a well-formed `after` (the OpenAPI
+        // document says so); this one names no mission.
         return Err(AppError::new(
-            StatusCode::BAD_REQUEST,
-            "invalid_query",
+            StatusCode::NOT_FOUND,
+            "not_found",
             "after: no mission of yours has this id (give the `next` of a page, or leave `after` out to start from the first)",
         )
         .at("after"));
