@@ -176,27 +176,12 @@ fn boxes(v: &Value, path: &str, dim: &mut Option<usize>) -> Result<usize, String
     Ok(a.len())
 }
 
-/// An interval `[lo, hi]` of bounds (numbers, `"-inf"`, `"inf"`), lo <= hi.
+/// An interval `[lo, hi]` of bounds (numbers, `"-inf"`, `"inf"`), lo <= hi:
+/// core's reader of input intervals, its error named by the path.
 fn interval(v: &Value, path: &str) -> Result<(), String> {
-    let pair = v
-        .as_array()
-        .filter(|p| p.len() == 2)
-        .ok_or(format!("{path}: expected an interval [lo, hi]"))?;
-    let bound = |x: &Value, side: usize| match x {
-        Value::Number(n) => n.as_f64().ok_or(format!("{path}[{side}]: not a number")),
-        Value::String(s) if s == "-inf" => Ok(f64::NEG_INFINITY),
-        Value::String(s) if s == "inf" || s == "+inf" => Ok(f64::INFINITY),
-        _ => Err(format!(
-            "{path}[{side}]: expected a number, \"-inf\" or \"inf\", not {x}"
-        )),
-    };
-    let (lo, hi) = (bound(&pair[0], 0)?, bound(&pair[1], 1)?);
-    if lo > hi {
-        return Err(format!(
-            "{path}: lower bound {lo} is above upper bound {hi}"
-        ));
-    }
-    Ok(())
+    nvector_core::json::interval(v, path)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
