@@ -856,7 +856,7 @@ fn woods_preset(d: &Driver, base: &str) {
 /// previous picture moved), a step of the time slider, and the full
 /// redraw without shapes.
 fn cmu_plaza_drawn(d: &Driver, s: &Server) {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/cmu-plaza1");
     assert!(
         data.join("Plaza1_DR.txt").exists(),
         "the CMU Plaza 1 data must be at {} (../shared beside the repository)",

@@ -15,7 +15,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 fn cmu_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/cmu-plaza1");
     assert!(
         dir.join("Plaza1_TD.txt").exists(),
         "the CMU Plaza 1 data must be at {}",
@@ -160,7 +160,7 @@ fn inside_mod_2pi(x: f64, lo: f64, hi: f64) -> bool {
 #[test]
 fn utias_woods_outlier_share_names_exactly_the_detections_left_outside() {
     let dir =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/utias-lost-in-the-woods");
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
     assert!(
         dir.join("truth.csv").exists(),
         "the data must be at {}",

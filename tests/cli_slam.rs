@@ -328,7 +328,7 @@ fn import_csv_odometry2d_with_bearings_and_scans() {
 }
 
 fn cmu_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-plaza1");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/cmu-plaza1");
     assert!(
         dir.join("Plaza1_DR.txt").exists(),
         "the CMU Plaza 1 data must be at {} (../shared beside the repository)",

@@ -17,7 +17,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 fn locards_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/locards-mlat");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/locards-mlat");
     assert!(
         dir.join("sensors.csv").exists(),
         "the LocaRDS data must be at {}",
