@@ -1,6 +1,6 @@
 //! The `independent` contractor of atmost_nvector(n, {d(1)..d(k)}): pairwise
 //! disjoint boxes as witnesses of distinct vectors, in full dimension
-//! (DESIGN.md; it lifts the independent-set reasoning of integer
+//! (docs/design.md; it lifts the independent-set reasoning of integer
 //! atmost_nvalue propagators — Gecode's `nvalues`; Fages and Lapègue,
 //! "Filtering AtMostNValue with difference constraints", AIJ 2014 — to
 //! boxes).

@@ -1,5 +1,5 @@
 //! Branch contraction: a detection whose landmark is one of known regions
-//! (DESIGN.md, "Detection shapes").
+//! (docs/design.md, "Detection shapes").
 //!
 //! # Constraint
 //!

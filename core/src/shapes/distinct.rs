@@ -1,5 +1,5 @@
 //! The distinctness graph: detections proved to see distinct landmarks, and
-//! what at most n landmarks then force (DESIGN.md, "Detection shapes").
+//! what at most n landmarks then force (docs/design.md, "Detection shapes").
 //!
 //! # Constraint
 //!

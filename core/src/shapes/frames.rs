@@ -1,6 +1,6 @@
 //! Local frames: the landmark region of a proved group in the frame of one
 //! of its steps, where dead-reckoning drift cancels, and the distinct pairs
-//! it proves (DESIGN.md, "Detection shapes").
+//! it proves (docs/design.md, "Detection shapes").
 //!
 //! # Constraint
 //!

@@ -1,4 +1,4 @@
-//! Detection shapes (mode `shapes`, DESIGN.md "Detection shapes"): reasoning
+//! Detection shapes (mode `shapes`, docs/design.md "Detection shapes"): reasoning
 //! on the true set of landmark positions each detection allows — an annulus
 //! around an uncertain robot position, an annular sector with a bearing —
 //! rather than on its hull box, which for a range overlaps every other.

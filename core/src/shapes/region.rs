@@ -1,7 +1,7 @@
 //! Landmark regions as pavings: the landmark of a proved group lies in the
 //! intersection of its members' shapes (the paper's closing remark: "the
 //! intersection of several spheres"), kept as a bounded list of boxes
-//! (DESIGN.md, "Detection shapes").
+//! (docs/design.md, "Detection shapes").
 //!
 //! # Constraint
 //!

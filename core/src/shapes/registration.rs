@@ -1,6 +1,6 @@
 //! Registration of a local map on the landmark regions: the robot position
 //! at one step is where the landmarks seen around it, in its own frame, fit
-//! the n landmark regions (DESIGN.md, "Detection shapes"; docs/shapes.md).
+//! the n landmark regions (docs/design.md, "Detection shapes"; docs/shapes.md).
 //!
 //! # Constraint
 //!

@@ -1,5 +1,5 @@
 //! Shapes in the frame of a nearby step: detection pairs proved to see
-//! distinct landmarks from their relative geometry (DESIGN.md, "Detection
+//! distinct landmarks from their relative geometry (docs/design.md, "Detection
 //! shapes").
 //!
 //! # Constraint

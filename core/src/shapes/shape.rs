@@ -1,5 +1,5 @@
 //! Detection shapes: the set of landmark positions one detection allows
-//! given the current box of its robot position (DESIGN.md, "Detection
+//! given the current box of its robot position (docs/design.md, "Detection
 //! shapes").
 //!
 //! # The set

@@ -1,5 +1,5 @@
 //! Shape witnesses: pairwise-disjoint detection shapes (or landmark
-//! regions) prove distinct landmarks (DESIGN.md, "Detection shapes").
+//! regions) prove distinct landmarks (docs/design.md, "Detection shapes").
 //!
 //! # Math
 //!

@@ -608,7 +608,7 @@ fn false_detections(
     out
 }
 
-/// The six Redermor seamarks (x, y, depth), from ../shared/data/README.md.
+/// The six Redermor seamarks (x, y, depth), as the public Codac loader gives them.
 const SEAMARKS: [[f64; 3]; 6] = [
     [594.053, 374.729, 19.0],
     [599.609, 484.553, 19.0],

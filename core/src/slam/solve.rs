@@ -26,7 +26,7 @@ pub fn solve_model(
 ) -> Solution {
     let mut solution = propagate(mission, options, progress, cancel);
     if let SolveStatus::Infeasible(reason) = &mut solution.status {
-        // Name the detections to check (DESIGN.md, "False detections";
+        // Name the detections to check (docs/design.md, "False detections";
         // spec: a minimal set whose removal makes the mission consistent).
         if let Some(c) = minimal_correction(mission, options, cancel, DIAGNOSIS_TESTS) {
             let what = if c.minimal {

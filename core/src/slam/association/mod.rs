@@ -1,6 +1,6 @@
 //! The `shapes` contractor of a SLAM round: landmark regions of the proved
 //! groups, shape witnesses and branch contraction, run over every
-//! detection (DESIGN.md, "Detection shapes").
+//! detection (docs/design.md, "Detection shapes").
 //!
 //! # Constraint
 //!
