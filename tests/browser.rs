@@ -859,7 +859,7 @@ fn cmu_plaza_drawn(d: &Driver, s: &Server) {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/cmu-plaza1");
     assert!(
         data.join("Plaza1_DR.txt").exists(),
-        "the CMU Plaza 1 data must be at {} (../shared beside the repository)",
+        "the CMU Plaza 1 data must be at {} (data/ of the repository)",
         data.display()
     );
     let cmu = s.dir.join("cmu.json");

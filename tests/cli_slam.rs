@@ -331,7 +331,7 @@ fn cmu_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/cmu-plaza1");
     assert!(
         dir.join("Plaza1_DR.txt").exists(),
-        "the CMU Plaza 1 data must be at {} (../shared beside the repository)",
+        "the CMU Plaza 1 data must be at {} (data/ of the repository)",
         dir.display()
     );
     dir

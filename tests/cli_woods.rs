@@ -19,7 +19,7 @@ fn woods_dir() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
     assert!(
         dir.join("odometry.csv").exists(),
-        "the Lost in the Woods data must be at {} (../shared beside the repository)",
+        "the Lost in the Woods data must be at {} (data/ of the repository)",
         dir.display()
     );
     dir
