@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A planted false range that some solution keeps (issue 18, goal 1).
 
-Usage: scripts/plaza_witness.py MISSION.json [--all]
+Usage: scripts/research/plaza_witness.py MISSION.json [--all]
 
 MISSION.json: `nvector import --cmu-plaza DIR --false-detections K --seed S`
 (unicycle2d, planted ranges have `truth.matching` null).

@@ -2,7 +2,7 @@
 """The headings a scan's tight landmarks leave possible at one step
 (issue 20's diagnosis of the hidden-ids woods runs).
 
-    python3 scripts/woods_pose_span.py MISSION.json RESULT.json STEP [STEP ...]
+    python3 scripts/research/woods_pose_span.py MISSION.json RESULT.json STEP [STEP ...]
 
 For each STEP: the detections of that step whose group (in the result's
 `matching`) has a landmark box narrower than 0.6 m are the anchors. A

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Usage: scripts/plaza_false_diag.py NVECTOR PLAZA_DIR [SEEDS] (issue 18; figures in
+# Usage: scripts/research/plaza_false_diag.py NVECTOR PLAZA_DIR [SEEDS] (issue 18; figures in
 # BENCHMARKS.md, "Issue 18, Plaza with false ranges (branch `plazafalse`)").
 # Diagnosis of CMU Plaza 1 with 71 planted false ranges (ids hidden), no solver change:
 #  1. the clean ids-hidden run (`run --contractor best`): its boxes are an optimistic

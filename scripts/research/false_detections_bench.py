@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-# Usage: scripts/false_detections_bench.py NVECTOR K line,ring,random [SEEDS]
-#        scripts/false_detections_bench.py NVECTOR K --scenario woods [--steps N] [--seeds A-B] [--timeout S] [--operator]
+# Usage: scripts/research/false_detections_bench.py NVECTOR K line,ring,random [SEEDS]
+#        scripts/research/false_detections_bench.py NVECTOR K --scenario woods [--steps N] [--seeds A-B] [--timeout S] [--operator]
 # (issue 18; figures in BENCHMARKS.md).
 # Paper scenario with K false detections: per layout, median recall, errors,
 # truth inside, median max diameter, phantoms proved false; with

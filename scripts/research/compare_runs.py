@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Usage: scripts/compare_runs.py OLD_NVECTOR NEW_NVECTOR
+# Usage: scripts/research/compare_runs.py OLD_NVECTOR NEW_NVECTOR
 # Simulates robust missions (paper K = 10 on every layout and range only,
 # woods K = 5 and 10, 300 steps) and runs each with both binaries;
 # prints per mission whether status, recall, max diameter, truth inside

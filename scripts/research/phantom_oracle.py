@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Usage: scripts/phantom_oracle.py NVECTOR K line,ring,random 1,2,...,10
+# Usage: scripts/research/phantom_oracle.py NVECTOR K line,ring,random 1,2,...,10
 # (issue 18; figures in BENCHMARKS.md).
 # Stronger oracle for the strict semantics: for each phantom ph, the mission
 # of the true detections plus ph (q = 0, best) is a reading of the K-phantom

@@ -3,12 +3,12 @@
 at one step more than its own scan does (issue 20's diagnosis of the
 hidden-ids woods runs). Needs numpy (the venv of `make test`).
 
-    .venv/bin/python scripts/woods_window_pose.py MISSION.json RESULT.json STEP WINDOW [STRIDE]
+    .venv/bin/python scripts/research/woods_window_pose.py MISSION.json RESULT.json STEP WINDOW [STRIDE]
 
 A pose (th, p) of STEP (a grid of 61 headings x 31^2 positions over the
 result's boxes) is kept when its scan's anchors (detections of groups
 narrower than 0.6 m in the result) are reachable, as in
-scripts/woods_pose_span.py, and when, for every step j = STEP +- d (d a
+scripts/research/woods_pose_span.py, and when, for every step j = STEP +- d (d a
 multiple of STRIDE up to WINDOW) with anchors, the pose predicted at j
 lies within the odometry's tolerance of a pose that j's anchors allow
 (j's own grid: 41 x 21^2). The prediction is *optimistic*: the true

@@ -2,7 +2,7 @@
 """How far the closed world's clique rule could go on a hidden-ids woods
 result, granted an oracle for distinct pairs (issue 20's diagnosis).
 
-    python3 scripts/woods_closure_ceiling.py MISSION.json RESULT.json WINDOW [LAST_STEP]
+    python3 scripts/research/woods_closure_ceiling.py MISSION.json RESULT.json WINDOW [LAST_STEP]
 
 The groups are the result's `matching` (cut to the detections at steps
 <= LAST_STEP; groups of one detection left out). Two groups of different

@@ -2,7 +2,7 @@
 """How many returns of a landmark a result joins, by the length of the
 absence (issue 20's diagnosis of the hidden-ids woods runs).
 
-    python3 scripts/woods_returns.py MISSION.json RESULT.json [RESULT2.json ...]
+    python3 scripts/research/woods_returns.py MISSION.json RESULT.json [RESULT2.json ...]
 
 For each pair of consecutive sightings of one true landmark (the mission's
 `truth.matching`; null entries skipped), the gap in steps and whether the
