@@ -89,7 +89,7 @@ build_radar() {
 
 # The modules' transfer budgets (bytes with brotli), checked by `test`
 # (not by `build`, so that `make run` still serves a page that grew).
-# Issue 17 asks for at most 160,000 bytes of wasm with the page. One
+# The aim: at most 160,000 bytes of wasm (brotli) for the SLAM demo's solver. One
 # module carried everything until 2026-11-24 (185,027 bytes: the solver,
 # the simulators, the outlines, the serde format layer; its history in
 # BENCHMARKS.md, "The page's wasm transfer"); the page now fetches the
@@ -106,7 +106,7 @@ FIGURES_BROTLI_BUDGET=18500
 # `run`) and the simulators' (pkg-sim: `simulate`). One module held both
 # until 2026-11-24: 177,115 bytes when it was made, 182,724 once the woods
 # track bridges and the consensus over subsets were in it; split, 170,706
-# and 68,992 (the solver's is still over issue 17's 160,000: BENCHMARKS.md,
+# and 68,992 (the solver's is still over the aim of 160,000: BENCHMARKS.md,
 # "The page's wasm transfer", says what weighs in it); 182,277 once the
 # conflict packing (robust_conflicts) and the scan registration against the
 # map (scan_map) were merged into the solver; 176,697 and 66,148 with the
@@ -121,7 +121,7 @@ FIGURES_BROTLI_BUDGET=18500
 # their sorts through the shared wrappers; 142,232 and 85,321 with the
 # mission's reading moved from the solver's module to the simulators' (it
 # hands the solver a binary mission, core/src/slam/codec.rs: no JSON reader
-# in the solver's; branch wasm160d, within issue 17's 160,000; the SLAM
+# in the solver's; within the aim of 160,000; the SLAM
 # demo's three modules 245,716 in all, 261,389 before); 148,546 and 86,488
 # once the heading drift windows (odometry/drift.rs, branch woodsdrift) and
 # the hitting sets per component (branch plazaq) were merged; 152,134 and
@@ -131,11 +131,11 @@ FIGURES_BROTLI_BUDGET=18500
 # packing's cancel) were merged; the simulators' 87,207 once a channel's
 # lo/hi were read as bounds ("-inf", "inf"); the solver's 155,563 once the
 # robust rounds' headings (robust_heading.rs) and the valid track groups
-# (robust_tracks.rs) were merged (still within issue 17's 160,000);
+# (robust_tracks.rs) were merged (still within the aim of 160,000);
 # 158,731 once intervals in messages took an exponent beyond 1e15
 # (core/src/interval.rs: `{:e}` is 457 of those bytes; 1e308 was 309
 # digits in a `reason`) and the robust tally and nvalue's group check were
-# in (2026-11-29): the budget raised to 159,300, within issue 17's 160,000.
+# in (2026-11-29): the budget raised to 159,300, within the aim of 160,000.
 SLAM_BROTLI_BUDGET=159300
 # The simulators' 88,955 with the woods phantoms (branch woodsfalse), 89,229
 # once merged with the other branches of 2026-11-25 (third session).

@@ -784,7 +784,7 @@ fn range_only_preset(d: &Driver, base: &str) {
     d.click(&layer("boxes"));
 }
 
-/// Issue 20: the SLAM demo's woods preset (an odometry2d robot among
+/// The SLAM demo's woods preset (an odometry2d robot among
 /// identical landmarks, with scans) simulated by core's woods generator and
 /// run in WASM, basic against projection; both panels draw the headings as
 /// wedges, with "heading (interval)" and "true heading" in the legend, and

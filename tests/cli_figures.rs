@@ -1,4 +1,4 @@
-//! The CLI's figures as a person sees them (issue 21): CMU Plaza 1 with the
+//! The CLI's figures as a person sees them: CMU Plaza 1 with the
 //! beacon ids hidden, `best`, drawn by `nvector run --plot` (SVG) and
 //! `nvector plot` (PNG). The PNG's pixels along the true path have the
 //! truth's colour (nothing drawn over it), most of the plotting area is not
@@ -421,7 +421,7 @@ fn heading_pixels(img: &Image) -> usize {
         .count()
 }
 
-/// Issue 20: an odometry2d result's figure draws its headings (wedges
+/// An odometry2d result's figure draws its headings (wedges
 /// from the position boxes' centres, in the legend as "heading
 /// (interval)") and the true headings; a unicycle2d figure has none.
 #[test]

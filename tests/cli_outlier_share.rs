@@ -1,5 +1,5 @@
 //! `nvector import --cmu-plaza DIR --outlier-share P` through the real
-//! binary (issue 18, "honest tight bounds"): the range band holds the
+//! binary ("honest tight bounds", docs/outliers.md): the range band holds the
 //! central (1 - P) share of the residuals and `max_outliers` counts the
 //! ranges left outside. This test reads the data set's CSVs with its own
 //! code (nearest ground-truth row by time, true distance to the beacon)
@@ -159,8 +159,7 @@ fn inside_mod_2pi(x: f64, lo: f64, hi: f64) -> bool {
 
 #[test]
 fn utias_woods_outlier_share_names_exactly_the_detections_left_outside() {
-    let dir =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
     assert!(
         dir.join("truth.csv").exists(),
         "the data must be at {}",

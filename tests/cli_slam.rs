@@ -440,7 +440,7 @@ fn cmu_plaza_runs_end_to_end() {
         if operator {
             assert_eq!(result["score"]["matching_recall"], 1.0);
         } else {
-            // Issue 11's goal: at least 30 % of the ranges matched with the
+            // The goal: at least 30 % of the ranges matched with the
             // beacon ids hidden.
             let recall = result["score"]["matching_recall"].as_f64().unwrap();
             assert!(recall >= 0.30, "recall {recall}");
@@ -451,7 +451,7 @@ fn cmu_plaza_runs_end_to_end() {
                 .unwrap(),
         );
     }
-    // Issue 11's goals: the hidden-id box within twice the operator's (with
+    // The goals: the hidden-id box within twice the operator's (with
     // the same contractor), and the operator run tightened by the landmark
     // regions.
     assert!(max_diameter[0] <= 2.0 * max_diameter[2], "{max_diameter:?}");
@@ -553,8 +553,8 @@ fn check_outlier_tally(result: &serde_json::Value, q: u64, summary: &str) {
 }
 
 /// The tally on the paper scenario with 2 phantoms (both proved false on
-/// every seed measured, BENCHMARKS "Issue 18 on the woods scenario"'s
-/// paper figures: recall 1.00): 2 proved false, none open, the groups
+/// every seed measured, BENCHMARKS.md's false-detection figures of
+/// the paper scenario: recall 1.00): 2 proved false, none open, the groups
 /// reported; a mission without `max_outliers` has no tally.
 #[test]
 fn a_robust_result_tells_what_it_proved_of_the_false_detections() {

@@ -1,4 +1,4 @@
-//! The CLI talks back (issue 21), through the real binary: `run`'s summary
+//! The CLI talks back, through the real binary: `run`'s summary
 //! line, `bench`'s goal marks and its refusal of an unknown `--only`,
 //! negative numbers at the start of a value list, and `plot`'s warning on
 //! a result that is not of the mission.

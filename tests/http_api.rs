@@ -517,7 +517,7 @@ fn load_run_of_the_bench(b: &Backend) {
     assert!(v["peak_rss_mib"].as_f64().unwrap() > 1.0, "{v}");
 }
 
-/// Issue 20: an odometry2d mission with every new field (`scan`,
+/// An odometry2d mission with every field of the model (`scan`,
 /// `sensor_offset`, `landmark_min_separation`, `initial_heading`,
 /// `heading_error`, `truth.headings`, null truth entries) is accepted and
 /// stored as uploaded; its job's result carries a heading interval per

@@ -1,4 +1,4 @@
-//! Bounded work (issue 12): worst-case contraction requests fired at once
+//! Bounded work: worst-case contraction requests fired at once
 //! each get their 422 `work_limit` within the service's time limit per
 //! contraction, while health checks, a polynomial contraction and a SLAM
 //! job still answer. Times are measured and printed (run with

@@ -296,7 +296,7 @@ fn follow(
     out
 }
 
-/// Regression (issue 13: "no links from a created mission to its jobs,
+/// Regression (once: "no links from a created mission to its jobs,
 /// events and results"): the document's links, followed as a client
 /// generator would, lead from a simulated mission to a job, its events and
 /// its result, and from the job back to its mission.
@@ -367,7 +367,7 @@ fn request_examples_are_accepted() {
     assert_eq!(st, 202, "{v}");
 }
 
-/// Regression (issue 13, the fuzzer's findings): what the document allows
+/// Regression (the API fuzzer's findings): what the document allows
 /// the service accepts, and what it refuses the service refuses:
 /// `"steps": null` is documented (null means absent) and accepted; a whole
 /// float is an integer for both; a non-boolean `operator` and an unknown
@@ -449,7 +449,7 @@ fn issue_13_nulls_whole_floats_and_unknown_fields_agree() {
     agree("Mission", "/api/v1/missions", m, 422);
 }
 
-/// Issue 20 point 8 / issue 17 point 2: the woods scenario through
+/// The woods scenario through
 /// `POST /simulate`, read by core's one request type and described by
 /// its schema: a small woods mission is accepted and is core's woods
 /// mission, with false detections too; what the document refuses (noise,
@@ -478,7 +478,7 @@ fn woods_through_post_simulate() {
         .iter()
         .all(|d| d["scan"].is_u64()));
     assert!(m["landmark_min_separation"].as_f64().unwrap() > 0.0);
-    // Issue 18: false detections in the woods scenario, in the document
+    // False detections in the woods scenario, in the document
     // and in the service: core's mission, max_outliers set.
     let body = json!({"scenario": "woods", "seed": 4, "steps": 200, "landmarks": 9, "false_detections": 3});
     let (valid, st, v) = post(body);
@@ -529,7 +529,7 @@ fn woods_through_post_simulate() {
     );
 }
 
-/// Issue 11: the `shapes` contractor is a job contractor, in the document
+/// The `shapes` contractor is a job contractor, in the document
 /// and in the service, and the refusal of an unknown one lists it.
 #[test]
 fn issue_11_shapes_is_a_job_contractor() {

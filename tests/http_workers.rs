@@ -1,4 +1,4 @@
-//! Fault isolation and load (issue 19): jobs run in worker processes apart
+//! Fault isolation and load: jobs run in worker processes apart
 //! from the HTTP service. A job over the memory limit fails with
 //! `memory_limit` while health checks answer and the next job completes; a
 //! worker process killed with SIGKILL mid-job is retried, then the job

@@ -2,7 +2,7 @@
 //! its largest accepted value, through the real binary under a 1 GiB
 //! address-space limit (`ulimit -v`): each run ends with a result or with
 //! a clear error naming the field, never with a signal (an allocation
-//! sized by an input number aborts the process: issue 19, `max_outliers`
+//! sized by an input number aborts the process: once `max_outliers`
 //! 4294967295 asked 34 GB, `landmark_count` 4294967295 17 GB).
 
 use serde_json::{json, Value};
@@ -311,7 +311,7 @@ fn the_largest_mission_runs_under_1_gib_with_false_detections() {
 
 #[test]
 fn the_service_runs_huge_field_jobs_under_1_gib_and_keeps_answering() {
-    // Issue 19: one such upload aborted `nvector serve` (and, the job
+    // Once, one such upload aborted `nvector serve` (and, the job
     // queued again at restart, every restart after it).
     let dir = nvector_tests::temp_dir("huge-serve");
     let db = format!("sqlite://{}", dir.join("nvector.db").display());

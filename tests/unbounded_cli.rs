@@ -1,4 +1,4 @@
-//! Issue 19 through the real binary: missions with one unbounded or
+//! Unbounded values through the real binary: missions with one unbounded or
 //! overflowing step (a speed of `1e308 ± 1e308`, which is [0, +inf]; a
 //! motion error of f64::MAX) once gave a wrong matching reported as proved
 //! (`best`: [[1, 2]], 1 matching error) or "infeasible". Each must now end

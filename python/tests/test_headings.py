@@ -1,4 +1,4 @@
-"""odometry2d through Python (issue 20): nvector.simulate("woods") equals
+"""odometry2d through Python: nvector.simulate("woods") equals
 `nvector simulate --scenario woods`, nvector.run accepts its new fields
 (scan, sensor_offset, landmark_min_separation, null truth entries) and
 returns headings, and nvector.plot draws them."""

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 # Usage: scripts/research/false_detections_bench.py NVECTOR K line,ring,random [SEEDS]
 #        scripts/research/false_detections_bench.py NVECTOR K --scenario woods [--steps N] [--seeds A-B] [--timeout S] [--operator]
-# (issue 18; figures in BENCHMARKS.md).
+# (the false-detection figures of BENCHMARKS.md).
 # Paper scenario with K false detections: per layout, median recall, errors,
 # truth inside, median max diameter, phantoms proved false; with
 # NVBENCH_PER_RUN=1 also one line per run as it ends (with the CPU time of
 # `nvector run`).
-# Woods scenario (issue 20's odometry2d robot) with K false detections: one
+# Woods scenario (the odometry2d robot) with K false detections: one
 # line per seed (status, truth inside, matching errors, recall, max
 # trajectory diameter, max heading width, elapsed), each `nvector run
 # --contractor best` killed after --timeout seconds (default 300), then a

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # Usage: scripts/research/phantom_oracle.py NVECTOR K line,ring,random 1,2,...,10
-# (issue 18; figures in BENCHMARKS.md).
+# (the phantom figures of BENCHMARKS.md).
 # Stronger oracle for the strict semantics: for each phantom ph, the mission
 # of the true detections plus ph (q = 0, best) is a reading of the K-phantom
 # mission (it drops K - 1 <= q detections). If the solver finds it consistent,

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-# Usage: scripts/research/plaza_false_diag.py NVECTOR PLAZA_DIR [SEEDS] (issue 18; figures in
-# BENCHMARKS.md, "Issue 18, Plaza with false ranges (branch `plazafalse`)").
+# Usage: scripts/research/plaza_false_diag.py NVECTOR PLAZA_DIR [SEEDS]
+# (the Plaza-with-false-ranges diagnosis of docs/outliers.md).
 # Diagnosis of CMU Plaza 1 with 71 planted false ranges (ids hidden), no solver change:
 #  1. the clean ids-hidden run (`run --contractor best`): its boxes are an optimistic
 #     oracle (what a robust run could at best reach);

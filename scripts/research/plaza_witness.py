@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""A planted false range that some solution keeps (issue 18, goal 1).
+"""A planted false range that some solution keeps: why a strict
+matching on CMU Plaza 1 with planted false ranges is empty.
 
 Usage: scripts/research/plaza_witness.py MISSION.json [--all]
 
@@ -18,7 +19,7 @@ printed with the slack left), every true range against its true beacon,
 and the planted range against the beacon chosen. Floating point, not
 outward-rounded: every slack printed is far above the rounding.
 
-Why it matters (docs/outliers.md, "What blocks issue 18 on CMU Plaza 1"):
+Why it matters (docs/outliers.md, "What blocks a strict matching on CMU Plaza 1"):
 a reading may drop the K - 1 other planted ranges and any one true range
 t; the witness, which does not need t, is a solution of that reading. So
 every true range is dropped by some reading, no detection is kept in every

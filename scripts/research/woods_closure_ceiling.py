@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """How far the closed world's clique rule could go on a hidden-ids woods
-result, granted an oracle for distinct pairs (issue 20's diagnosis).
+result, granted an oracle for distinct pairs (a diagnosis of the hidden-ids
+woods runs).
 
     python3 scripts/research/woods_closure_ceiling.py MISSION.json RESULT.json WINDOW [LAST_STEP]
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The headings a scan's tight landmarks leave possible at one step
-(issue 20's diagnosis of the hidden-ids woods runs).
+(a diagnosis of the hidden-ids woods runs).
 
     python3 scripts/research/woods_pose_span.py MISSION.json RESULT.json STEP [STEP ...]
 

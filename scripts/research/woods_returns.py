@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """How many returns of a landmark a result joins, by the length of the
-absence (issue 20's diagnosis of the hidden-ids woods runs).
+absence (a diagnosis of the hidden-ids woods runs).
 
     python3 scripts/research/woods_returns.py MISSION.json RESULT.json [RESULT2.json ...]
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Whether the scans of a window, tied by the odometry, narrow the heading
-at one step more than its own scan does (issue 20's diagnosis of the
+at one step more than its own scan does (a diagnosis of the
 hidden-ids woods runs). Needs numpy (the venv of `make test`).
 
     .venv/bin/python scripts/research/woods_window_pose.py MISSION.json RESULT.json STEP WINDOW [STRIDE]

@@ -61,7 +61,7 @@ pub fn nvector_bin() -> &'static Path {
         // by other members and their dev-dependencies) and compiled serde,
         // the proc macros, core and the server's dependencies a second time
         // while the tests ran: most of the browser test's cold 125 s in CI
-        // (BENCHMARKS.md, issue 19).
+        // (BENCHMARKS.md, "CI time").
         let select: &[&str] = if profile == "test" {
             &["--workspace", "--bins", "--tests"]
         } else {
@@ -484,7 +484,7 @@ pub fn small_mission(seed: u64, steps: usize) -> Value {
     nvector_core::slam::simulate::simulate(&o)
 }
 
-/// The worst case of issue 12 for `exact`: 40 overlapping boxes in 8-D
+/// The worst case of `exact`'s work limit: 40 overlapping boxes in 8-D
 /// with integer bounds, n = 6 (minutes of search without a work budget),
 /// as a contraction request, with `contractor` when given.
 pub fn worst_case_contract(contractor: Option<&str>) -> Value {

@@ -171,7 +171,7 @@ fn solve_options(association: Association) -> SolveOptions {
 /// The paper scenario with the operator's ids, seed 5, basic model: the
 /// time to the fixpoint (model and propagation; the simulation and the
 /// parse are not timed), against 10 times fewer steps, timed in
-/// alternation. Issue 12: under 1 s, ratio at most 12.
+/// alternation. Goals: under 1 s, ratio at most 12 (linear time).
 fn propagate_1e6(b: &mut Bench, runs: usize) {
     let Some(name) = b.wanted("propagate_1e6") else {
         return;
@@ -197,7 +197,7 @@ fn propagate_1e6(b: &mut Bench, runs: usize) {
     }));
 }
 
-/// Issue 18: `best` on the 10^6-step paper mission (seed 5), ids hidden
+/// `best` on the 10^6-step paper mission (seed 5), ids hidden
 /// and with the operator's ids, each against `none` on the same mission:
 /// the time to the fixpoint (model and propagation, like
 /// `propagate_1e6`), median of 3 runs. Goals: under 1 s with the

@@ -1,6 +1,6 @@
 //! `nvector run`: one SLAM job, locally, with a progress line on a terminal.
 //! The mission is parsed straight into typed data and the result streamed
-//! out, so memory stays in proportion to the mission (issue 12). It ends
+//! out, so memory stays in proportion to the mission, not to its JSON. It ends
 //! with a one-line summary on stderr ([`summary`]).
 
 use crate::CliError;

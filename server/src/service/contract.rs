@@ -122,7 +122,7 @@ async fn contract_within(request: Value, time_limit: Duration) -> ApiResult<Valu
 mod tests {
     use super::*;
 
-    /// The worst case of issue 12: 40 overlapping boxes in 8-D, n = 6.
+    /// The worst case of `exact`'s work limit: 40 overlapping boxes in 8-D, n = 6.
     fn worst_case() -> Value {
         let mut state: u64 = 12;
         let mut unit = || {

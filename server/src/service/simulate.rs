@@ -226,7 +226,7 @@ mod tests {
             err(json!({"scenario": "auv", "layout": "ring"})),
             "layout: layout applies to the paper scenario only"
         );
-        // False detections: paper and woods (issue 18), not auv.
+        // False detections: paper and woods, not auv.
         let o = options(
             &json!({"scenario": "woods", "false_detections": 4}),
             1000,

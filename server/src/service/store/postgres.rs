@@ -40,7 +40,7 @@ const MIGRATIONS: &[&str] = &[
         ALTER TABLE jobs ALTER COLUMN result SET COMPRESSION lz4;
      EXCEPTION WHEN OTHERS THEN NULL;
      END $$;",
-    // Worker processes (issue 19): why a job failed as a word, how often
+    // Worker processes: why a job failed as a word, how often
     // its worker died, its cost and its place in the queue.
     "ALTER TABLE jobs ADD COLUMN error_code TEXT,
         ADD COLUMN crashes BIGINT NOT NULL DEFAULT 0,

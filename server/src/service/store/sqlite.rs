@@ -30,7 +30,7 @@ const MIGRATIONS: &[&str] = &[
     "ALTER TABLE jobs ADD COLUMN runner TEXT;
      ALTER TABLE jobs ADD COLUMN heartbeat INTEGER;
      ALTER TABLE jobs ADD COLUMN attempts INTEGER NOT NULL DEFAULT 0",
-    // Worker processes (issue 19): why a job failed as a word, how often
+    // Worker processes: why a job failed as a word, how often
     // its worker died, its cost and its place in the queue.
     "ALTER TABLE jobs ADD COLUMN error_code TEXT;
      ALTER TABLE jobs ADD COLUMN crashes INTEGER NOT NULL DEFAULT 0;
