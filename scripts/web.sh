@@ -92,7 +92,7 @@ build_radar() {
 # The aim: at most 160,000 bytes of wasm (brotli) for the SLAM demo's solver. One
 # module carried everything until 2026-11-24 (185,027 bytes: the solver,
 # the simulators, the outlines, the serde format layer; its history in
-# BENCHMARKS.md, "The page's wasm transfer"); the page now fetches the
+# docs/journal/benchmarks-2026-11.md, "The page's wasm transfer"); the page now fetches the
 # playground's alone (WASM), and the others when a feature first needs
 # them. Each budget is its module's size when set, plus about 2 %: lower
 # them as the modules shrink. Branch wasm160b (the format layer's own

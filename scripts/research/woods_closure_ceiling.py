@@ -12,7 +12,7 @@ when they share a scan, when their landmark boxes (the intersection of
 their members' boxes) are disjoint, or, the oracle, when a member of one
 is at most WINDOW steps from a member of the other: a stand-in for any
 relative evidence, however strong, over that many steps (what the
-odometry proves is far less: BENCHMARKS, "groups compared in a local
+odometry proves is far less: docs/journal/benchmarks-2026-11.md, "groups compared in a local
 frame"). Groups of one true landmark are never distinct.
 
 Then the rule of `Distinct::infer` (core/src/shapes/distinct.rs) runs to

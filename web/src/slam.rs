@@ -2,7 +2,7 @@
 //! (JSON, validated as every front end does) into its binary form
 //! (feature `simulate`, the simulators' module), and run a binary mission
 //! to the fixpoint (feature `slam`, the solver's module, which has no JSON
-//! reader: within the aim of 160,000 bytes of brotli; BENCHMARKS.md, "The
+//! reader: within the aim of 160,000 bytes of brotli; docs/journal/benchmarks-2026-11.md, "The
 //! page's wasm transfer").
 
 #[cfg(feature = "simulate")]
