@@ -254,7 +254,7 @@ fn scale_bars_read_round_numbers_with_units() {
                && [1, 2, 5].some((x) => Math.abs(mm - x) < 1e-9) && (u === 'km') === (step >= 1000) && !/e|\\.\\d*0$|\\.\\d{7}/.test(num) \
                && (u !== 'm' || Number(num) < 1000); \
              if (!ok) bad.push([span, step, label]); } \
-           done({ texts, bad }); }, (e) => done(String(e)));",
+           done({ texts, bad }); }).catch((e) => done(String(e)));",
     );
     assert_eq!(
         unit["texts"],
