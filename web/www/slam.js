@@ -149,7 +149,7 @@ export function slamCancel() {
   job = null;
   setBusy(false);
   const s = $('sl-summary');
-  s.textContent = 'cancelled: nothing was drawn; change the controls or choose a preset and run again';
+  s.textContent = 'cancelled: the solve was stopped (the panels keep the last finished run, if any); run again or choose a preset';
   s.dataset.state = 'cancelled';
 }
 
