@@ -8,8 +8,11 @@ tightest proved groups outlined with their landmark regions, the
 headings of an ``odometry2d`` result as wedges (every k-th step; a circle
 where the heading is 2 pi wide or more), the truth (path, heading ticks
 and landmarks) on top; axes in metres at one scale, the diameters in
-metres in the title, and a legend. Each call fits the axes to its own
-result, so panels side by side each show their result at its own scale.
+metres in the title, and a legend beside the axes, with the figure laid
+out (matplotlib's constrained layout when it has no layout engine) so that
+the legend, the labels and the title lie inside it. Each call fits the
+axes to its own result, so panels side by side each show their result at
+its own scale.
 """
 
 from __future__ import annotations
@@ -60,13 +63,18 @@ def plot(
     ``mission`` (dict or file), when given, adds the truth it holds. The
     axes are fitted to this result (x and y in metres, one scale), titled
     with the diameters in metres, and get a legend (``legend=False``: none)
-    to the right of the axes. Needs matplotlib (``pip install matplotlib``).
+    to the right of the axes. A figure without a layout engine gets
+    matplotlib's constrained layout, which makes room for the legend and
+    the labels (without it, a legend beside the axes is cut at the figure's
+    edge or drawn over the next panel). Needs matplotlib (``pip install
+    matplotlib``).
     """
     try:
         import matplotlib.pyplot as plt
         from matplotlib.collections import PatchCollection
         from matplotlib.lines import Line2D
         from matplotlib.patches import Patch, Polygon, Rectangle
+        from matplotlib.transforms import Bbox
     except ImportError as e:  # pragma: no cover - depends on the machine
         raise ImportError("nvector.plot needs matplotlib: pip install matplotlib") from e
 
@@ -133,20 +141,49 @@ def plot(
             )
             handles.append(Line2D([], [], color=colour, marker="o", linestyle="none", label=layer["label"]))
 
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y0, y1)
     # One scale on x and y, unless the view is too thin or too wide for it
-    # (a figure of unbounded or huge values).
+    # (a figure of unbounded or huge values). The axes keep the box the
+    # layout gives them, and the view widens on one axis to the box's shape
+    # (adjustable data limits; the data limits are the view, without
+    # margins). An axes shrunk to the view's shape instead moved away from
+    # where the layout had made room for its labels and legend: the y
+    # label and the legend were cut at the figure's edges.
     if sx > 0 and sy > 0 and 1e-3 < sy / sx < 1e3 and sx < 1e150 and sy < 1e150:
-        ax.set_aspect("equal", adjustable="box")
-    ax.set_title(f"{fig_desc['title']}\n{fig_desc['subtitle']}", fontsize="medium")
+        ax.dataLim.set(Bbox([[x0, y0], [x1, y1]]))
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.margins(0)
+        ax.autoscale(True)
+    else:
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+    # The subtitle on lines of at most 40 characters, broken after its
+    # commas: an axes beside its legend can be narrower than one long line,
+    # which then passed the figure's edge.
+    ax.set_title("\n".join([fig_desc["title"], *_lines(fig_desc["subtitle"], 40)]), fontsize="medium")
     ax.set_xlabel(fig_desc["x_label"])
     ax.set_ylabel(fig_desc["y_label"])
     ax.grid(True, color="#ebebeb", linewidth=0.6, zorder=0)
     ax.set_axisbelow(True)
     if legend and handles:
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize="small", frameon=False)
+    # The legend beside the axes, the labels and the title inside the
+    # figure: a layout engine makes room for them.
+    if ax.figure.get_layout_engine() is None:
+        ax.figure.set_layout_engine("constrained")
     return ax
+
+
+def _lines(text: str, width: int) -> list[str]:
+    """The text's comma-separated parts joined into lines of at most
+    ``width`` characters where they fit (a longer part is a line of its
+    own)."""
+    lines: list[str] = []
+    for part in text.split(", "):
+        if lines and len(lines[-1]) + 2 + len(part) <= width:
+            lines[-1] += ", " + part
+        else:
+            lines.append(part)
+    return [f"{line}," for line in lines[:-1]] + lines[-1:]
 
 
 def _rgb(hex_colour: str) -> tuple[float, float, float]:

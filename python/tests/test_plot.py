@@ -13,6 +13,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import numpy as np
 import pytest
 from matplotlib.colors import to_rgba
 
@@ -60,6 +61,49 @@ def test_plot_draws_the_shared_description(solved: tuple[dict, dict], tmp_path: 
     assert [t.get_text().replace("\n", " ") for t in legend.get_texts()] == [layer["label"] for layer in desc["layers"]]
     fig.savefig(tmp_path / "fig.png")
     assert (tmp_path / "fig.png").stat().st_size > 1000
+    plt.close(fig)
+
+
+def _inside(inner: Any, outer: Any, slack: float = 0.5) -> bool:
+    return bool(inner.x0 >= outer.x0 - slack and inner.x1 <= outer.x1 + slack and inner.y0 >= outer.y0 - slack and inner.y1 <= outer.y1 + slack)
+
+
+@pytest.mark.parametrize("layout", ["new figure", "two panels, no layout", "two panels, constrained", "small figure"])
+def test_legend_and_labels_inside_the_canvas(solved: tuple[dict, dict], tmp_path: Path, layout: str) -> None:
+    """As a person sees the PNG: every legend, axis label and title lies
+    inside the figure (nothing cut at its edges), no legend lies over an
+    axes (its own or a neighbour panel's), and both axes say metres."""
+    mission, best = solved
+    if layout == "new figure":
+        axes = [nvector.plot(best, mission)]
+        fig = axes[0].figure
+    else:
+        size, kw = ((6, 4), {}) if layout == "small figure" else ((12, 5), {"layout": "constrained"} if "constrained" in layout else {})
+        fig, grid = plt.subplots(1, 1 if layout == "small figure" else 2, figsize=size, **kw)
+        axes = list(np.atleast_1d(grid))
+        basic = nvector.run(mission, contractor="none")
+        for ax, result in zip(axes, [basic, best]):
+            nvector.plot(result, mission, ax=ax)
+    png = tmp_path / "fig.png"
+    fig.savefig(png, dpi=100)
+    assert png.stat().st_size > 1000
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+    canvas = fig.bbox
+    for ax in axes:
+        assert ax.get_xlabel() == "x (m)" and ax.get_ylabel() == "y (m)"
+        legend = ax.get_legend()
+        assert legend is not None
+        parts = {
+            "legend": legend.get_window_extent(renderer),
+            "x label": ax.xaxis.label.get_window_extent(renderer),
+            "y label": ax.yaxis.label.get_window_extent(renderer),
+            "title": ax.title.get_window_extent(renderer),
+        }
+        for name, box in parts.items():
+            assert box.width > 0 and box.height > 0, f"{layout}: {name} not drawn"
+            assert _inside(box, canvas), f"{layout}: the {name} {box} lies outside the figure {canvas}"
+        for other in fig.axes:
+            assert not parts["legend"].overlaps(other.get_window_extent(renderer)), f"{layout}: a legend over an axes"
     plt.close(fig)
 
 

@@ -7,7 +7,7 @@
 import init, { Nvector } from './pkg/nvector_web.js';
 import { $ } from './dom.js';
 import { initPlayground, loadPreset, playgroundReady } from './playground.js';
-import { initSlam, sl, slamDemo, slamPreset, slamWoods } from './slam.js';
+import { initSlam, prepareSlam, sl, slamDemo, slamPreset, slamWoods } from './slam.js';
 import { initMissions, redrawResults, refreshLists, shown } from './missions.js';
 import { handles, loadFigures, loadSlam } from './wasm.js';
 
@@ -23,7 +23,7 @@ document.querySelectorAll('nav button').forEach((b) => b.addEventListener('click
   document.querySelectorAll('nav button').forEach((x) => x.classList.toggle('active', x === b));
   document.querySelectorAll('.tab').forEach((t) => t.classList.toggle('active', t.id === b.dataset.tab));
   if (b.dataset.tab === 'missions') refreshLists();
-  if (b.dataset.tab === 'slam') loadSlam().catch(() => {});
+  if (b.dataset.tab === 'slam') prepareSlam();
   if (b.dataset.tab === 'missions') loadFigures().catch(() => {});
   if (b.dataset.tab === 'radar') openRadar();
 }));

@@ -95,6 +95,22 @@ export function niceStep(span, target) {
   return 10 * p;
 }
 
+/**
+ * A scale bar's text: a length (a round step of `niceStep`) with its unit,
+ * in kilometres from 1000 m, in centimetres below 1 m and millimetres below
+ * 1 cm ("50 km", "200 m", "5 cm"); a bare number without a unit. The digits
+ * are the step's own, rounded to 12 significant ones (no float residue
+ * such as 0.30000000000000004).
+ */
+export function scaleLabel(len, unit) {
+  const clean = (v) => String(Number(v.toPrecision(12)));
+  if (unit !== 'm') return unit ? `${clean(len)} ${unit}` : clean(len);
+  if (len >= 1000) return `${clean(len / 1000)} km`;
+  if (len >= 1 || len === 0) return `${clean(len)} m`;
+  if (len >= 0.01) return `${clean(len * 100)} cm`;
+  return `${clean(len * 1000)} mm`;
+}
+
 /** A tick label: as many decimals as the step needs, no more. */
 function label(v, step) {
   const d = Math.max(0, -Math.floor(Math.log10(step) + 1e-9));
@@ -105,14 +121,14 @@ function label(v, step) {
 /**
  * Axes on the canvas: ticks and labels every round step on the bottom and
  * left edges, a faint grid, and a scale bar (bottom right) of one step with
- * its length and unit. Writes `axes` ("ticks x, ticks y, step") and `unit`
- * into the canvas's dataset.
+ * its length and unit (`scaleLabel`: "50 km", not "50000 m"). Writes `axes`
+ * ("ticks x, ticks y, step"), `unit` and `scaleBar` (the bar's text) into
+ * the canvas's dataset.
  */
 export function drawAxes(ctx, view, unit) {
   const c = ctx.canvas, w = c.width, h = c.height;
   const x0 = view.wx(0), x1 = view.wx(w), y0 = view.wy(h), y1 = view.wy(0);
   const step = niceStep(Math.max(x1 - x0, y1 - y0), 5);
-  const u = unit ? ` ${unit}` : '';
   ctx.save();
   ctx.setTransform(1, 0, 0, 1, 0, 0);
   ctx.font = '10px system-ui, sans-serif';
@@ -137,9 +153,10 @@ export function drawAxes(ctx, view, unit) {
   ctx.strokeStyle = '#000'; ctx.lineWidth = 2;
   ctx.beginPath(); ctx.moveTo(bx, by - 4); ctx.lineTo(bx, by); ctx.lineTo(bx + len, by); ctx.lineTo(bx + len, by - 4); ctx.stroke();
   ctx.textAlign = 'center'; ctx.textBaseline = 'bottom';
-  halo(ctx, `${label(step, step)}${u}`, bx + len / 2, by - 3);
+  const bar = scaleLabel(step, unit);
+  halo(ctx, bar, bx + len / 2, by - 3);
   ctx.restore();
-  Object.assign(c.dataset, { axes: `${nx},${ny},${step}`, unit: unit || '' });
+  Object.assign(c.dataset, { axes: `${nx},${ny},${step}`, unit: unit || '', scaleBar: bar });
 }
 
 /** Text with a white halo, readable over any picture. */

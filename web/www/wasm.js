@@ -1,11 +1,13 @@
 // The page's modules fetched on demand (scripts/web.sh builds them from
 // the nvector-web crate, one cargo feature each): the figures module
 // (pkg-figures/: the outlines and region boundaries draw.js draws),
-// fetched the first time the SLAM demo or the missions tab draws; the SLAM
+// fetched the first time the SLAM demo or the missions tab draws. The SLAM
 // demo's two modules (pkg-slam/: the solver, `run`; pkg-sim/: the
-// simulators, `simulate`, and the mission reader, `readMission`), fetched together the first time the SLAM demo
-// runs. The module fetched with the page (pkg/, app.js)
-// is the playground's atmost_nvector alone.
+// simulators, `simulate`, and the mission reader, `readMission`) are
+// loaded by the demo's worker (slam-worker.js), off the page's thread;
+// `loadSlam` loads them on the page itself, for the console and the
+// browser tests (`window.nvectorHandle`). The module fetched with the page
+// (pkg/, app.js) is the playground's atmost_nvector alone.
 import { useCore } from './draw.js';
 
 /** The loaded handles, null before their module has loaded. */
@@ -31,7 +33,8 @@ export function loadFigures() {
 }
 
 /**
- * The SLAM demo's handle: `simulate` (the simulators' module) and `run`
+ * The SLAM modules on the page's thread (the demo itself runs them in its
+ * worker): `simulate` (the simulators' module) and `run`
  * (the solver's), both modules fetched at once, with the figures module
  * loaded too. `run` takes the mission's JSON text: the simulators' module
  * reads and validates it (`readMission`, the errors naming the JSON path)
