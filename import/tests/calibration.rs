@@ -6,7 +6,8 @@
 //!   same bounds whenever the calibration saw at least `min_samples(F)`
 //!   samples per bound (the rule: the largest of n samples times 1 + F
 //!   falls short of B with probability at most (1 + F)^-n <= 1e-3), over
-//!   many seeds.
+//!   many seeds; the drift windows, sums of k draws, are outside the rule
+//!   and leave at most one sample in a thousand outside.
 //! - It never claims less than its own data needs: every sample of the
 //!   calibration world lies inside its bounds (coverage 1).
 //! - It refuses, naming the reason: a truth derived from the channel, too
@@ -118,6 +119,7 @@ fn circling(seed: u64, n: usize, b: Planted) -> Run {
 
 #[test]
 fn a_model_fitted_on_enough_samples_covers_a_second_world_drawn_from_the_same_bounds() {
+    let mut windows = (0usize, 0usize);
     for seed in 1..=12 {
         let cal = circling(seed, 3000, B);
         let model = calibrate(&cal, &options()).expect("calibration");
@@ -128,6 +130,11 @@ fn a_model_fitted_on_enough_samples_covers_a_second_world_drawn_from_the_same_bo
         assert!(model.heading.fit.samples >= min && model.range.fit.samples >= min);
         let other = circling(seed + 1000, 3000, B);
         for c in verify(&model, &other) {
+            if c.bound.contains("drift") {
+                windows.0 += c.samples;
+                windows.1 += c.outside;
+                continue;
+            }
             assert_eq!(
                 c.outside, 0,
                 "seed {seed}: {} leaves {} of {} samples of the second world outside (worst {})",
@@ -135,6 +142,16 @@ fn a_model_fitted_on_enough_samples_covers_a_second_world_drawn_from_the_same_bo
             );
         }
     }
+    // The drift windows are outside the rule: a sum of k uniform draws
+    // puts little mass near its ends, so the largest of N / k windows
+    // need not reach what a second world shows. The margin makes the
+    // excess rare: at most one window sample in a thousand.
+    assert!(
+        windows.1 * 1000 <= windows.0,
+        "{} of {} window samples outside",
+        windows.1,
+        windows.0
+    );
 }
 
 #[test]
