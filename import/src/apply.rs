@@ -69,7 +69,7 @@ pub fn mission(run: &Run, model: &SensorModel, o: &Options) -> Result<Value, Err
         "steps": run.steps(),
         "initial_position": initial_position(run, o),
         "final_position": null,
-        "inputs": inputs(run, model, &mut ex),
+        "inputs": inputs(run, model),
         "sensor_offset": model.sensor_offset,
         "detections": detections(run, model, o, &mut ex)?,
     });
@@ -104,7 +104,7 @@ fn initial_position(run: &Run, o: &Options) -> Value {
 /// The input channels: the speed as intervals (its error, and the sign
 /// rule), the turn rate exact (odometry2d) or the heading within its bound
 /// (unicycle2d).
-fn inputs(run: &Run, model: &SensorModel, ex: &mut Extrapolated) -> Value {
+fn inputs(run: &Run, model: &SensorModel) -> Value {
     let (mut lo, mut hi) = (
         Vec::with_capacity(run.steps()),
         Vec::with_capacity(run.steps()),
@@ -121,7 +121,6 @@ fn inputs(run: &Run, model: &SensorModel, ex: &mut Extrapolated) -> Value {
             json!({"speed": speed, "turn_rate": {"value": run.rotation, "error": 0.0}})
         }
         Model::Unicycle2d => {
-            let _ = ex;
             json!({"speed": speed, "heading": {"value": run.rotation, "error": model.heading.at(0.0)}})
         }
     }

@@ -137,19 +137,20 @@ pub fn woods(dir: &Path, span: Span) -> Result<Csvs, Error> {
             cell(heading[i])
         );
     }
-    for k in 0..meas[0].len() {
-        let row = ((meas[0][k] - t[0]) / dt).round();
+    let [mt, ml, mr, mb] = [&meas[0], &meas[1], &meas[2], &meas[3]];
+    for (k, &tk) in mt.iter().enumerate() {
+        let row = ((tk - t[0]) / dt).round();
         if row < a as f64 || row > b as f64 || row >= t.len() as f64 {
             continue;
         }
         let _ = writeln!(
             out.detections,
             "{},{},{},{},{}",
-            t[row as usize], meas[2][k], meas[3][k], row as usize, meas[1][k]
+            t[row as usize], mr[k], mb[k], row as usize, ml[k]
         );
     }
-    for k in 0..lms[0].len() {
-        let _ = writeln!(out.landmarks, "{},{},{}", lms[0][k], lms[1][k], lms[2][k]);
+    for ((id, x), y) in lms[0].iter().zip(&lms[1]).zip(&lms[2]) {
+        let _ = writeln!(out.landmarks, "{id},{x},{y}");
     }
     Ok(out)
 }

@@ -181,7 +181,7 @@ fn speed(run: &Run, o: &Options) -> SpeedBound {
     SpeedBound {
         error,
         sign_unknown_below: (!reversals.is_empty())
-            .then(|| largest * (1.0 + o.relative_margin) + margins::SPEED_SIGN),
+            .then_some(largest * (1.0 + o.relative_margin) + margins::SPEED_SIGN),
     }
 }
 
