@@ -272,8 +272,9 @@ impl SensorModel {
         Ok(m)
     }
 
-    /// Every bound finite and >= 0 where a bound must be.
-    fn check_numbers(&self) -> Result<(), String> {
+    /// Every bound finite and >= 0 where a bound must be (an error names
+    /// the bound).
+    pub fn check_numbers(&self) -> Result<(), String> {
         let bound = |name: &str, b: &Bound| {
             if b.constant.is_finite() && b.constant >= 0.0 && b.slope.is_finite() && b.slope >= 0.0
             {
@@ -318,5 +319,116 @@ impl SensorModel {
             return Err("sensor_offset: expected two finite numbers".into());
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fit(span: [f64; 2]) -> Fit {
+        Fit {
+            method: String::new(),
+            relative_margin: 0.1,
+            margin: 0.01,
+            samples: 100,
+            independent: 100,
+            coverage: 1.0,
+            largest_residual: 1.0,
+            span,
+        }
+    }
+
+    /// A band whose lines narrow it as x grows (a negative slope above)
+    /// is never trusted beyond its span: outside, it is at least as wide
+    /// as at the span's end, and holds the band there.
+    #[test]
+    fn a_band_never_narrows_outside_its_span() {
+        let b = Band {
+            upper: [0.5, -0.1],
+            lower: [0.2, 0.05],
+            constant: [-1.0, 1.0],
+            of: BandOf::Range,
+            min_range: 0.0,
+            fit: fit([1.0, 4.0]),
+        };
+        let ((lo4, hi4), out4) = b.at(4.0);
+        assert!(!out4);
+        for x in [4.5, 10.0, 1e6, 1e300] {
+            let ((lo, hi), outside) = b.at(x);
+            assert!(outside && lo <= lo4 && hi >= hi4, "x = {x}: [{lo}, {hi}]");
+        }
+        let ((lo1, hi1), _) = b.at(1.0);
+        for x in [0.0, 0.5, 0.999] {
+            let ((lo, hi), outside) = b.at(x);
+            assert!(outside && lo <= lo1 && hi >= hi1, "x = {x}");
+        }
+        // Crossing lines fall back to the constant band, never an empty one.
+        let crossing = Band {
+            upper: [-5.0, 0.0],
+            ..b.clone()
+        };
+        let ((lo, hi), _) = crossing.at(2.0);
+        assert!(lo <= -1.0 && hi >= 1.0);
+        // The true value's interval is [m - hi, m - lo].
+        let ([a, c], _) = b.interval(10.0, 2.0);
+        let ((lo, hi), _) = b.at(2.0);
+        assert_eq!([a, c], [10.0 - hi, 10.0 - lo]);
+    }
+
+    #[test]
+    fn a_negative_or_infinite_bound_is_refused_naming_it() {
+        let b = Bound {
+            constant: f64::INFINITY,
+            slope: 0.0,
+            of: Measure::None,
+            fit: fit([0.0, 0.0]),
+        };
+        let band = Band {
+            upper: [0.0, 0.0],
+            lower: [0.0, 0.0],
+            constant: [0.0, 0.0],
+            of: BandOf::Range,
+            min_range: 0.0,
+            fit: fit([0.0, 1.0]),
+        };
+        let mut m = SensorModel {
+            format: FORMAT.into(),
+            model: "odometry2d".into(),
+            calibration: Calibration {
+                source: String::new(),
+                fingerprint: String::new(),
+                steps: 1,
+                dt: 0.1,
+                detections: 0,
+                truth_gaps: 0,
+                relative_margin: 0.1,
+                min_samples: 73,
+            },
+            speed: SpeedBound {
+                error: Bound {
+                    constant: 0.0,
+                    ..b.clone()
+                },
+                sign_unknown_below: None,
+            },
+            heading: b.clone(),
+            motion_error: Bound {
+                constant: 0.1,
+                ..b.clone()
+            },
+            heading_drift: vec![],
+            motion_drift: vec![],
+            range: band,
+            bearing: None,
+            sensor_offset: [0.0, 0.0],
+            refused: vec![],
+        };
+        assert!(m.check_numbers().unwrap_err().starts_with("heading"));
+        m.heading.constant = 0.1;
+        m.motion_error.slope = -1.0;
+        assert!(m.check_numbers().unwrap_err().starts_with("motion_error"));
+        m.motion_error.slope = 0.0;
+        m.check_numbers().unwrap();
     }
 }

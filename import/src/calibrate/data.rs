@@ -442,3 +442,73 @@ fn read_landmarks(path: &Path) -> Result<Vec<(u64, [f64; 2])>, Error> {
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    /// An irregular log: times matched to the nearest step time (not to
+    /// round((t - t0) / dt), which would drift), the truth's empty cells
+    /// read as gaps, the end pose at t(N-1) + dt, the headings unwrapped.
+    #[test]
+    fn times_match_the_nearest_step_and_empty_cells_are_gaps() {
+        let dir = std::env::temp_dir().join(format!("nvector-data-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let log = write(
+            &dir,
+            "log.csv",
+            "t,speed,turn_rate\n0,1,0\n0.1,1,0\n0.25,1,0\n0.35,1,0\n",
+        );
+        let det = write(
+            &dir,
+            "det.csv",
+            "t,range,bearing,scan,landmark\n0.24,2,0.1,3,7\n0.47,1,,,\n",
+        );
+        let truth = write(
+            &dir,
+            "truth.csv",
+            "t,x,y,heading\n0,0,0,3.1\n0.1,,,\n0.25,1,1,-3.1\n0.47,2,2,\n",
+        );
+        let lm = write(&dir, "lm.csv", "id,x,y\n7,1,1\n2,0,0\n");
+        let f = Files {
+            log: &log,
+            detections: &det,
+            truth: Some(&truth),
+            landmarks: Some(&lm),
+        };
+        let run = read_run(Model::Odometry2d, &f).unwrap();
+        assert_eq!(run.steps(), 4);
+        assert!((run.dt - 0.35 / 3.0).abs() < 1e-12);
+        assert_eq!(run.detections[0].step, 2);
+        assert_eq!(run.detections[0].landmark, Some(7));
+        // 0.47 is the end pose: t(3) + dt = 0.4667.
+        assert_eq!(run.detections[1].step, 4);
+        assert_eq!(run.detections[1].bearing, None);
+        let t = run.truth.as_ref().unwrap();
+        assert_eq!(t.positions[1], None);
+        assert_eq!(t.positions[4], Some([2.0, 2.0]));
+        // -3.1 follows 3.1 across the gap as 2 pi - 3.1.
+        assert!((t.headings[2].unwrap() - (2.0 * std::f64::consts::PI - 3.1)).abs() < 1e-12);
+        assert_eq!(run.landmark_index(7), Some(1));
+        // A time off the grid is named.
+        let det2 = write(&dir, "det2.csv", "t,range,landmark\n0.9,2,7\n");
+        let f2 = Files {
+            detections: &det2,
+            ..f
+        };
+        let e = read_run(Model::Odometry2d, &f2).unwrap_err().0;
+        assert!(e.contains("det2.csv:2: time 0.9 is not within dt/2"), "{e}");
+        let bad = write(&dir, "bad.csv", "t,speed,turn_rate\n0,1,0\n0.1,1\n");
+        let e = read_run(Model::Odometry2d, &Files { log: &bad, ..f })
+            .unwrap_err()
+            .0;
+        assert!(e.contains("bad.csv:3: expected 3 columns"), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -148,3 +148,66 @@ pub fn band(
     out.fit.coverage = inside as f64 / points.len().max(1) as f64;
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nvector_core::slam::simulate::Rng;
+
+    /// The fitted line holds every point: zero, tiny and huge values,
+    /// and points planted on the boundary of a known line.
+    #[test]
+    fn the_upper_line_holds_every_point() {
+        let mut rng = Rng::new(7);
+        for scale in [0.0, 1e-300, 1e-9, 1.0, 1e6, 1e100] {
+            let pts: Vec<(f64, f64)> = (0..200)
+                .map(|_| (rng.range(0.0, 3.0) * scale, rng.sym(1.0) * scale))
+                .collect();
+            for (lo, hi) in [(0.0, 4.0), (-2.0, 2.0)] {
+                let (a, b) = upper_line(&pts, lo, hi);
+                assert!((lo..=hi).contains(&b));
+                for &(x, y) in &pts {
+                    // a is the largest y - b x: a + b x >= y up to one
+                    // rounding of a + b x.
+                    let v = a + b * x;
+                    assert!(
+                        v >= y - 4.0 * f64::EPSILON * (v.abs() + y.abs()),
+                        "scale {scale}: {v} < {y}"
+                    );
+                }
+            }
+        }
+        // Points on the line y = 1 + 0.5 x: that line is the answer.
+        let on: Vec<(f64, f64)> = (0..=10).map(|i| (i as f64, 1.0 + 0.5 * i as f64)).collect();
+        let (a, b) = upper_line(&on, 0.0, 4.0);
+        assert!((a - 1.0).abs() < 1e-9 && (b - 0.5).abs() < 1e-9, "{a} {b}");
+        assert_eq!(upper_line(&[], 0.0, 1.0).0, f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn an_affine_bound_covers_its_samples_with_its_margins() {
+        let pts = [(0.0, 0.1), (1.0, 0.3), (2.0, 0.2), (0.5, 0.0)];
+        let b = affine_bound(&pts, Measure::Distance, 0.1, 0.005, "m");
+        assert_eq!(b.fit.coverage, 1.0);
+        assert!(b.slope >= 0.0 && b.constant >= 0.1 * 1.1);
+        for &(x, y) in &pts {
+            assert!(b.at(x) >= y * 1.1 + 0.005 - 1e-12, "{x}");
+        }
+        let c = affine_bound(&pts, Measure::None, 0.1, 0.005, "m");
+        assert_eq!((c.constant, c.slope), (0.3 * 1.1 + 0.005, 0.0));
+        assert_eq!(c.fit.span, [0.0, 0.0]);
+    }
+
+    #[test]
+    fn the_sample_rule() {
+        // (1 + F)^-n <= 1e-3 at n = min_samples(F), not at n - 1.
+        for f in [0.01, 0.05, 0.1, 0.5, 1.0] {
+            let n = min_samples(f);
+            assert!(
+                (1.0 + f).powi(-(n as i32)) <= RULE_DELTA * (1.0 + 1e-12),
+                "F = {f}"
+            );
+            assert!((1.0 + f).powi(-(n as i32 - 1)) > RULE_DELTA, "F = {f}");
+        }
+    }
+}

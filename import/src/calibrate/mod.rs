@@ -380,7 +380,7 @@ pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, Error> {
             !(known(i) && known(i + 1))
         })
         .count();
-    Ok(SensorModel {
+    let model = SensorModel {
         format: FORMAT.into(),
         model: run.model.name().into(),
         calibration: Calibration {
@@ -402,7 +402,14 @@ pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, Error> {
         bearing,
         sensor_offset: o.sensor_offset,
         refused,
-    })
+    };
+    // Readings so large that a fit overflows give no bound.
+    model.check_numbers().map_err(|e| {
+        Error(format!(
+            "no sensor model: {e} (readings too large for a bound?)"
+        ))
+    })?;
+    Ok(model)
 }
 
 /// How a model holds on a run with truth: per bound, the samples and how
