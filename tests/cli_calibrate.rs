@@ -158,7 +158,35 @@ fn plaza_is_refused_a_heading_bound_its_truth_cannot_support() {
         .starts_with("assumed"));
     // The log never reports a negative speed and the truth backs up: the
     // sign is unknown below a fitted speed.
-    assert!(m["speed"]["sign_unknown_below"].as_f64().unwrap() > 0.0);
+    let below = m["speed"]["sign_unknown_below"].as_f64().unwrap();
+    assert!(below > 0.0);
+    // Applied to its own run: a valid unicycle2d mission, the slow steps'
+    // speed of either sign, marked as the oracle mode.
+    let mission = tmp.join("mission.json");
+    let mut args = vec!["import", "--sensor-model", s(&sensor)];
+    args.extend(f.iter().map(String::as_str));
+    args.extend(["--out", s(&mission)]);
+    ok(&args);
+    let mm = read_json(&mission);
+    assert_eq!(mm["model"], "unicycle2d");
+    assert_eq!(mm["meta"]["calibration"]["same_run"], true);
+    assert_eq!(mm["inputs"]["heading"]["error"], 0.02);
+    let (lo, hi) = (&mm["inputs"]["speed"]["lo"], &mm["inputs"]["speed"]["hi"]);
+    let slow = (0..mm["steps"].as_u64().unwrap() as usize)
+        .find(|&i| hi[i].as_f64().unwrap() > 0.0 && hi[i].as_f64().unwrap() < below)
+        .expect("a slow step");
+    assert_eq!(lo[slow].as_f64().unwrap(), -hi[slow].as_f64().unwrap());
+    // Its own truth breaks none of its bounds: --verify exits 0.
+    let mut args = vec!["calibrate", "--model", "unicycle2d", "--verify", s(&sensor)];
+    args.extend(f.iter().map(String::as_str));
+    let out = nvector().args(&args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["outside"], 0);
 }
 
 #[test]
