@@ -48,6 +48,8 @@ enum Command {
     Tdoa(cli::tdoa::Args),
     /// A mission from sensor logs (CSV).
     Import(cli::import::Args),
+    /// A sensor model fitted on a run with truth (docs/calibration.md).
+    Calibrate(cli::calibrate::Args),
     /// A figure like the paper's Figure 9.
     Plot(cli::plot::Args),
     /// A worker process of `nvector serve` (started by the service, not by
@@ -102,6 +104,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => cli::simulate::run(a),
         Command::Tdoa(a) => cli::tdoa::run(a),
         Command::Import(a) => cli::import::run(a),
+        Command::Calibrate(a) => cli::calibrate::run(a),
         Command::Plot(a) => cli::plot::run(a),
         Command::Worker(a) => cli::worker::run(a),
         Command::Bench {

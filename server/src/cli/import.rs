@@ -24,7 +24,7 @@ pub struct Args {
     #[arg(
         long,
         value_parser = ["unicycle2d", "auv3d", "odometry2d"],
-        required_unless_present_any = ["cmu_plaza", "utias_woods", "locards_mlat"]
+        required_unless_present_any = ["cmu_plaza", "utias_woods", "locards_mlat", "sensor_model"]
     )]
     model: Option<String>,
     /// Sensor log CSV: header row with `t` and the model's channels.
@@ -104,6 +104,9 @@ pub struct Args {
     /// With --locards-mlat: the set (1-4).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
     set: u32,
+    /// --sensor-model SENSOR.json [--truth T.csv --landmarks L.csv]: raw readings, bounds from a calibration.
+    #[command(flatten)]
+    sensor: crate::cli::calibrate::ImportArgs,
 }
 
 fn channels(model: &str) -> Result<&'static [&'static str], CliError> {
@@ -488,7 +491,23 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 .into(),
         ));
     }
-    let mut mission = if let Some(dir) = &a.utias_woods {
+    let mut mission = if a.sensor.sensor_model.is_some() {
+        crate::cli::calibrate::import(
+            &a.sensor,
+            &crate::cli::calibrate::ImportFlags {
+                model: a.model.as_deref(),
+                log: a.log.as_deref(),
+                detections: a.detections.as_deref(),
+                operator: a.operator,
+                name: a.name.as_deref(),
+                initial: a.initial.as_deref(),
+                initial_heading: a.initial_heading.as_deref(),
+                landmark_count: a.landmark_count,
+                landmark_min_separation: a.landmark_min_separation,
+                max_outliers: a.max_outliers,
+            },
+        )?
+    } else if let Some(dir) = &a.utias_woods {
         crate::cli::import_woods::utias_woods(dir, a.operator, a.outlier_share)?
     } else if let Some(dir) = &a.cmu_plaza {
         cmu_plaza(dir, a.operator, a.outlier_share)?

@@ -1,0 +1,297 @@
+//! A mission from raw measurements and a sensor model: the model's bounds
+//! turn each reading into an interval (docs/calibration.md). The truth,
+//! when the run has one, is attached for scoring only; the solver never
+//! reads it.
+//!
+//! The initial pose fixes the map's frame: the user's box, else the
+//! truth's first pose (the frame the truth and the landmarks are in)
+//! within [`FRAME_POSITION`] and [`FRAME_HEADING`], else the origin with
+//! heading 0.
+
+use crate::calibrate::data::{Model, Run};
+use crate::calibrate::residuals::speed_interval;
+use crate::sensor_model::SensorModel;
+use crate::Error;
+use serde_json::{json, Value};
+
+/// Half-width of the initial position box around the truth's first
+/// position (m).
+pub const FRAME_POSITION: f64 = 0.01;
+/// Half-width of the initial heading around the truth's first heading
+/// (rad).
+pub const FRAME_HEADING: f64 = 0.01;
+
+/// What the user gives besides the run and the model.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// Keep the detections' `landmark` column as the operator's ids.
+    pub operator: bool,
+    /// The mission's name.
+    pub name: String,
+    /// What the sensor model file was called.
+    pub sensor_model: String,
+    /// The initial position box `[[lo, hi], [lo, hi]]`.
+    pub initial: Option<[[f64; 2]; 2]>,
+    /// The initial heading (odometry2d).
+    pub initial_heading: Option<[f64; 2]>,
+    /// `landmark_count` (default: the landmarks file's count).
+    pub landmark_count: Option<usize>,
+    /// `landmark_min_separation`.
+    pub landmark_min_separation: Option<f64>,
+    /// `max_outliers`.
+    pub max_outliers: Option<u64>,
+}
+
+/// How many readings lie outside the span a bound was fitted over.
+#[derive(Default)]
+struct Extrapolated {
+    heading: usize,
+    motion: usize,
+    range: usize,
+    bearing: usize,
+}
+
+/// The mission of `run` under `model`.
+pub fn mission(run: &Run, model: &SensorModel, o: &Options) -> Result<Value, Error> {
+    if model.model != run.model.name() {
+        return Err(Error(format!(
+            "the sensor model is for {}, the log is read as {}",
+            model.model,
+            run.model.name()
+        )));
+    }
+    let mut ex = Extrapolated::default();
+    let mut m = json!({
+        "format": "nvector-mission/1",
+        "name": o.name,
+        "model": model.model,
+        "dt": run.dt,
+        "steps": run.steps(),
+        "initial_position": initial_position(run, o),
+        "final_position": null,
+        "inputs": inputs(run, model),
+        "sensor_offset": model.sensor_offset,
+        "detections": detections(run, model, o, &mut ex)?,
+    });
+    motion_fields(&mut m, run, model, o, &mut ex);
+    if let Some(n) = o.landmark_count.or(run.landmarks.as_ref().map(Vec::len)) {
+        m["landmark_count"] = json!(n);
+    }
+    if let Some(s) = o.landmark_min_separation {
+        m["landmark_min_separation"] = json!(s);
+    }
+    if let Some(q) = o.max_outliers {
+        m["max_outliers"] = json!(q);
+    }
+    m["meta"] = meta(run, model, o, &ex);
+    if let Some(t) = truth(run) {
+        m["truth"] = t;
+    }
+    Ok(m)
+}
+
+fn initial_position(run: &Run, o: &Options) -> Value {
+    if let Some(b) = o.initial {
+        return json!(b);
+    }
+    let e = FRAME_POSITION;
+    match run.truth.as_ref().and_then(|t| t.positions[0]) {
+        Some(p) => json!([[p[0] - e, p[0] + e], [p[1] - e, p[1] + e]]),
+        None => json!([[0.0, 0.0], [0.0, 0.0]]),
+    }
+}
+
+/// The input channels: the speed as intervals (its error, and the sign
+/// rule), the turn rate exact (odometry2d) or the heading within its bound
+/// (unicycle2d).
+fn inputs(run: &Run, model: &SensorModel) -> Value {
+    let (mut lo, mut hi) = (
+        Vec::with_capacity(run.steps()),
+        Vec::with_capacity(run.steps()),
+    );
+    for &v in &run.speed {
+        let e = model.speed.error.at((v * run.dt).abs());
+        let [a, b] = speed_interval(v, e, model.speed.sign_unknown_below);
+        lo.push(a);
+        hi.push(b);
+    }
+    let speed = json!({"lo": lo, "hi": hi});
+    match run.model {
+        Model::Odometry2d => {
+            json!({"speed": speed, "turn_rate": {"value": run.rotation, "error": 0.0}})
+        }
+        Model::Unicycle2d => {
+            json!({"speed": speed, "heading": {"value": run.rotation, "error": model.heading.at(0.0)}})
+        }
+    }
+}
+
+/// Whether x lies outside a fitted span (a constant bound has none).
+fn beyond(span: [f64; 2], x: f64) -> bool {
+    span != [0.0, 0.0] && !(span[0]..=span[1]).contains(&x)
+}
+
+/// `motion_error`, and for odometry2d `initial_heading`, `heading_error`
+/// and the drift windows.
+fn motion_fields(
+    m: &mut Value,
+    run: &Run,
+    model: &SensorModel,
+    o: &Options,
+    ex: &mut Extrapolated,
+) {
+    let me = &model.motion_error;
+    m["motion_error"] = run
+        .speed
+        .iter()
+        .map(|v| {
+            let x = (v * run.dt).abs();
+            ex.motion += usize::from(beyond(me.fit.span, x));
+            json!(me.at(x))
+        })
+        .collect();
+    if run.model != Model::Odometry2d {
+        return;
+    }
+    let h = &model.heading;
+    m["heading_error"] = run
+        .rotation
+        .iter()
+        .map(|w| {
+            let x = (w * run.dt).abs();
+            ex.heading += usize::from(beyond(h.fit.span, x));
+            json!(h.at(x))
+        })
+        .collect();
+    let e = FRAME_HEADING;
+    m["initial_heading"] = match (
+        o.initial_heading,
+        run.truth.as_ref().and_then(|t| t.headings[0]),
+    ) {
+        (Some(b), _) => json!(b),
+        (None, Some(h0)) => json!([h0 - e, h0 + e]),
+        (None, None) => json!([0.0, 0.0]),
+    };
+    let windows = |ws: &[crate::sensor_model::Window]| {
+        ws.iter()
+            .map(|w| json!({"steps": w.steps, "error": w.error}))
+            .collect::<Vec<_>>()
+    };
+    m["heading_drift"] = json!(windows(&model.heading_drift));
+    m["motion_drift"] = json!(windows(&model.motion_drift));
+}
+
+/// The detections: each reading's interval from the model's bands.
+fn detections(
+    run: &Run,
+    model: &SensorModel,
+    o: &Options,
+    ex: &mut Extrapolated,
+) -> Result<Vec<Value>, Error> {
+    let mut out = Vec::with_capacity(run.detections.len());
+    for (j, d) in run.detections.iter().enumerate() {
+        let (range, outside) = model.range.interval(d.range, d.range);
+        ex.range += usize::from(outside);
+        let mut v = json!({"step": d.step, "range": [range[0].max(0.0), range[1].max(0.0)]});
+        match (&model.bearing, d.bearing) {
+            (Some(b), Some(m)) => {
+                let (bearing, outside) = b.interval(m, d.range);
+                ex.bearing += usize::from(outside);
+                v["bearing"] = json!(bearing);
+            }
+            (None, Some(_)) | (Some(_), None) => {
+                return Err(Error(format!(
+                    "detection {j} (step {}): {}",
+                    d.step,
+                    if model.bearing.is_some() {
+                        "no bearing, but the sensor model has a bearing band (every detection needs one)"
+                    } else {
+                        "a bearing, but the sensor model has no bearing band (calibrate on a run with bearings)"
+                    }
+                )))
+            }
+            (None, None) => {}
+        }
+        if let Some(s) = d.scan {
+            v["scan"] = json!(s);
+        }
+        if o.operator {
+            v["landmark"] = json!(operator_id(run, j)?);
+        }
+        out.push(v);
+    }
+    Ok(out)
+}
+
+/// A detection's operator id: its landmark's index among the sorted ids of
+/// the landmarks file, or the id itself without one.
+fn operator_id(run: &Run, j: usize) -> Result<u64, Error> {
+    let d = &run.detections[j];
+    let id = d.landmark.ok_or_else(|| {
+        Error(format!(
+            "--operator: detection {j} (step {}) has no landmark id",
+            d.step
+        ))
+    })?;
+    match &run.landmarks {
+        None => Ok(id),
+        Some(_) => run.landmark_index(id).map(|i| i as u64).ok_or_else(|| {
+            Error(format!(
+                "--operator: detection {j} (step {}) names landmark {id}, which the landmarks file does not hold",
+                d.step
+            ))
+        }),
+    }
+}
+
+fn meta(run: &Run, model: &SensorModel, o: &Options, ex: &Extrapolated) -> Value {
+    let same_run = model.calibration.fingerprint == run.fingerprint();
+    json!({
+        "calibration": {
+            "source": model.calibration.source,
+            "same_run": same_run,
+            "sensor_model": o.sensor_model,
+            "fingerprint": model.calibration.fingerprint,
+            "relative_margin": model.calibration.relative_margin,
+            "extrapolated": {
+                "note": "readings beyond the span the bound was fitted over: the bound holds there only as far as its line does",
+                "heading_error": ex.heading,
+                "motion_error": ex.motion,
+                "range": ex.range,
+                "bearing": ex.bearing,
+            },
+            "initial_pose": match (o.initial, run.truth.as_ref().and_then(|t| t.positions[0])) {
+                (Some(_), _) => "the user's box".to_string(),
+                (None, Some(_)) => format!("the truth's first pose within {FRAME_POSITION} m and {FRAME_HEADING} rad (the map's frame)"),
+                (None, None) => "the origin, heading 0 (the map's frame)".to_string(),
+            },
+        },
+        "sensor_model": model,
+    })
+}
+
+/// The truth for scoring: positions (and headings for odometry2d), null in
+/// the gaps; the landmarks and the matching when the landmarks file and
+/// every detection's id are known.
+fn truth(run: &Run) -> Option<Value> {
+    let t = run.truth.as_ref()?;
+    let opt = |x: Option<f64>| x.map_or(Value::Null, |v| json!(v));
+    let mut v = json!({
+        "positions": t.positions.iter().map(|p| p.map_or(Value::Null, |p| json!(p))).collect::<Vec<_>>(),
+    });
+    if run.model == Model::Odometry2d && t.has_heading {
+        v["headings"] = t.headings.iter().map(|&h| opt(h)).collect();
+    }
+    if let Some(l) = &run.landmarks {
+        v["landmarks"] = l.iter().map(|x| json!(x.1)).collect();
+        let matching: Option<Vec<usize>> = run
+            .detections
+            .iter()
+            .map(|d| run.landmark_index(d.landmark?))
+            .collect();
+        if let Some(mt) = matching {
+            v["matching"] = json!(mt);
+        }
+    }
+    Some(v)
+}

@@ -1,0 +1,514 @@
+//! A run as the calibration and `apply` read it: the odometry log, the raw
+//! detections, and (for a calibration) the truth and the landmarks, from
+//! the CSV files of docs/calibration.md.
+//!
+//! Times are matched to steps by the nearest time of the grid
+//! `t(0), ..., t(N-1), t(N-1) + dt` (the log's own times, so an irregular
+//! log does not drift away from its detections), within dt / 2; `dt` is
+//! the log's mean spacing.
+
+use crate::Error;
+use std::path::Path;
+
+/// The motion models a sensor model covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// Speed and turn rate; the heading is a state.
+    Odometry2d,
+    /// Speed and a measured heading.
+    Unicycle2d,
+}
+
+impl Model {
+    /// The model named `name`.
+    pub fn parse(name: &str) -> Result<Model, Error> {
+        match name {
+            "odometry2d" => Ok(Model::Odometry2d),
+            "unicycle2d" => Ok(Model::Unicycle2d),
+            _ => Err(Error(format!(
+                "--model: '{name}' has no sensor model (expected odometry2d or unicycle2d)"
+            ))),
+        }
+    }
+
+    /// The model's name in a mission.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Odometry2d => "odometry2d",
+            Model::Unicycle2d => "unicycle2d",
+        }
+    }
+
+    /// The log's second channel: `turn_rate` or `heading`.
+    pub fn rotation(self) -> &'static str {
+        match self {
+            Model::Odometry2d => "turn_rate",
+            Model::Unicycle2d => "heading",
+        }
+    }
+}
+
+/// One raw detection.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Detection {
+    /// The step it is matched to.
+    pub step: usize,
+    /// Measured range (m).
+    pub range: f64,
+    /// Measured bearing (rad), when the sensor gives one.
+    pub bearing: Option<f64>,
+    /// The sensor scan it came from.
+    pub scan: Option<u64>,
+    /// The landmark's id (the truth's in a calibration, the operator's
+    /// otherwise).
+    pub landmark: Option<u64>,
+}
+
+/// The truth of a run: a pose per step (N + 1), `None` in its gaps.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Truth {
+    /// True positions.
+    pub positions: Vec<Option<[f64; 2]>>,
+    /// True headings (rad, a real number), all `None` without a heading
+    /// column.
+    pub headings: Vec<Option<f64>>,
+    /// Whether the truth file has a heading column.
+    pub has_heading: bool,
+}
+
+/// A run: the log (N rows: N steps), its detections, and optionally its
+/// truth and landmarks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Run {
+    /// Motion model.
+    pub model: Model,
+    /// Log times (N).
+    pub t: Vec<f64>,
+    /// Time step: the log's mean spacing (s).
+    pub dt: f64,
+    /// Measured speed (m/s), N.
+    pub speed: Vec<f64>,
+    /// Measured turn rate (rad/s, odometry2d) or heading (rad, unicycle2d), N.
+    pub rotation: Vec<f64>,
+    /// Detections.
+    pub detections: Vec<Detection>,
+    /// Truth, for a calibration or for scoring.
+    pub truth: Option<Truth>,
+    /// Landmarks by id, sorted by id.
+    pub landmarks: Option<Vec<(u64, [f64; 2])>>,
+}
+
+impl Run {
+    /// Steps N.
+    pub fn steps(&self) -> usize {
+        self.t.len()
+    }
+
+    /// A digest of the log's numbers (FNV-1a over their bits): equal for
+    /// the same log, whatever its file is called.
+    pub fn fingerprint(&self) -> String {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for x in self.t.iter().chain(&self.speed).chain(&self.rotation) {
+            for b in x.to_bits().to_le_bytes() {
+                h ^= u64::from(b);
+                h = h.wrapping_mul(0x0100_0000_01b3);
+            }
+        }
+        format!("{}:{h:016x}", self.model.name())
+    }
+
+    /// The index of a landmark id in the sorted landmarks.
+    pub fn landmark_index(&self, id: u64) -> Option<usize> {
+        self.landmarks
+            .as_ref()
+            .and_then(|l| l.binary_search_by_key(&id, |x| x.0).ok())
+    }
+}
+
+/// A CSV with a header; a cell is `None` when empty.
+pub struct Table {
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows, with their line numbers.
+    pub rows: Vec<(usize, Vec<Option<f64>>)>,
+}
+
+impl Table {
+    /// The index of column `name`, or an error naming the file.
+    pub fn column(&self, name: &str, path: &Path) -> Result<usize, Error> {
+        self.header.iter().position(|h| h == name).ok_or_else(|| {
+            Error(format!(
+                "{}: missing column '{name}' in the header",
+                path.display()
+            ))
+        })
+    }
+
+    /// The number in a row's column, or an error naming file, line and
+    /// column when the cell is empty.
+    pub fn number(&self, row: usize, col: usize, path: &Path) -> Result<f64, Error> {
+        let (line, cells) = &self.rows[row];
+        cells[col].ok_or_else(|| {
+            Error(format!(
+                "{}:{line}: column {} ({}) is empty",
+                path.display(),
+                col + 1,
+                self.header[col]
+            ))
+        })
+    }
+}
+
+/// Reads a comma-separated file with a header row; an empty cell is
+/// `None`, any other cell must be a finite number. Errors name the file,
+/// line and column; a column named twice is refused.
+pub fn read_table(path: &Path) -> Result<Table, Error> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error(format!("reading {}: {e}", path.display())))?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, head) = lines
+        .next()
+        .ok_or_else(|| Error(format!("{}: empty file", path.display())))?;
+    let header: Vec<String> = head.split(',').map(|s| s.trim().to_string()).collect();
+    for (i, h) in header.iter().enumerate() {
+        if header[..i].contains(h) {
+            return Err(Error(format!(
+                "{}: column '{h}' appears twice in the header",
+                path.display()
+            )));
+        }
+    }
+    let mut rows = Vec::new();
+    for (i, l) in lines {
+        let cells: Vec<&str> = l.split(',').map(str::trim).collect();
+        if cells.len() != header.len() {
+            return Err(Error(format!(
+                "{}:{}: expected {} columns like the header, found {}",
+                path.display(),
+                i + 1,
+                header.len(),
+                cells.len()
+            )));
+        }
+        let mut row = Vec::with_capacity(cells.len());
+        for (c, cell) in cells.iter().enumerate() {
+            if cell.is_empty() {
+                row.push(None);
+                continue;
+            }
+            let x = cell
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    Error(format!(
+                        "{}:{}: column {} ({}): '{cell}' is not a finite number",
+                        path.display(),
+                        i + 1,
+                        c + 1,
+                        header[c]
+                    ))
+                })?;
+            row.push(Some(x));
+        }
+        rows.push((i + 1, row));
+    }
+    Ok(Table { header, rows })
+}
+
+/// The files of a run.
+pub struct Files<'a> {
+    /// The log: `t` and the model's channels.
+    pub log: &'a Path,
+    /// The detections: `t,range[,bearing][,scan][,landmark]`.
+    pub detections: &'a Path,
+    /// The truth: `t,x,y[,heading]`, empty cells in its gaps.
+    pub truth: Option<&'a Path>,
+    /// The landmarks: `id,x,y`.
+    pub landmarks: Option<&'a Path>,
+}
+
+/// Reads a run from its files.
+pub fn read_run(model: Model, files: &Files) -> Result<Run, Error> {
+    let (t, speed, rotation) = read_log(model, files.log)?;
+    let n = t.len();
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let grid = Grid { t: &t, dt };
+    let detections = read_detections(files.detections, &grid)?;
+    let truth = files
+        .truth
+        .map(|p| read_truth(p, &grid, model))
+        .transpose()?;
+    let landmarks = files.landmarks.map(read_landmarks).transpose()?;
+    Ok(Run {
+        model,
+        t,
+        dt,
+        speed,
+        rotation,
+        detections,
+        truth,
+        landmarks,
+    })
+}
+
+type Log = (Vec<f64>, Vec<f64>, Vec<f64>);
+
+fn read_log(model: Model, path: &Path) -> Result<Log, Error> {
+    let log = read_table(path)?;
+    let cols = [
+        log.column("t", path)?,
+        log.column("speed", path)?,
+        log.column(model.rotation(), path)?,
+    ];
+    if log.rows.len() < 2 {
+        return Err(Error(format!(
+            "{}: at least 2 rows are needed",
+            path.display()
+        )));
+    }
+    let mut out: [Vec<f64>; 3] = Default::default();
+    for r in 0..log.rows.len() {
+        for (v, &c) in out.iter_mut().zip(&cols) {
+            v.push(log.number(r, c, path)?);
+        }
+    }
+    for (k, w) in out[0].windows(2).enumerate() {
+        if w[1] <= w[0] {
+            return Err(Error(format!(
+                "{}:{}: times must increase ({} after {})",
+                path.display(),
+                log.rows[k + 1].0,
+                w[1],
+                w[0]
+            )));
+        }
+    }
+    let [t, speed, rotation] = out;
+    Ok((t, speed, rotation))
+}
+
+/// The step times of a log.
+struct Grid<'a> {
+    t: &'a [f64],
+    dt: f64,
+}
+
+impl Grid<'_> {
+    /// The step of time `x`: the nearest of `t(0..N)` and `t(N-1) + dt`,
+    /// when within dt / 2.
+    fn step(&self, x: f64) -> Option<usize> {
+        let n = self.t.len();
+        let time = |k: usize| {
+            if k < n {
+                self.t[k]
+            } else {
+                self.t[n - 1] + self.dt
+            }
+        };
+        let i = self.t.partition_point(|&y| y < x);
+        let best = [i.saturating_sub(1), i.min(n)]
+            .into_iter()
+            .min_by(|&a, &b| (time(a) - x).abs().total_cmp(&(time(b) - x).abs()))?;
+        ((time(best) - x).abs() <= self.dt / 2.0).then_some(best)
+    }
+}
+
+/// A non-negative integer cell.
+fn integer(x: f64, path: &Path, line: usize, name: &str) -> Result<u64, Error> {
+    if x >= 0.0 && x.fract() == 0.0 && x <= 9_007_199_254_740_992.0 {
+        Ok(x as u64)
+    } else {
+        Err(Error(format!(
+            "{}:{line}: {name} must be a non-negative integer, found {x}",
+            path.display()
+        )))
+    }
+}
+
+fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, Error> {
+    let det = read_table(path)?;
+    let (tc, rc) = (det.column("t", path)?, det.column("range", path)?);
+    let opt = |name: &str| det.header.iter().position(|h| h == name);
+    let (bc, sc, lc) = (opt("bearing"), opt("scan"), opt("landmark"));
+    let mut out = Vec::with_capacity(det.rows.len());
+    for r in 0..det.rows.len() {
+        let line = det.rows[r].0;
+        let t = det.number(r, tc, path)?;
+        let step = grid.step(t).ok_or_else(|| {
+            Error(format!(
+                "{}:{line}: time {t} is not within dt/2 of a step of the log",
+                path.display()
+            ))
+        })?;
+        let range = det.number(r, rc, path)?;
+        if range < 0.0 {
+            return Err(Error(format!(
+                "{}:{line}: range {range} is negative",
+                path.display()
+            )));
+        }
+        let cell = |c: Option<usize>| c.and_then(|c| det.rows[r].1[c]);
+        out.push(Detection {
+            step,
+            range,
+            bearing: cell(bc),
+            scan: cell(sc)
+                .map(|x| integer(x, path, line, "scan"))
+                .transpose()?,
+            landmark: cell(lc)
+                .map(|x| integer(x, path, line, "landmark"))
+                .transpose()?,
+        });
+    }
+    Ok(out)
+}
+
+fn read_truth(path: &Path, grid: &Grid, model: Model) -> Result<Truth, Error> {
+    let tab = read_table(path)?;
+    let [tc, xc, yc] = [
+        tab.column("t", path)?,
+        tab.column("x", path)?,
+        tab.column("y", path)?,
+    ];
+    let hc = tab.header.iter().position(|h| h == "heading");
+    let rows = grid.t.len() + 1;
+    let mut truth = Truth {
+        positions: vec![None; rows],
+        headings: vec![None; rows],
+        has_heading: hc.is_some(),
+    };
+    for r in 0..tab.rows.len() {
+        let (line, cells) = &tab.rows[r];
+        let t = tab.number(r, tc, path)?;
+        let Some(step) = grid.step(t) else {
+            return Err(Error(format!(
+                "{}:{line}: time {t} is not within dt/2 of a step of the log",
+                path.display()
+            )));
+        };
+        if let (Some(x), Some(y)) = (cells[xc], cells[yc]) {
+            truth.positions[step] = Some([x, y]);
+        }
+        truth.headings[step] = hc.and_then(|c| cells[c]);
+    }
+    if model == Model::Odometry2d && truth.has_heading {
+        unwrap_headings(&mut truth.headings);
+    }
+    Ok(truth)
+}
+
+/// Makes consecutive known headings differ by less than pi (a real
+/// heading, not taken modulo 2 pi), across gaps too.
+fn unwrap_headings(h: &mut [Option<f64>]) {
+    let tau = 2.0 * std::f64::consts::PI;
+    let mut last: Option<f64> = None;
+    for x in h.iter_mut() {
+        if let (Some(v), Some(p)) = (x.as_mut(), last) {
+            *v += tau * ((p - *v) / tau).round();
+        }
+        if x.is_some() {
+            last = *x;
+        }
+    }
+}
+
+fn read_landmarks(path: &Path) -> Result<Vec<(u64, [f64; 2])>, Error> {
+    let tab = read_table(path)?;
+    let [ic, xc, yc] = [
+        tab.column("id", path)?,
+        tab.column("x", path)?,
+        tab.column("y", path)?,
+    ];
+    let mut out = Vec::with_capacity(tab.rows.len());
+    for r in 0..tab.rows.len() {
+        let line = tab.rows[r].0;
+        let id = integer(tab.number(r, ic, path)?, path, line, "id")?;
+        out.push((id, [tab.number(r, xc, path)?, tab.number(r, yc, path)?]));
+    }
+    out.sort_by_key(|l| l.0);
+    if let Some(w) = out.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(Error(format!(
+            "{}: landmark {} appears twice",
+            path.display(),
+            w[0].0
+        )));
+    }
+    if out.is_empty() {
+        return Err(Error(format!("{}: no landmark", path.display())));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    /// An irregular log: times matched to the nearest step time (not to
+    /// round((t - t0) / dt), which would drift), the truth's empty cells
+    /// read as gaps, the end pose at t(N-1) + dt, the headings unwrapped.
+    #[test]
+    fn times_match_the_nearest_step_and_empty_cells_are_gaps() {
+        let dir = std::env::temp_dir().join(format!("nvector-data-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let log = write(
+            &dir,
+            "log.csv",
+            "t,speed,turn_rate\n0,1,0\n0.1,1,0\n0.25,1,0\n0.35,1,0\n",
+        );
+        let det = write(
+            &dir,
+            "det.csv",
+            "t,range,bearing,scan,landmark\n0.24,2,0.1,3,7\n0.47,1,,,\n",
+        );
+        let truth = write(
+            &dir,
+            "truth.csv",
+            "t,x,y,heading\n0,0,0,3.1\n0.1,,,\n0.25,1,1,-3.1\n0.47,2,2,\n",
+        );
+        let lm = write(&dir, "lm.csv", "id,x,y\n7,1,1\n2,0,0\n");
+        let f = Files {
+            log: &log,
+            detections: &det,
+            truth: Some(&truth),
+            landmarks: Some(&lm),
+        };
+        let run = read_run(Model::Odometry2d, &f).unwrap();
+        assert_eq!(run.steps(), 4);
+        assert!((run.dt - 0.35 / 3.0).abs() < 1e-12);
+        assert_eq!(run.detections[0].step, 2);
+        assert_eq!(run.detections[0].landmark, Some(7));
+        // 0.47 is the end pose: t(3) + dt = 0.4667.
+        assert_eq!(run.detections[1].step, 4);
+        assert_eq!(run.detections[1].bearing, None);
+        let t = run.truth.as_ref().unwrap();
+        assert_eq!(t.positions[1], None);
+        assert_eq!(t.positions[4], Some([2.0, 2.0]));
+        // -3.1 follows 3.1 across the gap as 2 pi - 3.1.
+        assert!((t.headings[2].unwrap() - (2.0 * std::f64::consts::PI - 3.1)).abs() < 1e-12);
+        assert_eq!(run.landmark_index(7), Some(1));
+        // A time off the grid is named.
+        let det2 = write(&dir, "det2.csv", "t,range,landmark\n0.9,2,7\n");
+        let f2 = Files {
+            detections: &det2,
+            ..f
+        };
+        let e = read_run(Model::Odometry2d, &f2).unwrap_err().0;
+        assert!(e.contains("det2.csv:2: time 0.9 is not within dt/2"), "{e}");
+        let bad = write(&dir, "bad.csv", "t,speed,turn_rate\n0,1,0\n0.1,1\n");
+        let e = read_run(Model::Odometry2d, &Files { log: &bad, ..f })
+            .unwrap_err()
+            .0;
+        assert!(e.contains("bad.csv:3: expected 3 columns"), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -1,0 +1,213 @@
+//! The fits: an affine bound over |residuals|, a residual band between
+//! two lines, a window's bound, and the rule on the number of samples.
+
+use crate::sensor_model::{Band, BandOf, Bound, Fit, Measure};
+
+/// The failure probability the sample rule allows (module doc of
+/// [`min_samples`]).
+pub const RULE_DELTA: f64 = 1e-3;
+
+/// The fewest samples a bound may be fitted on with the relative margin
+/// F: `ceil(ln(1 / delta) / ln(1 + F))`, delta = [`RULE_DELTA`].
+///
+/// The rule: when a run's residuals are drawn independently from errors
+/// bounded by B whose law puts at least as much mass near ±B as the
+/// uniform law on [-B, B] does, each sample lies below B / (1 + F) with
+/// probability at most 1 / (1 + F), so the largest of n samples times
+/// 1 + F falls short of B with probability at most (1 + F)^-n <= delta.
+/// The fitted bound is then at least B, and covers every run drawn from
+/// the same errors. F = 0.1 needs 73 samples; a window of k steps counts
+/// its disjoint windows (N / k), not its overlapping pairs.
+pub fn min_samples(relative_margin: f64) -> usize {
+    let f = relative_margin.max(1e-6);
+    ((1.0 / RULE_DELTA).ln() / f.ln_1p()).ceil() as usize
+}
+
+/// The line `y <= a + b·x` over every point with the smallest mean
+/// `a + b·mean(x)`, b in `[slope_lo, slope_hi]`: for a slope b the least a
+/// is the largest `y - b·x`, and the mean is convex in b (a maximum of
+/// linear functions plus a linear one), so a ternary search finds it.
+/// Returns `(a, b)`; an empty set gives `(-inf, 0)`.
+pub fn upper_line(points: &[(f64, f64)], slope_lo: f64, slope_hi: f64) -> (f64, f64) {
+    if points.is_empty() {
+        return (f64::NEG_INFINITY, 0.0);
+    }
+    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len() as f64;
+    let a_of = |b: f64| {
+        points
+            .iter()
+            .map(|&(x, y)| y - b * x)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let (mut lo, mut hi) = (slope_lo, slope_hi);
+    for _ in 0..100 {
+        let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+        if a_of(m1) + m1 * mean_x <= a_of(m2) + m2 * mean_x {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    let b = (lo + hi) / 2.0;
+    // The largest y - b x at the final b: every point is on or below.
+    (a_of(b), b)
+}
+
+/// The span of the xs.
+fn span(points: &[(f64, f64)]) -> [f64; 2] {
+    points
+        .iter()
+        .fold([f64::INFINITY, f64::NEG_INFINITY], |s, p| {
+            [s[0].min(p.0), s[1].max(p.0)]
+        })
+}
+
+/// An affine bound over `(x, |residual|)` points: the narrowest line
+/// (slope >= 0) holding every point, times 1 + F, plus `margin`; a
+/// constant one (the largest |residual|) when `of` is [`Measure::None`].
+pub fn affine_bound(
+    points: &[(f64, f64)],
+    of: Measure,
+    relative_margin: f64,
+    margin: f64,
+    method: &str,
+) -> Bound {
+    let (a, b) = match of {
+        Measure::None => (points.iter().map(|p| p.1).fold(0.0, f64::max), 0.0),
+        _ => upper_line(points, 0.0, 4.0),
+    };
+    let k = 1.0 + relative_margin;
+    let (a, b) = ((a.max(0.0)) * k + margin, b * k);
+    let inside = points.iter().filter(|p| p.1 <= a + b * p.0).count();
+    Bound {
+        constant: a,
+        slope: b,
+        of,
+        fit: Fit {
+            method: method.into(),
+            relative_margin,
+            margin,
+            samples: points.len(),
+            independent: points.len(),
+            coverage: inside as f64 / points.len().max(1) as f64,
+            largest_residual: points.iter().map(|p| p.1).fold(0.0, f64::max),
+            span: if of == Measure::None {
+                [0.0, 0.0]
+            } else {
+                span(points)
+            },
+        },
+    }
+}
+
+/// A residual band over `(x, residual)` points: the narrowest lines above
+/// the residuals and above their negations (slopes in [-2, 2]),
+/// intersected with the constant band of the smallest and largest
+/// residual; widened at use by F × its half-width plus `margin`
+/// ([`Band::at`]).
+pub fn band(
+    points: &[(f64, f64)],
+    of: BandOf,
+    min_range: f64,
+    relative_margin: f64,
+    margin: f64,
+    method: &str,
+) -> Band {
+    let negated: Vec<(f64, f64)> = points.iter().map(|p| (p.0, -p.1)).collect();
+    let (ua, ub) = upper_line(points, -2.0, 2.0);
+    let (la, lb) = upper_line(&negated, -2.0, 2.0);
+    let constant = points
+        .iter()
+        .fold([f64::INFINITY, f64::NEG_INFINITY], |s, p| {
+            [s[0].min(p.1), s[1].max(p.1)]
+        });
+    let mut out = Band {
+        upper: [ua, ub],
+        lower: [la, lb],
+        constant,
+        of,
+        min_range,
+        fit: Fit {
+            method: method.into(),
+            relative_margin,
+            margin,
+            samples: points.len(),
+            independent: points.len(),
+            coverage: 0.0,
+            largest_residual: points.iter().map(|p| p.1.abs()).fold(0.0, f64::max),
+            span: span(points),
+        },
+    };
+    let inside = points
+        .iter()
+        .filter(|&&(x, e)| {
+            let ((lo, hi), _) = out.at(x);
+            lo <= e && e <= hi
+        })
+        .count();
+    out.fit.coverage = inside as f64 / points.len().max(1) as f64;
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nvector_core::slam::simulate::Rng;
+
+    /// The fitted line holds every point: zero, tiny and huge values,
+    /// and points planted on the boundary of a known line.
+    #[test]
+    fn the_upper_line_holds_every_point() {
+        let mut rng = Rng::new(7);
+        for scale in [0.0, 1e-300, 1e-9, 1.0, 1e6, 1e100] {
+            let pts: Vec<(f64, f64)> = (0..200)
+                .map(|_| (rng.range(0.0, 3.0) * scale, rng.sym(1.0) * scale))
+                .collect();
+            for (lo, hi) in [(0.0, 4.0), (-2.0, 2.0)] {
+                let (a, b) = upper_line(&pts, lo, hi);
+                assert!((lo..=hi).contains(&b));
+                for &(x, y) in &pts {
+                    // a is the largest y - b x: a + b x >= y up to one
+                    // rounding of a + b x.
+                    let v = a + b * x;
+                    assert!(
+                        v >= y - 4.0 * f64::EPSILON * (v.abs() + y.abs()),
+                        "scale {scale}: {v} < {y}"
+                    );
+                }
+            }
+        }
+        // Points on the line y = 1 + 0.5 x: that line is the answer.
+        let on: Vec<(f64, f64)> = (0..=10).map(|i| (i as f64, 1.0 + 0.5 * i as f64)).collect();
+        let (a, b) = upper_line(&on, 0.0, 4.0);
+        assert!((a - 1.0).abs() < 1e-9 && (b - 0.5).abs() < 1e-9, "{a} {b}");
+        assert_eq!(upper_line(&[], 0.0, 1.0).0, f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn an_affine_bound_covers_its_samples_with_its_margins() {
+        let pts = [(0.0, 0.1), (1.0, 0.3), (2.0, 0.2), (0.5, 0.0)];
+        let b = affine_bound(&pts, Measure::Distance, 0.1, 0.005, "m");
+        assert_eq!(b.fit.coverage, 1.0);
+        assert!(b.slope >= 0.0 && b.constant >= 0.1 * 1.1);
+        for &(x, y) in &pts {
+            assert!(b.at(x) >= y * 1.1 + 0.005 - 1e-12, "{x}");
+        }
+        let c = affine_bound(&pts, Measure::None, 0.1, 0.005, "m");
+        assert_eq!((c.constant, c.slope), (0.3 * 1.1 + 0.005, 0.0));
+        assert_eq!(c.fit.span, [0.0, 0.0]);
+    }
+
+    #[test]
+    fn the_sample_rule() {
+        // (1 + F)^-n <= 1e-3 at n = min_samples(F), not at n - 1.
+        for f in [0.01, 0.05, 0.1, 0.5, 1.0] {
+            let n = min_samples(f);
+            assert!(
+                (1.0 + f).powi(-(n as i32)) <= RULE_DELTA * (1.0 + 1e-12),
+                "F = {f}"
+            );
+            assert!((1.0 + f).powi(-(n as i32 - 1)) > RULE_DELTA, "F = {f}");
+        }
+    }
+}

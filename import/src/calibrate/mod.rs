@@ -1,0 +1,508 @@
+//! The calibration: a [`SensorModel`] fitted on a run with truth, one
+//! fitting code for every robot (docs/calibration.md).
+//!
+//! Pipeline: [`data::read_run`] reads the CSVs; [`residuals`] gives the
+//! truth's residual against each part of the model (only where the truth
+//! is known: a gap removes its steps); [`fit`] bounds them; [`calibrate`]
+//! assembles the model and refuses, naming the reason, a bound the data
+//! cannot support; [`verify`] counts the samples of another run with truth
+//! that a model leaves outside.
+
+pub mod convert;
+pub mod data;
+pub mod fit;
+pub mod residuals;
+
+use crate::sensor_model::{
+    BandOf, Bound, Calibration, Fit, Measure, Refusal, SensorModel, SpeedBound, Window, FORMAT,
+};
+use crate::Error;
+use data::{Model, Run};
+use residuals as res;
+
+/// The absolute margins added after the relative one (docs/calibration.md).
+pub mod margins {
+    /// Per-step heading (rad).
+    pub const HEADING: f64 = 0.005;
+    /// Per-step motion, per axis (m).
+    pub const MOTION: f64 = 0.005;
+    /// The speed below which its sign is unknown (m/s).
+    pub const SPEED_SIGN: f64 = 0.01;
+    /// The range band, each side (m).
+    pub const RANGE: f64 = 0.01;
+    /// The bearing band, each side (rad).
+    pub const BEARING: f64 = 0.01;
+    /// A heading window (rad).
+    pub const HEADING_WINDOW: f64 = 0.02;
+    /// A motion window (m).
+    pub const MOTION_WINDOW: f64 = 0.01;
+    /// The bearing band's 1/r takes r at least this (m).
+    pub const MIN_RANGE_FOR_BEARING: f64 = 0.1;
+    /// A residual whose every sample is at most this is "identically 0".
+    pub const ZERO: f64 = 1e-9;
+}
+
+/// The heading windows tried (steps): every k of 2..=50 (the gaps
+/// between sightings of a returning landmark), then a geometric ladder.
+pub fn heading_windows() -> impl Iterator<Item = usize> {
+    (2..=50).chain([60, 80, 100, 150, 200, 300, 1000, 3000, 10000])
+}
+
+/// The motion windows tried (steps).
+pub fn motion_windows() -> impl Iterator<Item = usize> {
+    (3..=60).chain([80, 100, 150, 200, 300])
+}
+
+/// What the user gives a calibration besides the data.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The relative margin F (>= 0).
+    pub relative_margin: f64,
+    /// Where the sensor sits in the body frame (m).
+    pub sensor_offset: [f64; 2],
+    /// A heading bound the user states instead of fitting it (rad), for a
+    /// truth whose heading cannot calibrate it.
+    pub assume_heading: Option<f64>,
+    /// What the run is, for the model's `calibration.source`.
+    pub source: String,
+}
+
+/// A bound refused, or fitted.
+type Fitted<T> = Result<T, Refusal>;
+
+fn refuse<T>(bound: &str, reason: String) -> Fitted<T> {
+    Err(Refusal {
+        bound: bound.into(),
+        reason,
+    })
+}
+
+/// Refuses too few samples or residuals identically 0.
+fn enough(bound: &str, samples: &[f64], min: usize, what: &str) -> Fitted<()> {
+    if samples.len() < min {
+        return refuse(
+            bound,
+            format!(
+                "too few samples: {} ({what}), at least {min} needed for this margin",
+                samples.len()
+            ),
+        );
+    }
+    let largest = samples.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if largest <= margins::ZERO {
+        return refuse(
+            bound,
+            format!(
+                "{bound} residual identically 0 (largest |residual| {largest:.1e} over {} samples): the truth may be derived from this channel",
+                samples.len()
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// The heading bound: `unicycle2d` the heading channel (constant),
+/// `odometry2d` the per-step integration error (affine in the turn).
+fn heading(run: &Run, o: &Options, min: usize) -> Fitted<Bound> {
+    if let Some(e) = o.assume_heading {
+        if !(e.is_finite() && e >= 0.0) {
+            return refuse(
+                "heading",
+                format!("--assume heading={e}: E must be a number >= 0"),
+            );
+        }
+        let mut b = fit::affine_bound(
+            &[],
+            Measure::None,
+            0.0,
+            e,
+            "assumed by the user (--assume heading=E), not fitted: no sample",
+        );
+        b.fit.coverage = 1.0;
+        return Ok(b);
+    }
+    if !run.truth.as_ref().is_some_and(|t| t.has_heading) {
+        return refuse(
+            "heading",
+            "the truth has no heading column: the heading's bound needs true headings (or --assume heading=E)".into(),
+        );
+    }
+    let f = o.relative_margin;
+    let hint = "; state one with --assume heading=E";
+    match run.model {
+        Model::Unicycle2d => {
+            let r: Vec<f64> = res::heading_channel(run).iter().map(|p| p.1).collect();
+            enough("heading", &r, min, "steps with a true heading").map_err(|e| Refusal {
+                reason: e.reason + hint,
+                ..e
+            })?;
+            let pts: Vec<(f64, f64)> = r.iter().map(|x| (0.0, x.abs())).collect();
+            Ok(fit::affine_bound(&pts, Measure::None, f, margins::HEADING,
+                "the largest |true - measured heading| over the steps with a true heading, x (1 + F) + margin"))
+        }
+        Model::Odometry2d => {
+            let pts = res::heading_steps(run);
+            let r: Vec<f64> = pts.iter().map(|p| p.1).collect();
+            enough("heading", &r, min, "steps with a true heading at both ends").map_err(|e| {
+                Refusal {
+                    reason: e.reason + hint,
+                    ..e
+                }
+            })?;
+            let pts: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1.abs())).collect();
+            Ok(fit::affine_bound(&pts, Measure::Turn, f, margins::HEADING,
+                "|th(i+1) - th(i) - dt turn_rate(i)| of the truth over the steps with a true heading at both ends, bounded by the narrowest line in the step's turn |turn_rate| dt (slope >= 0), x (1 + F) + margin"))
+        }
+    }
+}
+
+/// The speed channel: exact (the motion error holds its error), and when
+/// the log never reports a negative speed but the truth moves backwards at
+/// steps with a positive speed v (its along-track speed u nearer -v than
+/// 0: v < 2|u|, a reversal the odometer reported without its sign, not a
+/// glitch of the odometry that the flipped sign would not explain), the
+/// sign is unknown below the largest such speed × (1 + F) + margin.
+fn speed(run: &Run, o: &Options) -> SpeedBound {
+    let signless = run.speed.iter().all(|&v| v >= 0.0);
+    let reversals: Vec<f64> = res::along_track(run)
+        .into_iter()
+        .filter(|&(_, v, u)| signless && v > 0.0 && u < 0.0 && v < 2.0 * -u)
+        .map(|(_, v, _)| v)
+        .collect();
+    let largest = reversals.iter().fold(0.0f64, |a, &v| a.max(v));
+    let mut error = fit::affine_bound(
+        &[],
+        Measure::None,
+        0.0,
+        0.0,
+        "0: the speed is taken as measured; the per-step motion error holds its error",
+    );
+    error.fit.coverage = 1.0;
+    SpeedBound {
+        error,
+        sign_unknown_below: (!reversals.is_empty())
+            .then_some(largest * (1.0 + o.relative_margin) + margins::SPEED_SIGN),
+    }
+}
+
+/// The per-step motion error, affine in the step's distance.
+fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound, min: usize) -> Fitted<Bound> {
+    let eh = match run.model {
+        Model::Unicycle2d => h.constant,
+        Model::Odometry2d => 0.0,
+    };
+    let pts = res::motion_steps(run, &|x| s.error.at(x), s.sign_unknown_below, eh);
+    let r: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    if pts.len() >= min && r.iter().all(|&x| x <= margins::ZERO) {
+        // Inside the model's intervals everywhere: no error to bound.
+        return Ok(fit::affine_bound(
+            &pts,
+            Measure::Distance,
+            o.relative_margin,
+            margins::MOTION,
+            "the true steps all lie inside the model's intervals: the margin alone",
+        ));
+    }
+    enough(
+        "motion_error",
+        &r,
+        min,
+        "steps with a true position at both ends",
+    )?;
+    Ok(fit::affine_bound(&pts, Measure::Distance, o.relative_margin, margins::MOTION,
+        "per axis, the distance from the true step to the hull of dt s (cos h, sin h) over the step's speed and heading intervals (odometry2d: the true heading), over the steps with a true position at both ends, bounded by the narrowest line in the step's distance |speed| dt (slope >= 0), x (1 + F) + margin"))
+}
+
+/// A window's bound from its residuals, or why not.
+fn window(
+    name: &str,
+    k: usize,
+    r: &[f64],
+    o: &Options,
+    min: usize,
+    margin: f64,
+    method: &str,
+) -> Fitted<Window> {
+    let independent = r.len() / k;
+    if independent < min {
+        return refuse(
+            &format!("{name}[k={k}]"),
+            format!("too few samples: {independent} disjoint windows of {k} steps with the truth at their ends, at least {min} needed for this margin"),
+        );
+    }
+    let largest = r.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let error = largest * (1.0 + o.relative_margin) + margin;
+    Ok(Window {
+        steps: k,
+        error,
+        fit: Fit {
+            method: method.into(),
+            relative_margin: o.relative_margin,
+            margin,
+            samples: r.len(),
+            independent,
+            coverage: r.iter().filter(|x| x.abs() <= error).count() as f64 / r.len() as f64,
+            largest_residual: largest,
+            span: [0.0, 0.0],
+        },
+    })
+}
+
+/// The drift windows of odometry2d, those below k mean per-step bounds.
+fn windows(
+    run: &Run,
+    o: &Options,
+    h: &Bound,
+    m: &Bound,
+    min: usize,
+    refused: &mut Vec<Refusal>,
+) -> (Vec<Window>, Vec<Window>) {
+    let mean =
+        |b: &Bound, xs: &[f64]| xs.iter().map(|&x| b.at(x)).sum::<f64>() / xs.len().max(1) as f64;
+    let turns: Vec<f64> = run.rotation.iter().map(|w| (w * run.dt).abs()).collect();
+    let dists: Vec<f64> = run.speed.iter().map(|v| (v * run.dt).abs()).collect();
+    let (per_h, per_m) = (mean(h, &turns), mean(m, &dists) * std::f64::consts::SQRT_2);
+    let turn = res::prefix_turn(run);
+    let mut hw = Vec::new();
+    for k in heading_windows().filter(|&k| k <= run.steps()) {
+        match window("heading_drift", k, &res::heading_window(run, &turn, k), o, min, margins::HEADING_WINDOW,
+            "the largest |th(i+k) - th(i) - sum dt turn_rate| of the truth over the pairs with both headings true, x (1 + F) + margin") {
+            Ok(w) if w.error < k as f64 * per_h => hw.push(w),
+            Ok(_) => {}
+            Err(e) => refused.push(e),
+        }
+    }
+    let prefix = res::prefix_motion(run);
+    let mut mw = Vec::new();
+    for k in motion_windows().filter(|&k| k <= run.steps()) {
+        match window("motion_drift", k, &res::motion_window(run, &prefix, k), o, min, margins::MOTION_WINDOW,
+            "the largest Euclidean |p(i+k) - p(i) - sum dt v (cos th, sin th)| of the truth over the windows with true positions at the ends and true headings inside, x (1 + F) + margin") {
+            Ok(w) if w.error < k as f64 * per_m => mw.push(w),
+            Ok(_) => {}
+            Err(e) => refused.push(e),
+        }
+    }
+    (hw, mw)
+}
+
+/// The detection residuals: (range, range residual, bearing residual).
+fn detection_residuals(run: &Run, offset: [f64; 2]) -> Vec<(f64, f64, Option<f64>)> {
+    (0..run.detections.len())
+        .filter_map(|j| res::detection(run, j, offset))
+        .collect()
+}
+
+/// The range and bearing bands.
+fn bands(
+    run: &Run,
+    o: &Options,
+    min: usize,
+) -> Fitted<(crate::sensor_model::Band, Option<crate::sensor_model::Band>)> {
+    let d = detection_residuals(run, o.sensor_offset);
+    let r: Vec<f64> = d.iter().map(|x| x.1).collect();
+    enough(
+        "range",
+        &r,
+        min,
+        "detections of a known landmark at a step with a true pose",
+    )?;
+    let f = o.relative_margin;
+    let pts: Vec<(f64, f64)> = d.iter().map(|x| (x.0, x.1)).collect();
+    let range = fit::band(&pts, BandOf::Range, 0.0, f, margins::RANGE,
+        "measured - true range over the detections of a known landmark at a step with a true pose, between the narrowest lines in the measured range r above and below every residual, within the smallest and largest residual; each side widened by F x the half-width + margin");
+    let min_r = margins::MIN_RANGE_FOR_BEARING;
+    let bpts: Vec<(f64, f64)> = d
+        .iter()
+        .filter_map(|x| Some((1.0 / x.0.max(min_r), x.2?)))
+        .collect();
+    if bpts.is_empty() {
+        return Ok((range, None));
+    }
+    let b: Vec<f64> = bpts.iter().map(|p| p.1).collect();
+    enough(
+        "bearing",
+        &b,
+        min,
+        "detections with a bearing of a known landmark at a step with a true pose",
+    )?;
+    let bearing = fit::band(&bpts, BandOf::InverseRange, min_r, f, margins::BEARING,
+        "measured - true bearing (wrapped) over the detections with a bearing, between the narrowest lines in 1/r above and below every residual, within the smallest and largest residual; each side widened by F x the half-width + margin");
+    Ok((range, Some(bearing)))
+}
+
+/// Fits a sensor model on a run with truth and landmarks. An error lists
+/// every bound refused (too few samples, a residual identically 0, no
+/// true heading); drift windows the data cannot support are left out and
+/// listed in `refused`.
+pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, Error> {
+    if !(o.relative_margin.is_finite() && o.relative_margin > 0.0) {
+        return Err(Error(format!(
+            "--margin must be a number > 0, found {}",
+            o.relative_margin
+        )));
+    }
+    let Some(truth) = run.truth.as_ref() else {
+        return Err(Error("a calibration needs the truth (--truth)".into()));
+    };
+    if run.landmarks.is_none() {
+        return Err(Error(
+            "a calibration needs the landmarks (--landmarks)".into(),
+        ));
+    }
+    let min = fit::min_samples(o.relative_margin);
+    let mut refused = Vec::new();
+    let h = heading(run, o, min);
+    let s = speed(run, o);
+    let placeholder = fit::affine_bound(&[], Measure::None, 0.0, 0.0, "");
+    let m = motion(run, o, &s, h.as_ref().unwrap_or(&placeholder), min);
+    let b = bands(run, o, min);
+    let fatal: Vec<Refusal> = [h.as_ref().err(), m.as_ref().err(), b.as_ref().err()]
+        .into_iter()
+        .flatten()
+        .cloned()
+        .collect();
+    let (Ok(h), Ok(m), Ok((range, bearing))) = (h, m, b) else {
+        let why: Vec<String> = fatal
+            .iter()
+            .map(|r| format!("{}: {}", r.bound, r.reason))
+            .collect();
+        return Err(Error(format!("no sensor model: {}", why.join("; "))));
+    };
+    let (heading_drift, motion_drift) = match run.model {
+        Model::Odometry2d => windows(run, o, &h, &m, min, &mut refused),
+        Model::Unicycle2d => (Vec::new(), Vec::new()),
+    };
+    let gaps = (0..run.steps())
+        .filter(|&i| {
+            let known = |k: usize| {
+                truth.positions[k].is_some() && (!truth.has_heading || truth.headings[k].is_some())
+            };
+            !(known(i) && known(i + 1))
+        })
+        .count();
+    let model = SensorModel {
+        format: FORMAT.into(),
+        model: run.model.name().into(),
+        calibration: Calibration {
+            source: o.source.clone(),
+            fingerprint: run.fingerprint(),
+            steps: run.steps(),
+            dt: run.dt,
+            detections: run.detections.len(),
+            truth_gaps: gaps,
+            relative_margin: o.relative_margin,
+            min_samples: min,
+        },
+        speed: s,
+        heading: h,
+        motion_error: m,
+        heading_drift,
+        motion_drift,
+        range,
+        bearing,
+        sensor_offset: o.sensor_offset,
+        refused,
+    };
+    // Readings so large that a fit overflows give no bound.
+    model.check_numbers().map_err(|e| {
+        Error(format!(
+            "no sensor model: {e} (readings too large for a bound?)"
+        ))
+    })?;
+    Ok(model)
+}
+
+/// How a model holds on a run with truth: per bound, the samples and how
+/// many the model leaves outside, with the worst excess.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Coverage {
+    /// The bound.
+    pub bound: String,
+    /// Samples checked.
+    pub samples: usize,
+    /// Samples outside the bound.
+    pub outside: usize,
+    /// The largest amount by which a sample exceeds the bound (0 when none).
+    pub worst: f64,
+}
+
+fn count(bound: String, excess: impl Iterator<Item = f64>) -> Coverage {
+    let (mut samples, mut outside, mut worst) = (0, 0, 0.0f64);
+    for e in excess {
+        samples += 1;
+        if e > 0.0 {
+            outside += 1;
+            worst = worst.max(e);
+        }
+    }
+    Coverage {
+        bound,
+        samples,
+        outside,
+        worst,
+    }
+}
+
+/// The samples of `run` (with truth and landmarks) that `model` leaves
+/// outside, bound by bound (the same residuals the calibration fits).
+pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
+    let mut out = Vec::new();
+    let h = &model.heading;
+    if h.fit.method.starts_with("assumed") || run.truth.as_ref().is_some_and(|t| t.has_heading) {
+        let ex: Vec<f64> = match run.model {
+            Model::Unicycle2d => res::heading_channel(run)
+                .iter()
+                .map(|p| p.1.abs() - h.at(0.0))
+                .collect(),
+            Model::Odometry2d => res::heading_steps(run)
+                .iter()
+                .map(|p| p.1.abs() - h.at(p.0))
+                .collect(),
+        };
+        out.push(count("heading".into(), ex.into_iter()));
+    }
+    let eh = if run.model == Model::Unicycle2d {
+        h.constant
+    } else {
+        0.0
+    };
+    let s = &model.speed;
+    let pts = res::motion_steps(run, &|x| s.error.at(x), s.sign_unknown_below, eh);
+    let m = &model.motion_error;
+    out.push(count(
+        "motion_error".into(),
+        pts.iter().map(|p| p.1 - m.at(p.0)),
+    ));
+    let turn = res::prefix_turn(run);
+    for w in &model.heading_drift {
+        let r = res::heading_window(run, &turn, w.steps);
+        out.push(count(
+            format!("heading_drift[k={}]", w.steps),
+            r.iter().map(|x| x.abs() - w.error),
+        ));
+    }
+    let prefix = res::prefix_motion(run);
+    for w in &model.motion_drift {
+        let r = res::motion_window(run, &prefix, w.steps);
+        out.push(count(
+            format!("motion_drift[k={}]", w.steps),
+            r.iter().map(|x| x - w.error),
+        ));
+    }
+    let d = detection_residuals(run, model.sensor_offset);
+    let outside = |b: &crate::sensor_model::Band, r: f64, e: f64| {
+        let ((lo, hi), _) = b.at(b.x(r));
+        (lo - e).max(e - hi)
+    };
+    out.push(count(
+        "range".into(),
+        d.iter().map(|x| outside(&model.range, x.0, x.1)),
+    ));
+    if let Some(b) = &model.bearing {
+        out.push(count(
+            "bearing".into(),
+            d.iter().filter_map(|x| Some(outside(b, x.0, x.2?))),
+        ));
+    }
+    out
+}

@@ -1,0 +1,295 @@
+//! The calibration on planted worlds: a robot whose errors are drawn
+//! within known bounds B (uniform on [-B, B], the law the sample rule of
+//! `fit::min_samples` is stated for).
+//!
+//! - A model fitted on one world covers a second world drawn from the
+//!   same bounds whenever the calibration saw at least `min_samples(F)`
+//!   samples per bound (the rule: the largest of n samples times 1 + F
+//!   falls short of B with probability at most (1 + F)^-n <= 1e-3), over
+//!   many seeds; the drift windows, sums of k draws, are outside the rule
+//!   and leave at most one sample in a thousand outside.
+//! - It never claims less than its own data needs: every sample of the
+//!   calibration world lies inside its bounds (coverage 1).
+//! - It refuses, naming the reason: a truth derived from the channel, too
+//!   few samples, a truth without headings; it reads gaps without filling
+//!   them (a gap removes its steps, never adds a residual).
+
+use nvector_core::slam::simulate::Rng;
+use nvector_import::calibrate::data::{Detection, Model, Run, Truth};
+use nvector_import::calibrate::{calibrate, fit, verify, Options};
+
+/// The planted bounds.
+#[derive(Clone, Copy)]
+struct Planted {
+    heading: f64,
+    motion: f64,
+    range: f64,
+    bearing: f64,
+}
+
+const B: Planted = Planted {
+    heading: 0.01,
+    motion: 0.02,
+    range: 0.1,
+    bearing: 0.05,
+};
+
+fn landmarks(rng: &mut Rng) -> Vec<(u64, [f64; 2])> {
+    (0..12)
+        .map(|i| {
+            (
+                i as u64 * 3 + 1,
+                [rng.range(-15.0, 15.0), rng.range(-15.0, 15.0)],
+            )
+        })
+        .collect()
+}
+
+/// An odometry2d world of `n` steps: the measured turn rate and speed,
+/// the true heading and position drawn step by step with per-step errors
+/// uniform within the planted bounds, detections of every landmark within
+/// 8 m every 4 steps with range and bearing errors uniform within theirs.
+fn world(seed: u64, n: usize, b: Planted, lms: &[(u64, [f64; 2])]) -> Run {
+    let mut rng = Rng::new(seed);
+    let dt = 0.1;
+    let mut t = Vec::with_capacity(n);
+    let (mut speed, mut turn) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let (mut p, mut th) = (vec![[0.0, 0.0]], vec![0.3]);
+    for i in 0..n {
+        t.push(i as f64 * dt);
+        let v = 0.6 + 0.4 * (i as f64 / 37.0).sin();
+        // A turn bias: the robot circles near the origin, among the
+        // landmarks.
+        let w = 0.35 + 0.3 * (i as f64 / 53.0).sin() + 0.1 * rng.sym(1.0);
+        speed.push(v);
+        turn.push(w);
+        let h = th[i];
+        th.push(h + dt * w + rng.sym(b.heading));
+        let q: [f64; 2] = p[i];
+        p.push([
+            q[0] + dt * v * h.cos() + rng.sym(b.motion),
+            q[1] + dt * v * h.sin() + rng.sym(b.motion),
+        ]);
+    }
+    let mut detections = Vec::new();
+    for i in (0..=n).step_by(4) {
+        for &(id, l) in lms {
+            let (dx, dy) = (l[0] - p[i][0], l[1] - p[i][1]);
+            let r = dx.hypot(dy);
+            if r < 8.0 {
+                detections.push(Detection {
+                    step: i,
+                    range: (r + rng.sym(b.range)).max(0.0),
+                    bearing: Some(dy.atan2(dx) - th[i] + rng.sym(b.bearing)),
+                    scan: Some(i as u64),
+                    landmark: Some(id),
+                });
+            }
+        }
+    }
+    Run {
+        model: Model::Odometry2d,
+        t,
+        dt,
+        speed,
+        rotation: turn,
+        detections,
+        truth: Some(Truth {
+            positions: p.into_iter().map(Some).collect(),
+            headings: th.into_iter().map(Some).collect(),
+            has_heading: true,
+        }),
+        landmarks: Some(lms.to_vec()),
+    }
+}
+
+fn options() -> Options {
+    Options {
+        relative_margin: 0.1,
+        sensor_offset: [0.0, 0.0],
+        assume_heading: None,
+        source: "planted".into(),
+    }
+}
+
+/// A world among the same landmarks (drawn once).
+fn circling(seed: u64, n: usize, b: Planted) -> Run {
+    world(seed, n, b, &landmarks(&mut Rng::new(999)))
+}
+
+#[test]
+fn a_model_fitted_on_enough_samples_covers_a_second_world_drawn_from_the_same_bounds() {
+    let mut windows = (0usize, 0usize);
+    for seed in 1..=12 {
+        let cal = circling(seed, 3000, B);
+        let model = calibrate(&cal, &options()).expect("calibration");
+        // The rule's premise: every per-step bound and band saw at least
+        // min_samples.
+        let min = fit::min_samples(0.1);
+        assert_eq!(model.calibration.min_samples, min);
+        assert!(model.heading.fit.samples >= min && model.range.fit.samples >= min);
+        let other = circling(seed + 1000, 3000, B);
+        for c in verify(&model, &other) {
+            if c.bound.contains("drift") {
+                windows.0 += c.samples;
+                windows.1 += c.outside;
+                continue;
+            }
+            assert_eq!(
+                c.outside, 0,
+                "seed {seed}: {} leaves {} of {} samples of the second world outside (worst {})",
+                c.bound, c.outside, c.samples, c.worst
+            );
+        }
+    }
+    // The drift windows are outside the rule: a sum of k uniform draws
+    // puts little mass near its ends, so the largest of N / k windows
+    // need not reach what a second world shows. The margin makes the
+    // excess rare: at most one window sample in a thousand.
+    assert!(
+        windows.1 * 1000 <= windows.0,
+        "{} of {} window samples outside",
+        windows.1,
+        windows.0
+    );
+}
+
+#[test]
+fn a_model_never_claims_less_than_its_own_data_needs() {
+    for seed in 1..=6 {
+        let cal = circling(seed, 2000, B);
+        let model = calibrate(&cal, &options()).expect("calibration");
+        for c in verify(&model, &cal) {
+            assert_eq!(
+                c.outside, 0,
+                "seed {seed}: {} on its own data: {c:?}",
+                c.bound
+            );
+        }
+        assert_eq!(model.heading.fit.coverage, 1.0);
+        assert_eq!(model.motion_error.fit.coverage, 1.0);
+        assert_eq!(model.range.fit.coverage, 1.0);
+        // And the planted bound: the constant per-step bounds are at least
+        // the largest residual, which on 2000 uniform draws is within 1 %
+        // of B with probability 1 - 0.99^2000.
+        assert!(model.heading.at(0.0).max(model.heading.at(0.02)) >= 0.99 * B.heading);
+    }
+}
+
+#[test]
+fn a_truth_derived_from_the_heading_channel_is_refused_naming_the_reason() {
+    let mut run = circling(3, 1500, B);
+    // unicycle2d whose truth heading is the measured heading itself.
+    let th = run.truth.as_ref().unwrap().headings.clone();
+    run.model = Model::Unicycle2d;
+    run.rotation = th[..run.t.len()].iter().map(|h| h.unwrap()).collect();
+    let e = calibrate(&run, &options()).unwrap_err().to_string();
+    assert!(e.contains("heading residual identically 0"), "{e}");
+    assert!(
+        e.contains("the truth may be derived from this channel"),
+        "{e}"
+    );
+    assert!(e.contains("--assume heading=E"), "{e}");
+    // Stated by the user instead: fitted around it, and marked.
+    let mut o = options();
+    o.assume_heading = Some(0.02);
+    let m = calibrate(&run, &o).expect("with --assume");
+    assert_eq!(m.heading.at(0.0), 0.02);
+    assert!(
+        m.heading.fit.method.starts_with("assumed"),
+        "{}",
+        m.heading.fit.method
+    );
+}
+
+#[test]
+fn too_few_samples_are_refused_and_long_windows_left_out() {
+    let min = fit::min_samples(0.1);
+    assert_eq!(min, 73, "ln(1000) / ln(1.1) = 72.48");
+    // Fewer steps than the rule needs: the per-step bounds are refused.
+    let run = circling(4, min - 5, B);
+    let e = calibrate(&run, &options()).unwrap_err().to_string();
+    assert!(e.contains("too few samples"), "{e}");
+    // Enough for the steps, not for windows of 50 steps (need 73 x 50).
+    let run = circling(4, 2000, B);
+    let m = calibrate(&run, &options()).expect("calibration");
+    assert!(m.heading_drift.iter().all(|w| w.fit.independent >= min));
+    assert!(m.heading_drift.iter().all(|w| w.steps * min <= 2000));
+    assert!(
+        m.refused
+            .iter()
+            .any(|r| r.bound == "heading_drift[k=50]" && r.reason.contains("too few samples")),
+        "{:?}",
+        m.refused
+    );
+    // A smaller margin asks for more samples.
+    assert!(fit::min_samples(0.01) > 600);
+}
+
+#[test]
+fn a_truth_without_headings_is_refused_for_odometry2d() {
+    let mut run = circling(5, 1000, B);
+    let t = run.truth.as_mut().unwrap();
+    t.headings.iter_mut().for_each(|h| *h = None);
+    t.has_heading = false;
+    let e = calibrate(&run, &options()).unwrap_err().to_string();
+    assert!(e.contains("no heading column"), "{e}");
+}
+
+#[test]
+fn gaps_in_the_truth_remove_their_steps_and_never_add_a_residual() {
+    let run = circling(6, 3000, B);
+    let full = calibrate(&run, &options()).expect("calibration");
+    // A gap of 200 steps: the truth unknown there. A completion across it
+    // (interpolation) would add residuals the planted bounds never made;
+    // reading only known ends adds none.
+    let mut gapped = run.clone();
+    let t = gapped.truth.as_mut().unwrap();
+    for k in 1000..1200 {
+        t.positions[k] = None;
+        t.headings[k] = None;
+    }
+    let m = calibrate(&gapped, &options()).expect("calibration with a gap");
+    assert_eq!(m.calibration.truth_gaps, 201);
+    assert!(m.heading.fit.samples < full.heading.fit.samples);
+    assert!(m.heading.fit.largest_residual <= full.heading.fit.largest_residual);
+    assert!(m.motion_error.fit.largest_residual <= full.motion_error.fit.largest_residual);
+    for (a, b) in m.heading_drift.iter().zip(&full.heading_drift) {
+        assert_eq!(a.steps, b.steps);
+        assert!(
+            a.fit.largest_residual <= b.fit.largest_residual,
+            "k = {}",
+            a.steps
+        );
+    }
+    // A truth with gaps everywhere: too few samples, refused.
+    let mut sparse = run.clone();
+    let t = sparse.truth.as_mut().unwrap();
+    for k in (0..t.positions.len()).filter(|k| k % 2 == 1) {
+        t.positions[k] = None;
+        t.headings[k] = None;
+    }
+    let e = calibrate(&sparse, &options()).unwrap_err().to_string();
+    assert!(e.contains("heading: too few samples: 0"), "{e}");
+}
+
+#[test]
+fn a_model_round_trips_through_its_json_and_a_bad_field_is_named() {
+    let m = calibrate(&circling(7, 1000, B), &options()).expect("calibration");
+    let text = serde_json::to_string(&m).unwrap();
+    let back = nvector_import::sensor_model::SensorModel::from_json(&text).unwrap();
+    assert_eq!(back, m);
+    let bad = text.replacen(
+        "\"format\":\"nvector-sensor-model/1\"",
+        "\"format\":\"x\"",
+        1,
+    );
+    let e = nvector_import::sensor_model::SensorModel::from_json(&bad).unwrap_err();
+    assert!(e.contains("format"), "{e}");
+    let mut neg = m.clone();
+    neg.motion_error.constant = -1.0;
+    let e =
+        nvector_import::sensor_model::SensorModel::from_json(&serde_json::to_string(&neg).unwrap())
+            .unwrap_err();
+    assert!(e.contains("motion_error"), "{e}");
+}
