@@ -12,6 +12,7 @@
 mod common;
 mod propagation_reference;
 
+mod check_planted;
 mod diagnose;
 mod format_paths;
 mod frames_planted;
