@@ -19,6 +19,7 @@ mod frames_planted;
 mod layers;
 mod nvector_examples;
 mod nvector_props;
+mod one_message;
 mod odometry_props;
 mod odometry_solve;
 mod odometry_woods;
