@@ -17,7 +17,15 @@ fn write(name: &str, v: &Value) -> PathBuf {
 
 fn simulated(scenario: &str, extra: &[&str]) -> Value {
     let out = temp_file("m.json");
-    let mut args = vec!["simulate", "--scenario", scenario, "--seed", "5", "--steps", "400"];
+    let mut args = vec![
+        "simulate",
+        "--scenario",
+        scenario,
+        "--seed",
+        "5",
+        "--steps",
+        "400",
+    ];
     args.extend_from_slice(extra);
     args.extend_from_slice(&["--out", out.to_str().unwrap()]);
     succeeded(&run(&args));
@@ -48,7 +56,10 @@ fn simulated_missions_break_nothing() {
         let p = write("m.json", &simulated(scenario, &extra));
         let (code, out, err) = check(&p, false);
         assert_eq!(code, 0, "{scenario}: {out}{err}");
-        assert!(err.contains("the truth satisfies every constraint checked"), "{err}");
+        assert!(
+            err.contains("the truth satisfies every constraint checked"),
+            "{err}"
+        );
         let (code, out, _) = check(&p, true);
         assert_eq!(code, 0);
         let v: Value = serde_json::from_str(&out).unwrap();
@@ -74,7 +85,10 @@ fn a_planted_violation_is_named_with_its_path_and_excess() {
     assert_eq!(code, 1, "{out}{err}");
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines.len(), 2, "{out}");
-    assert!(lines[0].starts_with("initial_position[0]: initial_position "), "{out}");
+    assert!(
+        lines[0].starts_with("initial_position[0]: initial_position "),
+        "{out}"
+    );
     assert!(lines[0].contains(" by 0.25 m (step 0)"), "{out}");
     assert!(lines[1].starts_with("detections[2].range: range "), "{out}");
     assert!(err.contains("the truth breaks 2 constraints"), "{err}");
@@ -98,7 +112,10 @@ fn a_planted_violation_is_named_with_its_path_and_excess() {
 fn usage_and_bad_input() {
     let o = nvector().args(["check"]).output().unwrap();
     assert_eq!(o.status.code(), Some(2));
-    let o = nvector().args(["check", "x.json", "--jsn"]).output().unwrap();
+    let o = nvector()
+        .args(["check", "x.json", "--jsn"])
+        .output()
+        .unwrap();
     assert_eq!(o.status.code(), Some(2));
     let missing = temp_file("absent.json");
     let (code, _, err) = check(&missing, false);
@@ -109,17 +126,25 @@ fn usage_and_bad_input() {
     let p = write("inverted.json", &m);
     let (code, _, err) = check(&p, false);
     assert_eq!(code, 1);
-    assert!(err.contains("inverted.json: detections[1].range: lower bound 3 is above upper bound 2"), "{err}");
+    assert!(
+        err.contains("inverted.json: detections[1].range: lower bound 3 is above upper bound 2"),
+        "{err}"
+    );
     m.as_object_mut().unwrap().remove("truth");
     m["detections"][1]["range"] = json!([2, 3]);
     let p = write("no-truth.json", &m);
     let (code, _, err) = check(&p, false);
     assert_eq!(code, 1);
-    assert!(err.contains("no-truth.json: truth: the mission has no truth"), "{err}");
+    assert!(
+        err.contains("no-truth.json: truth: the mission has no truth"),
+        "{err}"
+    );
 }
 
 fn import(flag: &str, dir: &str, operator: bool) -> PathBuf {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data").join(dir);
+    let data = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../data")
+        .join(dir);
     let out = temp_file("imported.json");
     let mut args = vec![
         "import",
@@ -159,14 +184,26 @@ fn run_says_where_the_bounds_come_from() {
     let mut m = simulated("paper", &["--operator"]);
     m["meta"]["calibration"] = json!({"source": "paper seed 4", "same_run": false});
     let p = write("other.json", &m);
-    let o = run(&["run", p.to_str().unwrap(), "--out", temp_file("r.json").to_str().unwrap()]);
+    let o = run(&[
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        temp_file("r.json").to_str().unwrap(),
+    ]);
     let err = succeeded(&o);
     assert!(
-        err.contains("bounds calibrated on another run (paper seed 4): truth check not a guarantee"),
+        err.contains(
+            "bounds calibrated on another run (paper seed 4): truth check not a guarantee"
+        ),
         "{err}"
     );
     m["meta"]["calibration"] = json!({"source": "this run", "same_run": true});
     let p = write("same.json", &m);
-    let o = run(&["run", p.to_str().unwrap(), "--out", temp_file("r.json").to_str().unwrap()]);
+    let o = run(&[
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        temp_file("r.json").to_str().unwrap(),
+    ]);
     assert!(succeeded(&o).contains("bounds fitted on this run's truth"));
 }

@@ -84,7 +84,10 @@ fn assert_one_message(
         let e = read(&d).expect_err(&format!("{path} = {x} accepted"));
         assert_eq!(
             e,
-            format!("{path}: expected an integer from {min} to {max}, found {shown}{}", suffix(path)),
+            format!(
+                "{path}: expected an integer from {min} to {max}, found {shown}{}",
+                suffix(path)
+            ),
             "{path} = {x}"
         );
     }
@@ -93,13 +96,20 @@ fn assert_one_message(
     let mut d = doc.clone();
     set(&mut d, path, json!(min));
     if let Err(e) = read(&d) {
-        assert!(!e.starts_with(&format!("{path}:")), "{path} = {min} refused: {e}");
+        assert!(
+            !e.starts_with(&format!("{path}:")),
+            "{path} = {min} refused: {e}"
+        );
     }
 }
 
 #[test]
 fn every_integer_field_of_a_mission_has_one_message() {
-    let read = |v: &Value| Mission::from_value(v).map(|_| ()).map_err(|e| e.to_string());
+    let read = |v: &Value| {
+        Mission::from_value(v)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
     let read_text = |v: &Value| {
         Mission::from_json(&v.to_string())
             .map(|_| ())
@@ -122,7 +132,10 @@ fn every_integer_field_of_a_mission_has_one_message() {
         if path == "landmark_count" {
             // Its ids are then checked against it: the detection has none.
             let mut d = doc.clone();
-            d["detections"][0].as_object_mut().unwrap().remove("landmark");
+            d["detections"][0]
+                .as_object_mut()
+                .unwrap()
+                .remove("landmark");
             assert_one_message(&d, path, min, max, &read);
             assert_one_message(&d, path, min, max, &read_text);
             continue;
@@ -143,10 +156,18 @@ fn the_requests_integer_fields_have_one_message() {
     assert_one_message(&doc, "steps", 2, limits.max_steps, &simulate);
     assert_one_message(&doc, "landmarks", 1, 64, &simulate);
     assert_one_message(&doc, "seed", 0, u64::MAX, &simulate);
-    let contract = |v: &Value| ContractRequest::from_value(v).map(|_| ()).map_err(|e| e.to_string());
+    let contract = |v: &Value| {
+        ContractRequest::from_value(v)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
     let doc = json!({"format": "nvector-contract/1", "n": 1, "boxes": [[[0, 1]]]});
     assert_one_message(&doc, "n", 1, u32::MAX as u64, &contract);
-    let tdoa = |v: &Value| TdoaProblem::from_value(v).map(|_| ()).map_err(|e| e.to_string());
+    let tdoa = |v: &Value| {
+        TdoaProblem::from_value(v)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
     let doc = json!({
         "format": "nvector-tdoa/1", "propagation_speed": [299000000, 300000000],
         "receivers": [{"position": [[0, 1], [0, 1], [0, 0]]}, {"position": [[5, 6], [0, 1], [0, 0]]}],

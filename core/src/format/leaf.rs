@@ -594,7 +594,8 @@ mod tests {
             msg(json!([1]), 1, 10),
             "expected an integer from 1 to 10, found an array"
         );
-        assert!(msg(json!(1e300), 0, u64::MAX).starts_with("expected an integer from 0 to 18446744073709551615, found 1"));
+        assert!(msg(json!(1e300), 0, u64::MAX)
+            .starts_with("expected an integer from 0 to 18446744073709551615, found 1"));
         assert_eq!(int(json!(7)).in_range(7, 7, "n").unwrap(), 7);
     }
 

@@ -286,6 +286,9 @@ mod tests {
         );
         // Absent, or without a boolean same_run: nothing is said.
         assert_eq!(Calibration::of(&json!({})), None);
-        assert_eq!(Calibration::of(&json!({"calibration": {"same_run": "no"}})), None);
+        assert_eq!(
+            Calibration::of(&json!({"calibration": {"same_run": "no"}})),
+            None
+        );
     }
 }
