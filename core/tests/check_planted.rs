@@ -294,6 +294,9 @@ impl World {
     }
 }
 
+/// A mission of the world with one edit, checked.
+type Plant<'a> = dyn Fn(&dyn Fn(&mut Value)) -> Report + 'a;
+
 fn check(m: &Value) -> Report {
     check_value(m).unwrap_or_else(|e| panic!("{e}: {m}"))
 }
@@ -407,7 +410,7 @@ fn each_planted_odometry_violation_is_found_exactly() {
 }
 
 /// The drift windows over the whole run (one window start, i = 0).
-fn planted_windows(w: &World, small: f64, plant: &dyn Fn(&dyn Fn(&mut Value)) -> Report) {
+fn planted_windows(w: &World, small: f64, plant: &Plant) {
     let n = w.n();
     let hw = w.heading_window(0, n);
     if hw > small {
@@ -422,12 +425,7 @@ fn planted_windows(w: &World, small: f64, plant: &dyn Fn(&dyn Fn(&mut Value)) ->
     }
 }
 
-fn planted_detection(
-    w: &World,
-    seed: u64,
-    delta: f64,
-    plant: &dyn Fn(&dyn Fn(&mut Value)) -> Report,
-) {
+fn planted_detection(w: &World, seed: u64, delta: f64, plant: &Plant) {
     let j = seed as usize % w.det.len();
     let (t, l, range, bearing) = w.det[j];
     let tol = 1e-9 * (1.0 + range);
@@ -488,7 +486,7 @@ fn planted_detection(
 }
 
 /// Operator ids, scans and the separation.
-fn planted_pairs(w: &World, delta: f64, plant: &dyn Fn(&dyn Fn(&mut Value)) -> Report) {
+fn planted_pairs(w: &World, delta: f64, plant: &Plant) {
     let a = 0;
     let Some(b) = (1..w.det.len()).find(|&b| w.det[b].1 != w.det[a].1) else {
         return;
@@ -631,7 +629,10 @@ fn planted_auv_violations_are_found() {
     let step = m["detections"][j]["step"].as_u64().unwrap() as usize;
     let p = &t["positions"][step];
     let dist: f64 = (0..3)
-        .map(|a| (t["landmarks"][l][a].as_f64().unwrap() - p[a].as_f64().unwrap()).powi(2))
+        .map(|a| {
+            let d = t["landmarks"][l][a].as_f64().unwrap() - p[a].as_f64().unwrap();
+            d * d
+        })
         .sum::<f64>()
         .sqrt();
     let mut r = m.clone();

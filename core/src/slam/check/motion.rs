@@ -193,6 +193,7 @@ fn chain_refuses(p: &[f64], q: &[f64], disp: &[Interval]) -> bool {
 }
 
 /// The steps of a unicycle2d or auv3d mission.
+#[allow(clippy::needless_range_loop)] // the channels are read in parallel
 fn box_steps(t: &mut Truthy, style: &PathStyle, out: &mut Vec<Violation>) {
     let m = t.m;
     let c = &m.inputs;
