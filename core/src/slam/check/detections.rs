@@ -87,13 +87,11 @@ fn contractor_refuses(t: &Truthy, j: usize, p: &[f64], l: &[f64], h: Interval) -
     !od.contract(&mut p2, &mut h2, &mut l2)
 }
 
-/// The violations of detection `j` (at the known true position `p`)
-/// measured against landmark `l`.
-fn measure(t: &Truthy, j: usize, p: &[f64], l: usize) -> Vec<Violation> {
+/// The range and bearing of detection `j` from the sensor at the true
+/// position `p` (heading `h`) to the landmark `lm`, against its bounds.
+fn range_bearing(t: &Truthy, j: usize, p: &[f64], lm: &[f64], h: Interval) -> Vec<Violation> {
     let m = t.m;
     let d = &m.detections[j];
-    let lm = &m.truth.as_ref().expect("checked").landmarks[l];
-    let h = heading_at(t, d.step);
     let o = match m.model.dim() {
         2 => rotate_offset(h, m.sensor_offset.unwrap_or([0.0, 0.0])).to_vec(),
         _ => vec![Interval::ZERO; 3],
@@ -102,14 +100,13 @@ fn measure(t: &Truthy, j: usize, p: &[f64], l: usize) -> Vec<Violation> {
         .map(|a| Interval::point(lm[a]) - (Interval::point(p[a]) + o[a]))
         .collect();
     let dist = diff.iter().fold(Interval::ZERO, |s, &x| s + x.sqr()).sqrt();
-    let path = format!("detections[{j}]");
     let mut out = Vec::new();
     let g = gap(dist, d.range);
     if g > 0.0 {
         let b = Bound::Within(d.range.lo(), d.range.hi());
         let value = nearest(dist, d.range);
         out.push(Violation::new(
-            format!("{path}.range"),
+            format!("detections[{j}].range"),
             Kind::Range,
             value,
             b,
@@ -123,7 +120,7 @@ fn measure(t: &Truthy, j: usize, p: &[f64], l: usize) -> Vec<Violation> {
             let bound = Bound::Within(b.lo(), b.hi());
             let g = angle_gap(rel, b);
             out.push(Violation::new(
-                format!("{path}.bearing"),
+                format!("detections[{j}].bearing"),
                 Kind::Bearing,
                 value,
                 bound,
@@ -131,6 +128,19 @@ fn measure(t: &Truthy, j: usize, p: &[f64], l: usize) -> Vec<Violation> {
             ));
         }
     }
+    out
+}
+
+/// The violations of detection `j` (at the known true position `p`)
+/// measured against landmark `l`.
+fn measure(t: &Truthy, j: usize, p: &[f64], l: usize) -> Vec<Violation> {
+    let m = t.m;
+    let d = &m.detections[j];
+    let lm = &m.truth.as_ref().expect("checked").landmarks[l];
+    let h = heading_at(t, d.step);
+    let path = format!("detections[{j}]");
+    let mut out = range_bearing(t, j, p, lm, h);
+    let measured = !out.is_empty();
     if let Some(r) = &d.region {
         for (a, (&x, &b)) in lm.iter().zip(r.axes()).enumerate() {
             if !b.contains(x) {
@@ -159,9 +169,6 @@ fn measure(t: &Truthy, j: usize, p: &[f64], l: usize) -> Vec<Violation> {
             ));
         }
     }
-    let measured = out
-        .iter()
-        .any(|v| matches!(v.kind, Kind::Range | Kind::Bearing));
     if !measured && contractor_refuses(t, j, p, lm, h) {
         out.push(Violation::new(
             path,
