@@ -189,8 +189,11 @@ fn simulation_requests_read_the_same() {
         "operator": false, "noise": 1.0, "layout": "ring", "range_only": false,
         "false_detections": 2});
     let (n, refused) = mutate::<Object<SimulateRequest>>(&doc);
+    // Four of its eight fields are integers, whose values (negative,
+    // fractional, another type) the validation refuses, not the reader
+    // (one message per rule, `Integer::in_range`): a third is refused here.
     assert!(
-        n > 300 && refused > n / 2,
+        n > 300 && refused > n / 3,
         "{n} documents, {refused} refused"
     );
 }

@@ -94,6 +94,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "the simulation request's OpenAPI schema",
     ),
     ("slam::woods", 6, "the woods scenario writer (odometry2d)"),
+    (
+        "slam::check",
+        6,
+        "the constraints a mission's truth breaks (nvector check)",
+    ),
     ("tdoa::pulse", 6, "the per-pulse fixpoint and paving"),
     ("slam::types", 7, "shared options, progress, solution"),
     (

@@ -12,6 +12,7 @@
 mod common;
 mod propagation_reference;
 
+mod check_planted;
 mod diagnose;
 mod format_paths;
 mod frames_planted;
@@ -21,6 +22,7 @@ mod nvector_props;
 mod odometry_props;
 mod odometry_solve;
 mod odometry_woods;
+mod one_message;
 mod outliers;
 mod outliers_boundary;
 mod propagation_planted;

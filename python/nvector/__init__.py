@@ -6,6 +6,7 @@ the service, so the same bits), a client of an nvector service, and figures:
 - :func:`contract`: one atmost_nvector contraction of boxes (numpy arrays);
 - :func:`simulate`: a simulated mission with ground truth (a dict);
 - :func:`run`: one SLAM job on a mission (dict or file) -> the result (a dict);
+- :func:`check`: every constraint of a mission that its truth breaks;
 - :class:`Client`: missions and jobs on a running ``nvector serve``;
 - :func:`plot`: a result drawn with matplotlib, the picture of the CLI's
   figures (:func:`figure`: its description, shared with the CLI).
@@ -45,6 +46,7 @@ __all__ = [
     "contract",
     "simulate",
     "run",
+    "check",
     "tdoa",
     "load",
     "dumps",
@@ -268,6 +270,39 @@ def run(
     finally:
         if bar is not None:
             bar.close()
+
+
+def check(mission: dict[str, Any] | PathLike) -> list[dict[str, Any]]:
+    """Every constraint of a mission that its truth breaks, and by how
+    much, as ``nvector check --json`` lists them (docs/cli.md, "check";
+    docs/formats.md, "Check"): one dict per violation with ``path`` (the
+    constraint's JSON path in the mission, e.g. ``"detections[5].range"``,
+    ``"motion_error[12]"``), ``kind``, ``unit``, ``value`` (the truth's),
+    ``bound`` (an interval ``[lo, hi]`` or a number), ``relation``
+    (``"within"``, ``"at_most"``, ``"at_least"``), ``excess`` (how far
+    beyond the bound, rounded down), ``outlier`` (a detection's violation
+    that ``max_outliers`` covers) and, when they apply, ``step``,
+    ``detection``, ``landmark``. An empty list: the truth satisfies every
+    constraint checked.
+
+    ``mission`` is a mission dict or the path of a mission file; it must
+    have a ``truth``. Raises :class:`InputError` naming the JSON path of a
+    bad value (and the file, for a path).
+    """
+    file = None
+    source: Any = mission
+    if isinstance(mission, (str, os.PathLike)):
+        file = os.fspath(mission)
+        with open(file, encoding="utf-8") as f:
+            source = f.read()
+    try:
+        report: dict[str, Any] = _nvector.check(source)
+    except InputError as e:
+        if file is None:
+            raise
+        raise InputError(e.path, e.message, file=file) from None
+    violations: list[dict[str, Any]] = report["violations"]
+    return violations
 
 
 def tdoa(

@@ -38,6 +38,11 @@ def tdoa(
 ) -> dict[str, Any]:
     """One TDOA problem: nvector-tdoa/1 text or objects -> nvector-tdoa-result/1."""
 
+def check(mission: str | dict[str, Any]) -> dict[str, Any]:
+    """The constraints a mission's truth breaks: mission JSON text or
+    objects -> {"violations": [...], "unchecked": int,
+    "broken_detections": int, "max_outliers": int}."""
+
 def dumps(obj: Any) -> str:
     """Python objects as compact JSON text, as the nvector binary writes it."""
 

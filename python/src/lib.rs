@@ -459,6 +459,25 @@ fn figure(
     serde_json::to_string(&fig).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// Every constraint of a mission (`nvector-mission/1` with truth, JSON
+/// text or objects) that its truth breaks, as `nvector check --json`
+/// gives it: `{"violations": [...], "unchecked", "broken_detections",
+/// "max_outliers"}` (docs/formats.md, "Check"). A mission without truth
+/// is an error naming `truth`.
+#[pyfunction]
+fn check<'py>(py: Python<'py>, mission: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    use nvector_core::slam::check::{check_json, check_value};
+    let report = if let Ok(text) = mission.cast::<PyString>() {
+        let text = text.to_str()?.to_owned();
+        py.detach(|| check_json(&text))
+    } else {
+        let value = to_value(mission, "", 0).map_err(|e| input_error(py, &e))?;
+        py.detach(|| check_value(&value))
+    };
+    let report = report.map_err(|e| input_error(py, &e))?;
+    to_py(py, &report.to_json())
+}
+
 /// The compiled part of the `nvector` package (use `import nvector`).
 #[pymodule]
 fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -468,6 +487,7 @@ fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tdoa, m)?)?;
     m.add_function(wrap_pyfunction!(dumps, m)?)?;
     m.add_function(wrap_pyfunction!(figure, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add("MAX_STEPS", MAX_STEPS)?;
     Ok(())
 }

@@ -52,6 +52,9 @@ enum Command {
     Calibrate(cli::calibrate::Args),
     /// A figure like the paper's Figure 9.
     Plot(cli::plot::Args),
+    /// Every constraint of a mission that its truth breaks, and by how much
+    /// (exit 1 when one does).
+    Check(cli::check::Args),
     /// A worker process of `nvector serve` (started by the service, not by
     /// hand): runs the jobs it reads on standard input.
     #[command(hide = true)]
@@ -106,6 +109,7 @@ fn main() -> ExitCode {
         Command::Import(a) => cli::import::run(a),
         Command::Calibrate(a) => cli::calibrate::run(a),
         Command::Plot(a) => cli::plot::run(a),
+        Command::Check(a) => cli::check::run(a),
         Command::Worker(a) => cli::worker::run(a),
         Command::Bench {
             service: true,

@@ -54,64 +54,89 @@ impl<'de> Deserialize<'de> for Finite {
     }
 }
 
-/// A non-negative integer, however written (`3`, `3.0`, `3e0`: JSON
-/// Schema's `integer`, which the OpenAPI document states). Its limit is the
-/// validation's ([`Integer::at_most`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// An integer field's value as read: a non-negative integer, however
+/// written (`3`, `3.0`, `3e0`: JSON Schema's `integer`, which the OpenAPI
+/// document states), or anything else kept as what it is. Every rule of
+/// the field (its type, its least and its largest value) is checked by
+/// the validation in one place ([`Integer::in_range`]), so that one rule
+/// gives one message: `landmark_count` -3, 0, 1.5 and `"x"` are all
+/// "expected an integer from 1 to 4294967295".
+#[derive(Debug, Clone, PartialEq)]
 pub enum Integer {
     /// A whole number below 2^64.
     Value(u64),
     /// A whole float at or above 2^64 (above every limit).
     Huge(f64),
+    /// Not a non-negative integer: what was found (`-3`, `1.5`, `a
+    /// string`), for the message.
+    Invalid(String),
 }
 
 impl Integer {
-    /// The value, or an error at `path` when it is above `max`.
-    pub fn at_most(self, max: u64, path: &str) -> Result<u64, InputError> {
-        match self {
-            Integer::Value(x) if x <= max => Ok(x),
-            Integer::Value(x) => Err(InputError::new(
-                path,
-                format!("{x} is above the limit {max}"),
-            )),
-            Integer::Huge(x) => Err(InputError::new(
-                path,
-                format!("{x} is above the limit {max}"),
-            )),
-        }
+    /// The value when it is an integer in `min..=max`, else the field's
+    /// one message at `path`: `expected an integer from MIN to MAX, found
+    /// X`.
+    pub fn in_range(&self, min: u64, max: u64, path: &str) -> Result<u64, InputError> {
+        let found = match self {
+            Integer::Value(x) if (min..=max).contains(x) => return Ok(*x),
+            Integer::Value(x) => x.to_string(),
+            Integer::Huge(x) => number_text(*x),
+            Integer::Invalid(what) => what.clone(),
+        };
+        Err(InputError::new(
+            path,
+            format!("expected an integer from {min} to {max}, found {found}"),
+        ))
+    }
+
+    /// [`Integer::in_range`] from 0.
+    pub fn at_most(&self, max: u64, path: &str) -> Result<u64, InputError> {
+        self.in_range(0, max, path)
     }
 }
 
 struct IntegerVisitor;
 
-impl Visitor<'_> for IntegerVisitor {
+impl<'de> Visitor<'de> for IntegerVisitor {
     type Value = Integer;
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str("a non-negative integer")
+        f.write_str("an integer")
     }
     fn visit_u64<E: de::Error>(self, v: u64) -> Result<Integer, E> {
         Ok(Integer::Value(v))
     }
     fn visit_i64<E: de::Error>(self, v: i64) -> Result<Integer, E> {
-        u64::try_from(v)
-            .map(Integer::Value)
-            .map_err(|_| E::custom(format!("expected a non-negative integer, found {v}")))
+        Ok(u64::try_from(v).map_or_else(|_| Integer::Invalid(v.to_string()), Integer::Value))
     }
     fn visit_f64<E: de::Error>(self, v: f64) -> Result<Integer, E> {
         /// 2^64: whole floats below it convert to u64 exactly.
         const TWO_TO_64: f64 = 18_446_744_073_709_551_616.0;
-        if v.is_finite() && v.fract() == 0.0 && v >= 0.0 {
-            Ok(if v < TWO_TO_64 {
+        Ok(if v.is_finite() && v.fract() == 0.0 && v >= 0.0 {
+            if v < TWO_TO_64 {
                 Integer::Value(v as u64)
             } else {
                 Integer::Huge(v)
-            })
+            }
         } else {
-            Err(E::custom(format!(
-                "expected a non-negative integer, found {}",
-                number_text(v)
-            )))
-        }
+            Integer::Invalid(number_text(v))
+        })
+    }
+    fn visit_str<E: de::Error>(self, _: &str) -> Result<Integer, E> {
+        Ok(Integer::Invalid("a string".into()))
+    }
+    fn visit_bool<E: de::Error>(self, _: bool) -> Result<Integer, E> {
+        Ok(Integer::Invalid("a boolean".into()))
+    }
+    fn visit_unit<E: de::Error>(self) -> Result<Integer, E> {
+        Ok(Integer::Invalid("null".into()))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Integer, A::Error> {
+        while seq.next_element::<IgnoredAny>()?.is_some() {}
+        Ok(Integer::Invalid("an array".into()))
+    }
+    fn visit_map<A: de::MapAccess<'de>>(self, mut map: A) -> Result<Integer, A::Error> {
+        while map.next_entry::<IgnoredAny, IgnoredAny>()?.is_some() {}
+        Ok(Integer::Invalid("an object".into()))
     }
 }
 
@@ -537,26 +562,41 @@ mod tests {
     /// Regression (issue 13): `3.0` is the integer 3.
     #[test]
     fn whole_floats_are_integers() {
-        let int = |v| from_value::<Integer>(&v);
-        assert_eq!(int(json!(3.0)).unwrap(), Integer::Value(3));
-        assert_eq!(int(json!(-0.0)).unwrap(), Integer::Value(0));
-        assert!(int(json!(2.5)).unwrap_err().message.contains("found 2.5"));
-        assert!(int(json!(-3.0)).unwrap_err().message.contains("found -3.0"));
-        assert!(int(json!(-1)).unwrap_err().message.contains("found -1"));
-        assert!(int(json!(1e300))
-            .unwrap()
-            .at_most(u64::MAX, "n")
-            .unwrap_err()
-            .message
-            .contains("above the limit"));
+        let int = |v| from_value::<Integer>(&v).unwrap();
+        assert_eq!(int(json!(3.0)), Integer::Value(3));
+        assert_eq!(int(json!(-0.0)), Integer::Value(0));
+        let msg = |v, min, max| int(v).in_range(min, max, "n").unwrap_err().message;
         assert_eq!(
-            int(json!(12))
-                .unwrap()
-                .at_most(10, "n")
-                .unwrap_err()
-                .message,
-            "12 is above the limit 10"
+            msg(json!(2.5), 0, 10),
+            "expected an integer from 0 to 10, found 2.5"
         );
+        assert_eq!(
+            msg(json!(-3.0), 0, 10),
+            "expected an integer from 0 to 10, found -3.0"
+        );
+        assert_eq!(
+            msg(json!(-1), 0, 10),
+            "expected an integer from 0 to 10, found -1"
+        );
+        assert_eq!(
+            msg(json!(12), 0, 10),
+            "expected an integer from 0 to 10, found 12"
+        );
+        assert_eq!(
+            msg(json!(0), 1, 10),
+            "expected an integer from 1 to 10, found 0"
+        );
+        assert_eq!(
+            msg(json!("3"), 1, 10),
+            "expected an integer from 1 to 10, found a string"
+        );
+        assert_eq!(
+            msg(json!([1]), 1, 10),
+            "expected an integer from 1 to 10, found an array"
+        );
+        assert!(msg(json!(1e300), 0, u64::MAX)
+            .starts_with("expected an integer from 0 to 18446744073709551615, found 1"));
+        assert_eq!(int(json!(7)).in_range(7, 7, "n").unwrap(), 7);
     }
 
     #[test]

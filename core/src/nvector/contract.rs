@@ -47,10 +47,7 @@ impl ContractRequest {
         let n = doc
             .n
             .ok_or_else(|| missing("n"))?
-            .at_most(u32::MAX as u64, "n")?;
-        if n == 0 {
-            return Err(InputError::new("n", "n must be at least 1"));
-        }
+            .in_range(1, u32::MAX as u64, "n")?;
         let List(boxes_doc) = doc.boxes.ok_or_else(|| missing("boxes"))?;
         if boxes_doc.is_empty() {
             return Err(InputError::new("boxes", "at least one box is needed"));

@@ -432,13 +432,7 @@ fn drift_windows(
     for (x, (steps, error, exempt)) in list.enumerate() {
         let path = format!("{name}[{x}]");
         let steps_path = field_path(&path, "steps");
-        let k = need(steps, &path, "steps")?.at_most(u64::MAX, &steps_path)?;
-        if k == 0 {
-            return Err(err(
-                steps_path,
-                "a window must span at least 1 step, found 0",
-            ));
-        }
+        let k = need(steps, &path, "steps")?.in_range(1, u64::MAX, &steps_path)?;
         let b = need(error, &path, "error")?.0;
         if b.is_nan() || b < 0.0 {
             return Err(err(
@@ -528,13 +522,7 @@ fn detection(
 ) -> Result<Detection, InputError> {
     let dim = model.dim();
     let step_path = field_path(path, "step");
-    let step = need(d.step, path, "step")?.at_most(u64::MAX, &step_path)?;
-    if step > steps as u64 {
-        return Err(err(
-            step_path,
-            format!("step {step} is out of range 0..={steps}"),
-        ));
-    }
+    let step = need(d.step, path, "step")?.in_range(0, steps as u64, &step_path)?;
     let range = need(d.range, path, "range")?.0;
     if range.lo() < 0.0 {
         return Err(err(
@@ -556,16 +544,16 @@ fn detection(
         None => None,
         Some(v) => {
             let lp = field_path(path, "landmark");
-            let id = v.at_most(u32::MAX as u64, &lp)? as usize;
-            if let Some(n) = landmark_count {
-                if id >= n {
-                    return Err(err(
-                        lp,
-                        format!("landmark {id} is not below landmark_count {n}"),
-                    ));
+            // One rule: an id below landmark_count (at most u32::MAX).
+            let max = landmark_count.map_or(u32::MAX as u64, |n| n as u64 - 1);
+            let id = v.in_range(0, max, &lp).map_err(|mut e| {
+                if let Some(n) = landmark_count {
+                    e.message
+                        .push_str(&format!(" (ids are below landmark_count {n})"));
                 }
-            }
-            Some(id)
+                e
+            })?;
+            Some(id as usize)
         }
     };
     let scan = d
@@ -905,10 +893,8 @@ fn clock(doc: &MissionDoc) -> Result<(f64, usize), InputError> {
     if dt <= 0.0 {
         return Err(err("dt", format!("the time step must be > 0, found {dt}")));
     }
-    let steps = need(doc.steps, "", "steps")?.at_most(MAX_STEPS as u64, "steps")? as usize;
-    if steps == 0 {
-        return Err(err("steps", "a mission needs at least 1 step"));
-    }
+    let steps =
+        need(doc.steps.as_ref(), "", "steps")?.in_range(1, MAX_STEPS as u64, "steps")? as usize;
     Ok((dt, steps))
 }
 
@@ -944,12 +930,10 @@ struct LandmarkOptions {
 fn landmark_options(doc: &mut MissionDoc, dim: usize) -> Result<LandmarkOptions, InputError> {
     let count = doc
         .landmark_count
-        .map(|v| v.at_most(u32::MAX as u64, "landmark_count"))
+        .take()
+        .map(|v| v.in_range(1, u32::MAX as u64, "landmark_count"))
         .transpose()?
         .map(|n| n as usize);
-    if count == Some(0) {
-        return Err(err("landmark_count", "landmark_count must be at least 1"));
-    }
     let region = doc
         .landmark_region
         .take()
@@ -964,6 +948,7 @@ fn landmark_options(doc: &mut MissionDoc, dim: usize) -> Result<LandmarkOptions,
     }
     let max_outliers = doc
         .max_outliers
+        .take()
         .map(|v| v.at_most(u32::MAX as u64, "max_outliers"))
         .transpose()?
         .map_or(0, |q| q as usize);
@@ -1020,17 +1005,12 @@ fn truth(t: TruthDoc, model: Model, steps: usize, detections: usize) -> Result<T
             // null: a false detection (no landmark there).
             let Some(x) = x else { return Ok(None) };
             let p = format!("truth.matching[{i}]");
-            let id = x.at_most(u32::MAX as u64, &p)? as usize;
-            if id >= landmarks.len() {
-                return Err(err(
-                    p,
-                    format!(
-                        "landmark {id} is not below the {} true landmarks",
-                        landmarks.len()
-                    ),
-                ));
+            // One rule: an index of truth.landmarks (or null).
+            if landmarks.is_empty() {
+                return Err(err(p, "expected null (truth.landmarks is empty)"));
             }
-            Ok(Some(id))
+            let id = x.in_range(0, landmarks.len() as u64 - 1, &p)?;
+            Ok(Some(id as usize))
         })
         .collect::<Result<_, _>>()?;
     let headings = match t.headings {
@@ -1187,11 +1167,11 @@ mod tests {
             ),
             (
                 |v| v["detections"][0]["step"] = json!(3),
-                "detections[0].step: step 3 is out of range 0..=2",
+                "detections[0].step: expected an integer from 0 to 2, found 3",
             ),
             (
                 |v| v["detections"][0]["landmark"] = json!(1),
-                "detections[0].landmark: landmark 1 is not below landmark_count 1",
+                "detections[0].landmark: expected an integer from 0 to 0, found 1 (ids are below landmark_count 1)",
             ),
             (
                 |v| v["detections"][0]["rnage"] = json!(1),
@@ -1230,34 +1210,34 @@ mod tests {
             ),
             (
                 |v| v["max_outliers"] = json!(-1),
-                "max_outliers: expected a non-negative integer, found -1",
+                "max_outliers: expected an integer from 0 to 4294967295, found -1",
             ),
             (
                 |v| v["max_outliers"] = json!(1.5),
-                "max_outliers: expected a non-negative integer, found 1.5",
+                "max_outliers: expected an integer from 0 to 4294967295, found 1.5",
             ),
             (
                 |v| v["max_outliers"] = json!("2"),
-                "max_outliers: expected a non-negative integer, found a string",
+                "max_outliers: expected an integer from 0 to 4294967295, found a string",
             ),
             (
                 |v| v["max_outliers"] = json!(4294967296u64),
-                "max_outliers: 4294967296 is above the limit 4294967295",
+                "max_outliers: expected an integer from 0 to 4294967295, found 4294967296",
             ),
             (
                 |v| v["landmark_count"] = json!(4294967296u64),
-                "landmark_count: 4294967296 is above the limit 4294967295",
+                "landmark_count: expected an integer from 1 to 4294967295, found 4294967296",
             ),
             (
                 |v| {
                     v.as_object_mut().unwrap().remove("landmark_count");
                     v["detections"][0]["landmark"] = json!(4294967296u64);
                 },
-                "detections[0].landmark: 4294967296 is above the limit 4294967295",
+                "detections[0].landmark: expected an integer from 0 to 4294967295, found 4294967296",
             ),
             (
                 |v| v["truth"] = json!({"positions": [[0, 0], [1, 0], [2, 0]], "landmarks": [[1, 1]], "matching": [-1]}),
-                "truth.matching[0]: expected a non-negative integer, found -1",
+                "truth.matching[0]: expected an integer from 0 to 0, found -1",
             ),
         ];
         for (edit, expected) in cases {
@@ -1623,11 +1603,11 @@ mod tests {
             ),
             (
                 |v| v["detections"][1]["scan"] = json!(-1),
-                "detections[1].scan: expected a non-negative integer, found -1",
+                "detections[1].scan: expected an integer from 0 to 18446744073709551615, found -1",
             ),
             (
                 |v| v["detections"][1]["scan"] = json!(0.5),
-                "detections[1].scan: expected a non-negative integer, found 0.5",
+                "detections[1].scan: expected an integer from 0 to 18446744073709551615, found 0.5",
             ),
             (
                 |v| v["landmark_min_separation"] = json!(-1),
@@ -1658,11 +1638,11 @@ mod tests {
                     v["heading_drift"] =
                         json!([{"steps": 10, "error": 0.1}, {"steps": 0, "error": 0.1}])
                 },
-                "heading_drift[1].steps: a window must span at least 1 step, found 0",
+                "heading_drift[1].steps: expected an integer from 1 to 18446744073709551615, found 0",
             ),
             (
                 |v| v["motion_drift"] = json!([{"steps": 4, "error": 0.1}, {"steps": 0, "error": 0.1}]),
-                "motion_drift[1].steps: a window must span at least 1 step, found 0",
+                "motion_drift[1].steps: expected an integer from 1 to 18446744073709551615, found 0",
             ),
             (
                 |v| v["motion_drift"] = json!([{"steps": 2, "error": -0.1}]),
@@ -1682,11 +1662,11 @@ mod tests {
             ),
             (
                 |v| v["heading_drift"] = json!([{"steps": -3, "error": 0.1}]),
-                "heading_drift[0].steps: expected a non-negative integer, found -3",
+                "heading_drift[0].steps: expected an integer from 1 to 18446744073709551615, found -3",
             ),
             (
                 |v| v["heading_drift"] = json!([{"steps": 2.5, "error": 0.1}]),
-                "heading_drift[0].steps: expected a non-negative integer, found 2.5",
+                "heading_drift[0].steps: expected an integer from 1 to 18446744073709551615, found 2.5",
             ),
             (
                 |v| v["heading_drift"] = json!([{"steps": 2, "error": -0.1}]),

@@ -16,6 +16,7 @@
 //! in [`crate::contractors`], below this module and [`crate::shapes`].
 
 pub mod association;
+pub mod check;
 pub mod codec;
 pub mod diagnose;
 pub mod fixpoint;

@@ -841,38 +841,29 @@ impl SimulateRequest {
                 "scenario must be \"paper\", \"auv\" or \"woods\"",
             )
         })?;
-        let seed = self.seed.map_or(Ok(1), |s| s.at_most(u64::MAX, "seed"))?;
+        let seed = self
+            .seed
+            .as_ref()
+            .map_or(Ok(1), |s| s.at_most(u64::MAX, "seed"))?;
         let mut o = SimulateOptions::new(scenario, seed);
         let default_steps = match scenario {
             Scenario::Paper => PAPER_STEPS,
             Scenario::Auv => AUV_STEPS,
             Scenario::Woods => WOODS_STEPS,
         } as u64;
-        let steps = match self.steps {
-            Some(s) => s.at_most(limits.max_steps, "steps")?,
+        // A mission has at least one motion step between two positions
+        // and one landmark (one rule, one message, per field).
+        let steps = match &self.steps {
+            Some(s) => s.in_range(2, limits.max_steps, "steps")?,
             None => default_steps.min(limits.max_steps),
         };
-        // A mission has at least one motion step between two positions
-        // and one landmark: a smaller value was raised silently before.
-        if steps < 2 {
-            return Err(bad(
-                "steps",
-                format!("steps must be at least 2, not {steps}"),
-            ));
-        }
         o.steps = Some(steps as usize);
         o.landmarks = self
             .landmarks
-            .map(|n| n.at_most(MAX_LANDMARKS as u64, "landmarks"))
+            .as_ref()
+            .map(|n| n.in_range(1, MAX_LANDMARKS as u64, "landmarks"))
             .transpose()?
-            .map(|n| {
-                if n == 0 {
-                    Err(bad("landmarks", "landmarks must be at least 1, not 0"))
-                } else {
-                    Ok(n as usize)
-                }
-            })
-            .transpose()?;
+            .map(|n| n as usize);
         o.operator = self.operator.unwrap_or(false);
         if let Some(Finite(n)) = self.noise {
             if !(0.0..=100.0).contains(&n) {
@@ -892,6 +883,7 @@ impl SimulateRequest {
         let max_false = limits.max_false_detections.min(MAX_FALSE_DETECTIONS as u64);
         o.false_detections =
             self.false_detections
+                .as_ref()
                 .map_or(Ok(0), |k| k.at_most(max_false, "false_detections"))? as usize;
         foreign_options(&o)?;
         Ok(o)
@@ -1350,11 +1342,11 @@ mod request_tests {
             (json!({"layout": "spiral"}), "layout"),
             (
                 json!({"scenario": "paper", "landmarks": 65}),
-                "landmarks: 65 is above the limit 64",
+                "landmarks: expected an integer from 1 to 64, found 65",
             ),
             (
                 json!({"scenario": "paper", "steps": 2_000_001}),
-                "steps: 2000001 is above the limit 2000000",
+                "steps: expected an integer from 2 to 2000000, found 2000001",
             ),
             (
                 json!({"scenario": "paper", "noise": -1}),
@@ -1370,11 +1362,11 @@ mod request_tests {
             ),
             (
                 json!({"scenario": "paper", "false_detections": 100_001}),
-                "false_detections: 100001 is above the limit 100000",
+                "false_detections: expected an integer from 0 to 100000, found 100001",
             ),
             (
                 json!({"scenario": "woods", "false_detections": 100_001}),
-                "false_detections: 100001 is above the limit 100000",
+                "false_detections: expected an integer from 0 to 100000, found 100001",
             ),
             (
                 json!({"scenario": "auv", "false_detections": 2}),

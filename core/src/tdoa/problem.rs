@@ -125,14 +125,9 @@ impl TdoaProblem {
         let receivers = receivers(doc.receivers.ok_or_else(|| missing("receivers"))?)?;
         let emitter_count = doc
             .emitter_count
-            .map(|n| int(n, MAX_EMITTERS, "emitter_count"))
-            .transpose()?;
-        if emitter_count == Some(0) {
-            return Err(InputError::new(
-                "emitter_count",
-                "emitter_count must be at least 1",
-            ));
-        }
+            .map(|n| n.in_range(1, MAX_EMITTERS, "emitter_count"))
+            .transpose()?
+            .map(|n| n as usize);
         let pulse_docs = doc.pulses.ok_or_else(|| missing("pulses"))?;
         let pulses = pulses(pulse_docs, receivers.len(), emitter_count)?;
         let arrivals: usize = pulses.iter().map(|p| p.arrivals.len()).sum();

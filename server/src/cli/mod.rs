@@ -4,6 +4,7 @@ pub mod bench;
 pub mod bench_service;
 pub mod bench_slam;
 pub mod calibrate;
+pub mod check;
 pub mod contract;
 pub mod csv;
 pub mod import;

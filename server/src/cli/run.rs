@@ -160,13 +160,22 @@ pub fn summary(
     if let Some(t) = solution.outliers {
         line.push_str(&outliers_clause(mission.max_outliers, t));
     }
+    let calibration = Calibration::of(&mission.meta);
+    if let Some(c) = &calibration {
+        line.push_str(&format!("; {}", c.clause()));
+    }
     if let Some((inside, errors, _)) = score(mission, solution) {
+        let transferred = calibration.as_ref().is_some_and(|c| !c.same_run);
         line.push_str(if inside {
             "; truth inside"
+        } else if transferred {
+            // Bounds fitted on another run may not hold on this one: a
+            // truth outside is then a broken bound, not a wrong proof.
+            "; TRUTH OUTSIDE: this run's truth breaks bounds calibrated on another run (nvector check MISSION names the constraints)"
         } else if matches!(solution.status, SolveStatus::Infeasible(_)) {
             // No box holds anything: either the mission's truth breaks
             // one of its own constraints, or the proof is wrong.
-            "; TRUTH OUTSIDE: the mission was proved infeasible, so its truth breaks one of its constraints (or this is a soundness bug: please report it if the truth fits)"
+            "; TRUTH OUTSIDE: the mission was proved infeasible, so its truth breaks one of its constraints (nvector check MISSION names them; if it names none, this is a soundness bug: please report it)"
         } else {
             "; TRUTH OUTSIDE (a soundness bug: please report it)"
         });
@@ -182,6 +191,43 @@ pub fn summary(
         line.push_str(&format!("; figure in {}", p.display()));
     }
     line
+}
+
+/// Where a mission's bounds come from, as its `meta.calibration` says
+/// (`{"source": "...", "same_run": bool}`, written by the importers and
+/// `nvector calibrate`; docs/formats.md): fitted on this run's own truth
+/// (the truth check holds by construction, up to the margins) or
+/// calibrated on another run (the truth check is then a test of the
+/// calibration, not a guarantee).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Calibration {
+    /// The run (or file) the bounds were fitted on, when named.
+    pub source: Option<String>,
+    /// Whether that run is this mission's own.
+    pub same_run: bool,
+}
+
+impl Calibration {
+    /// The calibration `meta` states, when it states one (`same_run` a
+    /// boolean; anything else is not read).
+    pub fn of(meta: &serde_json::Value) -> Option<Calibration> {
+        let c = meta.get("calibration")?;
+        Some(Calibration {
+            source: c.get("source").and_then(|s| s.as_str()).map(str::to_string),
+            same_run: c.get("same_run")?.as_bool()?,
+        })
+    }
+
+    /// The summary's words.
+    pub fn clause(&self) -> String {
+        match (self.same_run, &self.source) {
+            (true, _) => "bounds fitted on this run's truth".into(),
+            (false, Some(s)) => {
+                format!("bounds calibrated on another run ({s}): truth check not a guarantee")
+            }
+            (false, None) => "bounds calibrated on another run: truth check not a guarantee".into(),
+        }
+    }
 }
 
 /// What a robust solve proved of the false detections, for the summary:
@@ -218,4 +264,31 @@ fn progress_message(p: &Progress) -> String {
         metres(Some(p.max_trajectory_diameter)),
         metres(Some(p.initial_max_trajectory_diameter))
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Calibration;
+    use serde_json::json;
+
+    #[test]
+    fn the_calibration_is_read_from_meta() {
+        let other = json!({"calibration": {"source": "woods t < 630 s", "same_run": false}});
+        let c = Calibration::of(&other).unwrap();
+        assert_eq!(
+            c.clause(),
+            "bounds calibrated on another run (woods t < 630 s): truth check not a guarantee"
+        );
+        let same = json!({"calibration": {"source": "x", "same_run": true}});
+        assert_eq!(
+            Calibration::of(&same).unwrap().clause(),
+            "bounds fitted on this run's truth"
+        );
+        // Absent, or without a boolean same_run: nothing is said.
+        assert_eq!(Calibration::of(&json!({})), None);
+        assert_eq!(
+            Calibration::of(&json!({"calibration": {"same_run": "no"}})),
+            None
+        );
+    }
 }

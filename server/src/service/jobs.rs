@@ -109,7 +109,7 @@ impl JobRequest {
 
     /// The round cap (default 10,000).
     fn max_rounds(&self) -> ApiResult<i64> {
-        match self.max_rounds {
+        match &self.max_rounds {
             None => Ok(10_000),
             Some(x) => x
                 .at_most(u32::MAX as u64, "max_rounds")
