@@ -92,41 +92,11 @@ struct Piece {
 /// Pieces of the groups, cached across rounds.
 #[derive(Debug, Clone, Default)]
 pub struct Frames {
-    /// By group root: what its pieces were built from, and the pieces.
-    cache: Vec<Option<Cached>>,
+    /// By group root: (member count when built, pieces).
+    cache: Vec<Option<(usize, Vec<Piece>)>>,
     /// The id of the next piece built.
     next_id: u64,
-    /// The displacement sums and the headings at the detections stay the
-    /// same from call to call (the caller's promise: every model but
-    /// odometry2d). A chunk is then known by its members alone, and a
-    /// piece tested once needs no test again (see [`ChunkKey`]).
-    pub fixed_inputs: bool,
-    /// Whether a group that grew reuses the pieces of its unchanged chunks
-    /// (off: every chunk of a changed group is built again, the reference
-    /// schedule the tests compare with).
-    pub reuse_chunks: bool,
 }
-
-/// A group's pieces, with what they were built from.
-#[derive(Debug, Clone)]
-struct Cached {
-    /// Member count when built.
-    len: usize,
-    pieces: Vec<Piece>,
-    /// Each chunk's key ([`ChunkKey`]) and its number of pieces, in the
-    /// order of `pieces`.
-    chunks: Vec<(ChunkKey, usize)>,
-}
-
-/// The bits of everything [`build_pieces`] reads of one chunk: its members
-/// (in step order), and, unless the inputs are fixed ([`Frames::fixed_inputs`]),
-/// the centre of every member's relative shape in the frame of every
-/// anchor and the heading at every member. The pieces of a chunk are a
-/// function of these (and of the options, which do not change): a chunk
-/// with the same key has the same pieces, bit for bit, so a group that
-/// grew reuses the pieces of its unchanged chunks instead of paving them
-/// again.
-type ChunkKey = Vec<u64>;
 
 /// The shape of detection j in the frame of step s (cut by nothing: the
 /// piece regions are cached, so they depend on the group alone).
@@ -155,7 +125,7 @@ impl Frames {
         group
             .iter()
             .filter_map(|&j| self.cache.get(j)?.as_ref())
-            .flat_map(|c| c.pieces.iter().map(|p| (p.step, &p.region)))
+            .flat_map(|(_, pieces)| pieces.iter().map(|p| (p.step, &p.region)))
             .collect()
     }
 
@@ -166,7 +136,7 @@ impl Frames {
         self.cache
             .iter()
             .flatten()
-            .flat_map(|c| c.pieces.iter().map(|p| (p.member, p.step, p.id, &p.region)))
+            .flat_map(|(_, pieces)| pieces.iter().map(|p| (p.member, p.step, p.id, &p.region)))
             .collect()
     }
 
@@ -195,8 +165,8 @@ impl Frames {
         // Every piece, by step: (step, root, index).
         let mut all: Vec<(usize, usize, usize)> = Vec::new();
         for (root, c) in self.cache.iter().enumerate() {
-            if let Some(c) = c {
-                for (i, p) in c.pieces.iter().enumerate() {
+            if let Some((_, pieces)) = c {
+                for (i, p) in pieces.iter().enumerate() {
                     all.push((p.step, root, i));
                 }
             }
@@ -204,8 +174,8 @@ impl Frames {
         crate::sort::sort_ord(&mut all);
         work += self.detections_against_pieces(&view, order, &all, uf, opts, out);
         work += self.pieces_against_pieces(&view, &all, opts, out);
-        for c in self.cache.iter_mut().flatten() {
-            for p in &mut c.pieces {
+        for (_, pieces) in self.cache.iter_mut().flatten() {
+            for p in pieces {
                 p.tested = true;
             }
         }
@@ -235,9 +205,7 @@ impl Frames {
     }
 
     /// The pieces of every group, (re)built when the group changed (its
-    /// size): then each chunk whose key ([`ChunkKey`]) is one of the old
-    /// group's (or groups', after a merge) takes the pieces built for it,
-    /// the others are built. The work done.
+    /// size); the work done.
     fn rebuild(&mut self, v: &View, uf: &mut Uf, opts: &FrameOptions) -> Result<u64, String> {
         let k = v.dets.len();
         if self.cache.len() != k {
@@ -245,89 +213,45 @@ impl Frames {
         }
         let mut work = 0u64;
         let groups = uf.groups();
-        let mut fresh: Vec<Option<Cached>> = vec![None; k];
+        let mut fresh: Vec<Option<(usize, Vec<Piece>)>> = vec![None; k];
         for g in &groups {
             let root = g[0];
-            let mut same: Option<Cached> = None;
-            let mut old: Vec<Cached> = Vec::new();
-            for &j in g {
-                match self.cache[j].take() {
-                    Some(c) if same.is_none() && c.len == g.len() => same = Some(c),
-                    Some(c) => old.push(c),
-                    None => {}
+            let cached = g
+                .iter()
+                .find_map(|&j| self.cache[j].take().filter(|(len, _)| *len == g.len()));
+            let pieces = match cached {
+                Some((_, p)) => p,
+                None => {
+                    let dets = v.dets;
+                    let mut members = g.clone();
+                    crate::sort::sort_indices_by(&mut members, |a, b| {
+                        dets[a].step.cmp(&dets[b].step)
+                    });
+                    let mut pieces: Vec<Piece> = Vec::new();
+                    for chunk in
+                        members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
+                    {
+                        pieces.extend(build_pieces(
+                            dets,
+                            v.sums,
+                            v.heading_at,
+                            v.dim,
+                            chunk,
+                            opts,
+                            &mut work,
+                        )?);
+                    }
+                    for p in &mut pieces {
+                        p.id = self.next_id;
+                        self.next_id += 1;
+                    }
+                    pieces
                 }
-            }
-            let cached = match same {
-                Some(c) => c,
-                None => self.build_group(v, g, old, opts, &mut work)?,
             };
-            fresh[root] = Some(cached);
+            fresh[root] = Some((g.len(), pieces));
         }
         self.cache = fresh;
         Ok(work)
-    }
-
-    /// The pieces of group `g`, chunk by chunk: those of `old` (the
-    /// cached pieces of the groups it holds) whose chunk key is the same,
-    /// the others built and given new ids. Soundness: a reused piece is
-    /// the piece [`build_pieces`] would build (the same inputs, bit for
-    /// bit). It keeps its test mark only when the inputs are fixed: its
-    /// pairs with the detections and pieces it was tested against would
-    /// be the same (the same relative shapes, and groups only grow, so
-    /// what was in its group still is); else it is tested again, as a
-    /// built piece is.
-    fn build_group(
-        &mut self,
-        v: &View,
-        g: &[usize],
-        old: Vec<Cached>,
-        opts: &FrameOptions,
-        work: &mut u64,
-    ) -> Result<Cached, String> {
-        let mut reusable: std::collections::BTreeMap<ChunkKey, Vec<Piece>> = Default::default();
-        for c in old.into_iter().filter(|_| self.reuse_chunks) {
-            let mut pieces = c.pieces.into_iter();
-            for (key, count) in c.chunks {
-                reusable.insert(key, pieces.by_ref().take(count).collect());
-            }
-        }
-        let dets = v.dets;
-        let mut members = g.to_vec();
-        crate::sort::sort_indices_by(&mut members, |a, b| dets[a].step.cmp(&dets[b].step));
-        let mut pieces: Vec<Piece> = Vec::new();
-        let mut chunks: Vec<(ChunkKey, usize)> = Vec::new();
-        for chunk in members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps) {
-            let key = if self.reuse_chunks {
-                chunk_key(v, chunk, opts, self.fixed_inputs)
-            } else {
-                ChunkKey::new()
-            };
-            let built = match reusable.remove(&key) {
-                Some(mut p) => {
-                    if !self.fixed_inputs {
-                        for piece in &mut p {
-                            piece.tested = false;
-                        }
-                    }
-                    p
-                }
-                None => {
-                    let mut p = build_pieces(dets, v.sums, v.heading_at, v.dim, chunk, opts, work)?;
-                    for piece in &mut p {
-                        piece.id = self.next_id;
-                        self.next_id += 1;
-                    }
-                    p
-                }
-            };
-            chunks.push((key, built.len()));
-            pieces.extend(built);
-        }
-        Ok(Cached {
-            len: g.len(),
-            pieces,
-            chunks,
-        })
     }
 
     /// Detections (by step, `order`) against the untested pieces of other
@@ -353,7 +277,7 @@ impl Frames {
                 if root == rx {
                     continue;
                 }
-                let p = &self.cache[root].as_ref().expect("cached").pieces[i];
+                let p = &self.cache[root].as_ref().expect("cached").1[i];
                 if p.tested {
                     continue;
                 }
@@ -384,8 +308,8 @@ impl Frames {
                 if ra == rb {
                     continue;
                 }
-                let pa = &self.cache[ra].as_ref().expect("cached").pieces[ia];
-                let pb = &self.cache[rb].as_ref().expect("cached").pieces[ib];
+                let pa = &self.cache[ra].as_ref().expect("cached").1[ia];
+                let pb = &self.cache[rb].as_ref().expect("cached").1[ib];
                 if pa.tested && pb.tested {
                     continue;
                 }
@@ -423,7 +347,20 @@ fn build_pieces(
     if chunk.len() < 2 {
         return Ok(Vec::new());
     }
-    let anchors = anchors(dets, chunk, opts);
+    // Anchors: members at least `anchor_gap` steps apart (the middle one
+    // when the chunk is shorter), each the frame of one piece.
+    let mut anchors: Vec<usize> = Vec::new();
+    for &j in chunk {
+        let far = anchors
+            .last()
+            .is_none_or(|&a| dets[j].step >= dets[a].step + opts.anchor_gap.max(1));
+        if far {
+            anchors.push(j);
+        }
+    }
+    if anchors.len() == 1 {
+        anchors[0] = chunk[chunk.len() / 2];
+    }
     let mut pieces = Vec::with_capacity(anchors.len());
     for anchor in anchors {
         let s = dets[anchor].step;
@@ -463,54 +400,6 @@ fn build_pieces(
         });
     }
     Ok(pieces)
-}
-
-/// The anchors of a chunk (sorted by step): members at least
-/// `anchor_gap` steps apart (the middle one when the chunk is shorter),
-/// each the frame of one piece.
-fn anchors(dets: &[Sighting], chunk: &[usize], opts: &FrameOptions) -> Vec<usize> {
-    let mut anchors: Vec<usize> = Vec::new();
-    for &j in chunk {
-        let far = anchors
-            .last()
-            .is_none_or(|&a| dets[j].step >= dets[a].step + opts.anchor_gap.max(1));
-        if far {
-            anchors.push(j);
-        }
-    }
-    if anchors.len() == 1 {
-        anchors[0] = chunk[chunk.len() / 2];
-    }
-    anchors
-}
-
-/// The [`ChunkKey`] of a chunk (sorted by step). O(members) with fixed
-/// inputs, else O(anchors · members · d).
-fn chunk_key(v: &View, chunk: &[usize], opts: &FrameOptions, fixed: bool) -> ChunkKey {
-    let mut key: ChunkKey = chunk.iter().map(|&j| j as u64).collect();
-    if fixed || chunk.len() < 2 {
-        return key;
-    }
-    key.push(u64::MAX);
-    let bits = |x: Interval, key: &mut ChunkKey| {
-        key.push(x.lo().to_bits());
-        key.push(x.hi().to_bits());
-    };
-    for &j in chunk {
-        if v.dets[j].bearing.is_some() {
-            bits(v.heading_at[j], &mut key);
-        }
-    }
-    for a in anchors(v.dets, chunk, opts) {
-        let s = v.dets[a].step;
-        for &j in chunk {
-            let centre = v.sums.delta(s, v.dets[j].step);
-            for &x in &centre[..v.dim] {
-                bits(x, &mut key);
-            }
-        }
-    }
-    key
 }
 
 /// Whether `a` may meet `b` translated by `delta` (`false` is a proof; an

@@ -147,8 +147,6 @@ impl ShapesState {
     /// The steps of the module doc, in order; Err: the mission is
     /// infeasible (the reason).
     fn steps(&mut self, round: &mut Round, n: Option<usize>) -> Result<(), String> {
-        self.frames.fixed_inputs = self.fixed_displacements;
-        self.frames.reuse_chunks = !self.full_work;
         self.group_regions(round)?;
         let Some(n) = n else {
             return Ok(());
