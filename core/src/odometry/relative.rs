@@ -54,7 +54,8 @@
 //! # Complexity
 //!
 //! O(1) per step of [`advance`] and per [`gap`]; [`gap_below`] O(PIECES^5)
-//! gaps when it subdivides (243), O(1) otherwise; no allocation.
+//! norm bounds when it subdivides (243) over O(PIECES^3) body points (36,
+//! each made once), O(1) otherwise; no allocation.
 
 use crate::interval::Interval;
 use crate::odometry::chain::OdometryChain;
@@ -158,6 +159,19 @@ pub fn body_point(
     o: [f64; 2],
     turn: Interval,
 ) -> [Interval; 2] {
+    let oo = crate::odometry::sensor::rotate_offset(turn, o);
+    body_point_from(r, beta, oo, turn)
+}
+
+/// [`body_point`] with the rotated offset `oo = rotate_offset(turn, o)`
+/// given (the same bits: the same operations on the same operands), for
+/// callers that reuse one rotated offset over many points.
+fn body_point_from(
+    r: Interval,
+    beta: Option<Interval>,
+    oo: [Interval; 2],
+    turn: Interval,
+) -> [Interval; 2] {
     let r = r.intersect(Interval::new(0.0, f64::INFINITY));
     let m = match beta {
         Some(b) => {
@@ -169,7 +183,6 @@ pub fn body_point(
             [c, c]
         }
     };
-    let oo = crate::odometry::sensor::rotate_offset(turn, o);
     [oo[0] + m[0], oo[1] + m[1]]
 }
 
@@ -260,21 +273,35 @@ pub fn gap_below(
         return false;
     }
     let m = PIECES;
+    // Each combination's box is `gap` of a's body point over pieces
+    // (k0, k1) and b's over (k2, k3, k4): the 3^2 and 3^3 body points are
+    // made once each, when first read (and the rotated offsets once per
+    // heading piece), instead of twice per combination. The same
+    // operations on the same operands: the same bits as `gap` on each
+    // combination, the same answer, in the same order.
+    let a_offset = crate::odometry::sensor::rotate_offset(Interval::ZERO, o);
+    let mut b_offset: [Option<[Interval; 2]>; PIECES] = [None; PIECES];
+    let mut a_memo: [Option<[Interval; 2]>; PIECES * PIECES] = [None; PIECES * PIECES];
+    let mut b_memo: [Option<[Interval; 2]>; PIECES * PIECES * PIECES] =
+        [None; PIECES * PIECES * PIECES];
     for code in 0..m.pow(5) {
         let k = |d: u32| (code / m.pow(d)) % m;
-        let a_body = body_point(
-            piece(ra, k(0), m),
-            Some(piece(ba, k(1), m)),
-            o,
-            Interval::ZERO,
-        );
-        let p = RelativePose {
-            p: pose.p,
-            h: piece(pose.h, k(2), m),
-            nominal: pose.nominal,
-            exempt: pose.exempt,
-        };
-        let v = gap(&a_body, &p, piece(rb, k(3), m), Some(piece(bb, k(4), m)), o);
+        let a_body = *a_memo[k(0) + m * k(1)].get_or_insert_with(|| {
+            body_point_from(
+                piece(ra, k(0), m),
+                Some(piece(ba, k(1), m)),
+                a_offset,
+                Interval::ZERO,
+            )
+        });
+        let b = *b_memo[k(2) + m * k(3) + m * m * k(4)].get_or_insert_with(|| {
+            let h = piece(pose.h, k(2), m);
+            let oo =
+                *b_offset[k(2)].get_or_insert_with(|| crate::odometry::sensor::rotate_offset(h, o));
+            body_point_from(piece(rb, k(3), m), Some(piece(bb, k(4), m)), oo, h)
+        });
+        // `gap` of the combination: a's body point, minus P, minus b's.
+        let v = [a_body[0] - pose.p[0] - b[0], a_body[1] - pose.p[1] - b[1]];
         if !below(norm_above(&v), s) {
             return false;
         }

@@ -45,6 +45,7 @@ pub fn run(b: &mut Bench) {
     propagate_1e6(b, runs);
     best_1e6(b);
     paper_seeds_1_10(b);
+    super::bench_real::run(b);
 }
 
 /// One forward + one backward sweep of the motion chain on 10^6 steps
@@ -154,14 +155,14 @@ fn auv_60k_total(b: &mut Bench, runs: usize) {
 }
 
 /// The paper mission of `steps` steps, seed 5 (operator's ids or not).
-fn paper_1e6_mission(steps: usize, operator: bool) -> Mission {
+pub fn paper_1e6_mission(steps: usize, operator: bool) -> Mission {
     let mut o = SimulateOptions::new(Scenario::Paper, 5);
     o.steps = Some(steps);
     o.operator = operator;
     Mission::from_value(&simulate(&o)).expect("valid mission")
 }
 
-fn solve_options(association: Association) -> SolveOptions {
+pub fn solve_options(association: Association) -> SolveOptions {
     SolveOptions {
         association,
         ..SolveOptions::default()

@@ -1,6 +1,7 @@
 //! Subcommands, one file each.
 
 pub mod bench;
+pub mod bench_real;
 pub mod bench_service;
 pub mod bench_slam;
 pub mod calibrate;
