@@ -94,7 +94,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         "the simulation request's OpenAPI schema",
     ),
     ("slam::woods", 6, "the woods scenario writer (odometry2d)"),
-    ("slam::plant", 6, "false ranges planted in a mission with truth"),
+    (
+        "slam::plant",
+        6,
+        "false ranges planted in a mission with truth",
+    ),
     ("tdoa::pulse", 6, "the per-pulse fixpoint and paving"),
     ("slam::types", 7, "shared options, progress, solution"),
     (

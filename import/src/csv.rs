@@ -92,10 +92,7 @@ fn read_csv_with(path: &Path, header: bool, min_columns: usize) -> Result<Csv, I
 
 /// The columns of a CSV by name, or an error naming the file and column.
 pub fn columns(csv: &Csv, path: &Path, names: &[&str]) -> Result<Vec<usize>, ImportError> {
-    names
-        .iter()
-        .map(|n| column(csv, path, n))
-        .collect()
+    names.iter().map(|n| column(csv, path, n)).collect()
 }
 
 /// The column `name` of a CSV, or an error naming the file and column.
@@ -122,26 +119,41 @@ mod tests {
     fn a_bad_cell_is_named_by_file_line_and_column() {
         let p = temp("bad.csv", "t,speed\n0,1\n\n1,fast\n");
         let e = read_csv(&p, true).err().unwrap().to_string();
-        assert!(e.ends_with("bad.csv:4: column 2 (speed): 'fast' is not a finite number"), "{e}");
+        assert!(
+            e.ends_with("bad.csv:4: column 2 (speed): 'fast' is not a finite number"),
+            "{e}"
+        );
         let p = temp("inf.csv", "t,speed\n0,inf\n");
         let e = read_csv(&p, true).err().unwrap().to_string();
-        assert!(e.ends_with("inf.csv:2: column 2 (speed): 'inf' is not a finite number"), "{e}");
+        assert!(
+            e.ends_with("inf.csv:2: column 2 (speed): 'inf' is not a finite number"),
+            "{e}"
+        );
     }
 
     #[test]
     fn short_rows_and_empty_files_are_refused() {
         let p = temp("short.csv", "1 2 3\n4 5\n");
         let e = read_table(&p, 3).err().unwrap().to_string();
-        assert!(e.ends_with("short.csv:2: expected at least 3 columns, found 2"), "{e}");
+        assert!(
+            e.ends_with("short.csv:2: expected at least 3 columns, found 2"),
+            "{e}"
+        );
         let p = temp("ragged.csv", "a,b\n1,2,3\n");
         let e = read_csv(&p, true).err().unwrap().to_string();
-        assert!(e.ends_with("ragged.csv:2: expected 2 columns like the header, found 3"), "{e}");
+        assert!(
+            e.ends_with("ragged.csv:2: expected 2 columns like the header, found 3"),
+            "{e}"
+        );
         let p = temp("empty.csv", "\n\n");
         let e = read_csv(&p, true).err().unwrap().to_string();
         assert!(e.ends_with("empty.csv: empty file"), "{e}");
         let missing = p.with_file_name("no-such.csv");
         let e = read_csv(&missing, true).err().unwrap().to_string();
-        assert!(e.starts_with("reading ") && e.contains("no-such.csv"), "{e}");
+        assert!(
+            e.starts_with("reading ") && e.contains("no-such.csv"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -327,7 +327,10 @@ fn model_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
         if !o.iter().all(|x| x.is_finite()) {
             return Err(ImportError::setting(
                 "sensor_offset",
-                format!("--sensor-offset {},{}: expected two finite numbers", o[0], o[1]),
+                format!(
+                    "--sensor-offset {},{}: expected two finite numbers",
+                    o[0], o[1]
+                ),
             ));
         }
         m["sensor_offset"] = json!(o);

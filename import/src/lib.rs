@@ -112,11 +112,7 @@ impl Default for DataSetImport {
 
 /// The data set `which` in `dir` as a mission (a TDOA problem for
 /// LocaRDS), validated as core reads it.
-pub fn import_dataset(
-    which: DataSet,
-    dir: &Path,
-    o: &DataSetImport,
-) -> Result<Value, ImportError> {
+pub fn import_dataset(which: DataSet, dir: &Path, o: &DataSetImport) -> Result<Value, ImportError> {
     check_false_detections(o.false_detections)?;
     if which == DataSet::LocardsMlat {
         return locards::locards(dir, o.set);
@@ -154,8 +150,10 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) -> Resul
         return Ok(());
     }
     let mut typed = Mission::from_value(mission).map_err(ImportError::InvalidMission)?;
-    let planted = nvector_core::slam::plant::plant_false_ranges(&mut typed, count, seed)
-        .map_err(|e| ImportError::setting("false_detections", format!("--false-detections: {e}")))?;
+    let planted =
+        nvector_core::slam::plant::plant_false_ranges(&mut typed, count, seed).map_err(|e| {
+            ImportError::setting("false_detections", format!("--false-detections: {e}"))
+        })?;
     let real = match mission["detections"].take() {
         Value::Array(a) => a,
         _ => Vec::new(),

@@ -104,15 +104,12 @@ fn field(cols: &[&str], i: usize, file: &Path, line: usize) -> Result<f64, Impor
     cols.get(i)
         .and_then(|s| s.trim().parse::<f64>().ok())
         .filter(|x| x.is_finite())
-        .ok_or_else(|| {
-            ImportError::line(file, line, format!("column {} is not a number", i + 1))
-        })
+        .ok_or_else(|| ImportError::line(file, line, format!("column {} is not a number", i + 1)))
 }
 
 fn read_sensors(dir: &Path) -> Result<HashMap<u64, [f64; 3]>, ImportError> {
     let file = dir.join("sensors.csv");
-    let text = std::fs::read_to_string(&file)
-        .map_err(|e| ImportError::read(&file, e))?;
+    let text = std::fs::read_to_string(&file).map_err(|e| ImportError::read(&file, e))?;
     let mut out = HashMap::new();
     for (i, l) in text
         .lines()
@@ -136,8 +133,7 @@ fn read_sensors(dir: &Path) -> Result<HashMap<u64, [f64; 3]>, ImportError> {
 
 fn read_set(dir: &Path, set: u32) -> Result<Vec<Message>, ImportError> {
     let file = dir.join(format!("set_{set}.csv"));
-    let text = std::fs::read_to_string(&file)
-        .map_err(|e| ImportError::read(&file, e))?;
+    let text = std::fs::read_to_string(&file).map_err(|e| ImportError::read(&file, e))?;
     let mut out = Vec::new();
     for (i, l) in text
         .lines()
@@ -146,9 +142,9 @@ fn read_set(dir: &Path, set: u32) -> Result<Vec<Message>, ImportError> {
         .filter(|(_, l)| !l.trim().is_empty())
     {
         let line = i + 1;
-        let (head, quoted) = l.split_once('"').ok_or_else(|| {
-            ImportError::line(&file, line, "no quoted measurements column")
-        })?;
+        let (head, quoted) = l
+            .split_once('"')
+            .ok_or_else(|| ImportError::line(&file, line, "no quoted measurements column"))?;
         let c: Vec<&str> = head.split(',').collect();
         let list: Vec<Vec<f64>> = serde_json::from_str(quoted.trim_end().trim_end_matches('"'))
             .map_err(|e| ImportError::line(&file, line, format!("measurements: {e}")))?;
@@ -208,15 +204,12 @@ pub fn locards(dir: &Path, set: u32) -> Result<Value, ImportError> {
     serials.sort_unstable();
     serials.dedup();
     let geo = |s: u64| {
-        sensors
-            .get(&s)
-            .copied()
-            .ok_or_else(|| {
-                ImportError::file(
-                    format!("set_{set}.csv"),
-                    format!("sensor {s} is not in sensors.csv"),
-                )
-            })
+        sensors.get(&s).copied().ok_or_else(|| {
+            ImportError::file(
+                format!("set_{set}.csv"),
+                format!("sensor {s} is not in sensors.csv"),
+            )
+        })
     };
     if serials.is_empty() {
         return Err(ImportError::file(format!("set_{set}.csv"), "no message"));

@@ -5,7 +5,9 @@ use super::*;
 use std::path::PathBuf;
 
 fn data(dir: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data").join(dir)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../data")
+        .join(dir)
 }
 
 /// A fresh directory of this test process.
@@ -17,8 +19,12 @@ fn temp_dir(name: &str) -> PathBuf {
 
 #[test]
 fn plaza_planting_keeps_the_real_detections_and_plants_false_ones() {
-    let plain = import_dataset(DataSet::CmuPlaza, &data("cmu-plaza1"), &DataSetImport::default())
-        .unwrap();
+    let plain = import_dataset(
+        DataSet::CmuPlaza,
+        &data("cmu-plaza1"),
+        &DataSetImport::default(),
+    )
+    .unwrap();
     let o = DataSetImport {
         operator: false,
         outlier_share: 0.02,
@@ -26,8 +32,15 @@ fn plaza_planting_keeps_the_real_detections_and_plants_false_ones() {
         seed: 3,
         set: 1,
     };
-    let shared = import_dataset(DataSet::CmuPlaza, &data("cmu-plaza1"), &DataSetImport { false_detections: 0, ..o })
-        .unwrap();
+    let shared = import_dataset(
+        DataSet::CmuPlaza,
+        &data("cmu-plaza1"),
+        &DataSetImport {
+            false_detections: 0,
+            ..o
+        },
+    )
+    .unwrap();
     let planted = import_dataset(DataSet::CmuPlaza, &data("cmu-plaza1"), &o).unwrap();
     let real = plain["detections"].as_array().unwrap();
     let dets = planted["detections"].as_array().unwrap();
@@ -35,17 +48,25 @@ fn plaza_planting_keeps_the_real_detections_and_plants_false_ones() {
     assert_eq!(dets.len(), real.len() + 20);
     assert_eq!(matching.iter().filter(|m| m.is_null()).count(), 20);
     assert_eq!(planted["name"], "cmu-plaza1-false-20");
-    let outside = shared["meta"]["outlier_share"]["outside"].as_array().unwrap();
+    let outside = shared["meta"]["outlier_share"]["outside"]
+        .as_array()
+        .unwrap();
     assert_eq!(
         planted["max_outliers"].as_u64().unwrap(),
         outside.len() as u64 + 20
     );
     // Every range the share left outside is the same range at its new
-    // index; the real ones keep their order.
+    // index; the real ones keep their order within a step (planting sorts
+    // the detections by step).
     let shared_dets = shared["detections"].as_array().unwrap();
-    let new_outside = planted["meta"]["outlier_share"]["outside"].as_array().unwrap();
+    let new_outside = planted["meta"]["outlier_share"]["outside"]
+        .as_array()
+        .unwrap();
     for (old, new) in outside.iter().zip(new_outside) {
-        let (old, new) = (old.as_u64().unwrap() as usize, new.as_u64().unwrap() as usize);
+        let (old, new) = (
+            old.as_u64().unwrap() as usize,
+            new.as_u64().unwrap() as usize,
+        );
         assert_eq!(shared_dets[old], dets[new]);
         assert!(!matching[new].is_null());
     }
@@ -55,11 +76,16 @@ fn plaza_planting_keeps_the_real_detections_and_plants_false_ones() {
         .filter(|(_, m)| !m.is_null())
         .map(|(d, _)| d)
         .collect();
-    assert_eq!(kept, shared_dets.iter().collect::<Vec<_>>());
+    let mut by_step: Vec<&Value> = shared_dets.iter().collect();
+    by_step.sort_by_key(|d| d["step"].as_u64());
+    assert_eq!(kept, by_step);
     // Steps stay in order.
     let steps: Vec<u64> = dets.iter().map(|d| d["step"].as_u64().unwrap()).collect();
     assert!(steps.windows(2).all(|w| w[0] <= w[1]));
-    assert!(plain["meta"]["source"].as_str().unwrap().contains("CMU Plaza 1"));
+    assert!(plain["meta"]["source"]
+        .as_str()
+        .unwrap()
+        .contains("CMU Plaza 1"));
 }
 
 #[test]
@@ -71,16 +97,25 @@ fn woods_and_locards_name_their_data_in_this_repository() {
     )
     .unwrap();
     let source = woods["meta"]["source"].as_str().unwrap();
-    assert!(source.contains("data/utias-lost-in-the-woods") && !source.contains(".."), "{source}");
+    assert!(
+        source.contains("data/utias-lost-in-the-woods") && !source.contains(".."),
+        "{source}"
+    );
     let tdoa = import_dataset(
         DataSet::LocardsMlat,
         &data("locards-mlat"),
-        &DataSetImport { set: 2, ..Default::default() },
+        &DataSetImport {
+            set: 2,
+            ..Default::default()
+        },
     )
     .unwrap();
     assert_eq!(tdoa["format"], "nvector-tdoa/1");
     let source = tdoa["meta"]["source"].as_str().unwrap();
-    assert_eq!(source, "LocaRDS set_2.csv (data/locards-mlat of the nvector repository)");
+    assert_eq!(
+        source,
+        "LocaRDS set_2.csv (data/locards-mlat of the nvector repository)"
+    );
 }
 
 #[test]
@@ -91,15 +126,34 @@ fn data_set_names_and_settings_are_checked() {
     assert_eq!(DataSet::parse("plaza"), None);
     let dir = data("cmu-plaza1");
     for share in [-0.1, 0.5, f64::NAN] {
-        let o = DataSetImport { outlier_share: share, ..Default::default() };
+        let o = DataSetImport {
+            outlier_share: share,
+            ..Default::default()
+        };
         let e = import_dataset(DataSet::CmuPlaza, &dir, &o).unwrap_err();
-        assert!(matches!(e, ImportError::Setting { option: "outlier_share", .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                ImportError::Setting {
+                    option: "outlier_share",
+                    ..
+                }
+            ),
+            "{e}"
+        );
     }
-    let o = DataSetImport { false_detections: MAX_FALSE_DETECTIONS + 1, ..Default::default() };
+    let o = DataSetImport {
+        false_detections: MAX_FALSE_DETECTIONS + 1,
+        ..Default::default()
+    };
     let e = import_dataset(DataSet::CmuPlaza, &dir, &o).unwrap_err();
     assert_eq!(e.to_string(), "--false-detections must be at most 100000");
-    let e = import_dataset(DataSet::UtiasWoods, &temp_dir("none"), &DataSetImport::default())
-        .unwrap_err();
+    let e = import_dataset(
+        DataSet::UtiasWoods,
+        &temp_dir("none"),
+        &DataSetImport::default(),
+    )
+    .unwrap_err();
     assert!(matches!(e, ImportError::Read { .. }), "{e}");
     assert!(e.to_string().contains("odometry.csv"), "{e}");
 }
@@ -132,7 +186,9 @@ fn a_csv_pair_becomes_a_mission_with_notes() {
     assert_eq!(m.detections[0].step, 2);
     assert_eq!(m.name, "log");
     assert_eq!(imported.notes.len(), 1);
-    assert!(imported.notes[0].ends_with("log.csv: ignoring column(s) note (read: t, speed, heading)"));
+    assert!(
+        imported.notes[0].ends_with("log.csv: ignoring column(s) note (read: t, speed, heading)")
+    );
 }
 
 #[test]
@@ -140,19 +196,43 @@ fn csv_errors_name_the_file_the_line_and_the_setting() {
     let dir = temp_dir("csv-errors");
     let a = small_csv(&dir, "t,range_lo,range_hi\n1.0,4.0,4.5\n9.0,1,2\n");
     let e = import_csv(&a).unwrap_err().to_string();
-    assert!(e.ends_with("det.csv:3: time 9 falls outside the log (step 18 not in 0..=3)"), "{e}");
+    assert!(
+        e.ends_with("det.csv:3: time 9 falls outside the log (step 18 not in 0..=3)"),
+        "{e}"
+    );
     let a = small_csv(&dir, "t,range_lo,range_hi,scan\n1.0,4.0,4.5,-1\n");
     let e = import_csv(&a).unwrap_err().to_string();
-    assert!(e.ends_with("det.csv:2: scan must be a non-negative integer, found -1"), "{e}");
+    assert!(
+        e.ends_with("det.csv:2: scan must be a non-negative integer, found -1"),
+        "{e}"
+    );
     let mut a = small_csv(&dir, "t,range_lo,range_hi\n1.0,4.0,4.5\n");
     a.errors.pop();
     let e = import_csv(&a).unwrap_err();
-    assert!(matches!(e, ImportError::Setting { option: "errors", .. }));
-    assert_eq!(e.to_string(), "--error heading=E is required (the bound of channel heading)");
+    assert!(matches!(
+        e,
+        ImportError::Setting {
+            option: "errors",
+            ..
+        }
+    ));
+    assert_eq!(
+        e.to_string(),
+        "--error heading=E is required (the bound of channel heading)"
+    );
     let mut a = small_csv(&dir, "t,range_lo,range_hi\n1.0,4.0,4.5\n");
     a.initial = Some(vec![[0.0, 0.0]]);
     let e = import_csv(&a).unwrap_err();
-    assert!(matches!(e, ImportError::Setting { option: "initial", .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            ImportError::Setting {
+                option: "initial",
+                ..
+            }
+        ),
+        "{e}"
+    );
     let mut a = small_csv(&dir, "t,range_lo,range_hi\n1.0,4.0,4.5\n");
     a.model = "odometry2d".into();
     let e = import_csv(&a).unwrap_err().to_string();

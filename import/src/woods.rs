@@ -216,7 +216,13 @@ fn woods_log(f: &WoodsFiles) -> Result<WoodsLog, ImportError> {
         return Err(ImportError::file(odo_p, "at least 2 rows are needed"));
     }
     if tru.rows.len() != rows {
-        return Err(ImportError::file(truth_p, format!("{} rows, expected one per odometry row ({rows})", tru.rows.len())));
+        return Err(ImportError::file(
+            truth_p,
+            format!(
+                "{} rows, expected one per odometry row ({rows})",
+                tru.rows.len()
+            ),
+        ));
     }
     let n = rows - 1;
     let t0 = odo.rows[0][*ot];
@@ -226,17 +232,29 @@ fn woods_log(f: &WoodsFiles) -> Result<WoodsLog, ImportError> {
     }
     for (k, (o, t)) in odo.rows.iter().zip(&tru.rows).enumerate() {
         if (o[*ot] - t0 - k as f64 * dt).abs() > dt / 4.0 {
-            return Err(ImportError::line(odo_p, k + 2, format!("time {} is not on the grid t0 + k*dt (dt = {dt})", o[*ot])));
+            return Err(ImportError::line(
+                odo_p,
+                k + 2,
+                format!("time {} is not on the grid t0 + k*dt (dt = {dt})", o[*ot]),
+            ));
         }
         if (t[*tt] - o[*ot]).abs() > dt / 4.0 {
-            return Err(ImportError::line(truth_p, k + 2, format!("time {} differs from the odometry's {}", t[*tt], o[*ot])));
+            return Err(ImportError::line(
+                truth_p,
+                k + 2,
+                format!("time {} differs from the odometry's {}", t[*tt], o[*ot]),
+            ));
         }
     }
     let v: Vec<f64> = odo.rows[..n].iter().map(|r| r[*ov]).collect();
     let om: Vec<f64> = odo.rows[..n].iter().map(|r| r[*oom]).collect();
     let valid: Vec<bool> = tru.rows.iter().map(|r| r[*tvalid] != 0.0).collect();
     if !valid[0] {
-        return Err(ImportError::line(truth_p, 2, "the truth at the first row is not valid (the initial pose comes from it)"));
+        return Err(ImportError::line(
+            truth_p,
+            2,
+            "the truth at the first row is not valid (the initial pose comes from it)",
+        ));
     }
     let theta: Vec<f64> = tru.rows.iter().map(|r| r[*tth]).collect();
     let heading = unwrap_headings(&theta, &valid, &om, dt);
@@ -543,12 +561,19 @@ fn woods_landmarks(f: &WoodsFiles) -> Result<(Vec<[f64; 2]>, f64), ImportError> 
     for (i, r) in lms.rows.iter().enumerate() {
         let id = r[*ll];
         if id < 0.0 || id.fract() != 0.0 || id as usize >= count {
-            return Err(ImportError::line(lm_p, i + 2, format!("landmark {id} is not an integer in 0..{count}")));
+            return Err(ImportError::line(
+                lm_p,
+                i + 2,
+                format!("landmark {id} is not an integer in 0..{count}"),
+            ));
         }
         landmarks[id as usize] = [r[*lx], r[*ly]];
     }
     if landmarks.iter().any(|l| l[0].is_nan()) {
-        return Err(ImportError::file(lm_p, format!("the labels must be 0..{count}, each once")));
+        return Err(ImportError::file(
+            lm_p,
+            format!("the labels must be 0..{count}, each once"),
+        ));
     }
     let mut separation = f64::INFINITY;
     for a in 0..count {
@@ -583,16 +608,28 @@ fn woods_detections(
         let line = i + 2;
         let step = ((r[*mt] - t0) / dt).round();
         if !(0.0..=n as f64).contains(&step) || (r[*mt] - t0 - step * dt).abs() > dt / 4.0 {
-            return Err(ImportError::line(meas_p, line, format!("time {} is not one of the odometry times", r[*mt])));
+            return Err(ImportError::line(
+                meas_p,
+                line,
+                format!("time {} is not one of the odometry times", r[*mt]),
+            ));
         }
         let step = step as usize;
         let id = r[*ml];
         if id < 0.0 || id.fract() != 0.0 || id as usize >= count {
-            return Err(ImportError::line(meas_p, line, format!("landmark {id} is not an integer in 0..{count}")));
+            return Err(ImportError::line(
+                meas_p,
+                line,
+                format!("landmark {id} is not an integer in 0..{count}"),
+            ));
         }
         let (id, range, bearing) = (id as usize, r[*mr], r[*mb]);
         if range < 0.0 {
-            return Err(ImportError::line(meas_p, line, format!("range {range} is negative")));
+            return Err(ImportError::line(
+                meas_p,
+                line,
+                format!("range {range} is negative"),
+            ));
         }
         let residual = match (log.position[step], log.heading[step]) {
             (Some(p), Some(h)) => {
@@ -614,7 +651,10 @@ fn woods_detections(
         });
     }
     if dets.iter().all(|d| d.residual.is_none()) {
-        return Err(ImportError::file(meas_p, "no detection at a step with valid truth: no bound can be derived"));
+        return Err(ImportError::file(
+            meas_p,
+            "no detection at a step with valid truth: no bound can be derived",
+        ));
     }
     Ok(dets)
 }
@@ -862,4 +902,3 @@ fn woods_meta(meta: &mut Value, dets: &[WoodsDetection], bands: &WoodsBands, sep
         meta.extend(fields);
     }
 }
-

@@ -484,18 +484,30 @@ fn import_error(py: Python<'_>, e: nvector_import::ImportError) -> PyErr {
         E::Read { ref source, .. } => {
             let text = e.to_string();
             match source.kind() {
-                std::io::ErrorKind::NotFound => pyo3::exceptions::PyFileNotFoundError::new_err(text),
+                std::io::ErrorKind::NotFound => {
+                    pyo3::exceptions::PyFileNotFoundError::new_err(text)
+                }
                 std::io::ErrorKind::PermissionDenied => {
                     pyo3::exceptions::PyPermissionError::new_err(text)
                 }
                 _ => pyo3::exceptions::PyOSError::new_err(text),
             }
         }
-        E::Cell { ref path, line, column, ref name, ref text } => located(
+        E::Cell {
+            ref path,
+            line,
+            column,
+            ref name,
+            ref text,
+        } => located(
             format!("{}:{line}", path.display()),
             format!("column {column} ({name}): '{text}' is not a finite number"),
         ),
-        E::Line { path, line, message } => located(format!("{}:{line}", path.display()), message),
+        E::Line {
+            path,
+            line,
+            message,
+        } => located(format!("{}:{line}", path.display()), message),
         E::File { path, message } => located(path.display().to_string(), message),
         E::Setting { option, message } => input_error(py, &InputError::new(option, message)),
         E::InvalidMission(e) | E::InvalidTdoa(e) => input_error(py, &e),
@@ -523,12 +535,17 @@ fn import_dataset<'py>(
             py,
             &InputError::new(
                 "name",
-                format!("unknown data set '{name}' (expected cmu-plaza, utias-woods or locards-mlat)"),
+                format!(
+                    "unknown data set '{name}' (expected cmu-plaza, utias-woods or locards-mlat)"
+                ),
             ),
         )
     })?;
     if !(1..=8).contains(&set) {
-        return Err(input_error(py, &InputError::new("set", format!("must be in 1..=8, found {set}"))));
+        return Err(input_error(
+            py,
+            &InputError::new("set", format!("must be in 1..=8, found {set}")),
+        ));
     }
     let o = DataSetImport {
         operator,

@@ -86,7 +86,10 @@ pub fn plant_false_ranges(
         });
     }
     let real = std::mem::take(&mut mission.detections);
-    let matching = mission.truth.as_mut().map(|t| std::mem::take(&mut t.matching));
+    let matching = mission
+        .truth
+        .as_mut()
+        .map(|t| std::mem::take(&mut t.matching));
     // (step, input index, detection)
     let mut all: Vec<(usize, usize, Detection)> = real
         .into_iter()

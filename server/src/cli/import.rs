@@ -149,12 +149,17 @@ fn csv_settings(a: &Args) -> Result<CsvImport, CliError> {
         .model
         .clone()
         .ok_or_else(|| CliError("--model is required (or --cmu-plaza DIR)".into()))?;
-    let pair = |s: &Option<String>, flag: &str| s.as_deref().map(|s| number_pair(s, flag)).transpose();
+    let pair =
+        |s: &Option<String>, flag: &str| s.as_deref().map(|s| number_pair(s, flag)).transpose();
     let dim = if model == "auv3d" { 3 } else { 2 };
     Ok(CsvImport {
         initial_heading: pair(&a.initial_heading, "--initial-heading")?,
         sensor_offset: pair(&a.sensor_offset, "--sensor-offset")?,
-        initial: a.initial.as_deref().map(|s| initial_box(s, dim)).transpose()?,
+        initial: a
+            .initial
+            .as_deref()
+            .map(|s| initial_box(s, dim))
+            .transpose()?,
         errors: channel_errors(&a.errors)?,
         log: a
             .log
@@ -207,12 +212,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 "--false-detections needs --cmu-plaza (plant false ranges in a real log)".into(),
             ))
         }
-        None if a.outlier_share > 0.0 => {
-            return Err(CliError(
-                "--outlier-share needs --cmu-plaza or --utias-woods (bands derived against a truth)"
-                    .into(),
-            ))
-        }
+        None if a.outlier_share > 0.0 => return Err(CliError(
+            "--outlier-share needs --cmu-plaza or --utias-woods (bands derived against a truth)"
+                .into(),
+        )),
         None => {
             let imported = nvector_import::import_csv(&csv_settings(&a)?)?;
             for note in &imported.notes {
