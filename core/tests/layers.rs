@@ -99,6 +99,11 @@ const LAYERS: &[(&str, u32, &str)] = &[
         6,
         "the constraints a mission's truth breaks (nvector check)",
     ),
+    (
+        "slam::plant",
+        6,
+        "false ranges planted in a mission with truth",
+    ),
     ("tdoa::pulse", 6, "the per-pulse fixpoint and paving"),
     ("slam::types", 7, "shared options, progress, solution"),
     (

@@ -7,6 +7,8 @@ the service, so the same bits), a client of an nvector service, and figures:
 - :func:`simulate`: a simulated mission with ground truth (a dict);
 - :func:`run`: one SLAM job on a mission (dict or file) -> the result (a dict);
 - :func:`check`: every constraint of a mission that its truth breaks;
+- :func:`import_dataset`, :func:`import_csv`: a mission from a bundled data
+  set's directory or from sensor log CSVs, as ``nvector import`` makes it;
 - :class:`Client`: missions and jobs on a running ``nvector serve``;
 - :func:`plot`: a result drawn with matplotlib, the picture of the CLI's
   figures (:func:`figure`: its description, shared with the CLI).
@@ -48,6 +50,8 @@ __all__ = [
     "run",
     "check",
     "tdoa",
+    "import_dataset",
+    "import_csv",
     "load",
     "dumps",
     "boxes",
@@ -333,6 +337,102 @@ def tdoa(
         if file is None:
             raise
         raise InputError(e.path, e.message, file=file) from None
+
+
+def import_dataset(
+    name: str,
+    directory: PathLike,
+    operator: bool = False,
+    outlier_share: float = 0.0,
+    false_detections: int = 0,
+    seed: int = 1,
+    set: int = 1,
+) -> dict[str, Any]:
+    """A data set's directory converted as ``nvector import`` converts it
+    (the same bits), as a dict.
+
+    ``name``: ``"cmu-plaza"`` (CMU Plaza 1, e.g. ``data/cmu-plaza1``: a
+    ``unicycle2d`` mission, docs/cmu-plaza1.md), ``"utias-woods"`` (UTIAS
+    Lost in the Woods, ``data/utias-lost-in-the-woods``: an ``odometry2d``
+    mission, docs/utias-woods.md) or ``"locards-mlat"`` (LocaRDS
+    multilateration, ``data/locards-mlat``: an ``nvector-tdoa/1`` problem
+    of the file ``set_{set}.csv``, docs/tdoa.md); the directory names
+    ``"cmu-plaza1"`` and ``"utias-lost-in-the-woods"`` are accepted too.
+    Every bound is derived from the data against its truth, the method in
+    ``meta``. Plaza and woods: ``operator`` keeps the data set's landmark
+    ids as the operator's matching; ``outlier_share`` P in [0, 0.5) lets
+    the bands hold the central 1 - P of the residuals (``max_outliers``
+    counts the detections outside); ``false_detections`` plants that many
+    false ranges (deterministic for ``seed``, ``None`` in
+    ``truth["matching"]``).
+
+    Raises :class:`InputError` naming the setting or the file and line of
+    a bad value, ``FileNotFoundError`` for a missing file.
+    """
+    result: dict[str, Any] = _nvector.import_dataset(
+        name, os.fspath(directory), operator, outlier_share, false_detections, seed, set
+    )
+    return result
+
+
+def import_csv(
+    model: str,
+    log: PathLike,
+    detections: PathLike,
+    errors: dict[str, float],
+    dt: float | None = None,
+    motion_error: float = 0.0,
+    initial: Sequence[Sequence[float]] | None = None,
+    initial_heading: Sequence[float] | None = None,
+    heading_error: float | None = None,
+    sensor_offset: Sequence[float] | None = None,
+    landmark_count: int | None = None,
+    landmark_min_separation: float | None = None,
+    max_outliers: int | None = None,
+    name: str | None = None,
+) -> dict[str, Any]:
+    """A mission from a sensor log CSV and a detections CSV, as ``nvector
+    import --model ...`` makes it (the same bits), as a dict.
+
+    ``model``: ``"unicycle2d"`` (log columns ``t,speed,heading``),
+    ``"auv3d"`` (``t,roll,pitch,yaw,vx,vy,vz``) or ``"odometry2d"``
+    (``t,speed,turn_rate``); ``detections``: ``t,range_lo,range_hi``,
+    optional ``bearing_lo,bearing_hi`` (radians), ``scan``, ``landmark``.
+    ``errors`` gives the bound of each channel (``{"speed": 0.1,
+    "heading": 0.01}``). ``dt`` defaults to the median spacing of ``t``;
+    ``initial`` is the box of the first position, one ``(lo, hi)`` per axis
+    (default the origin); ``initial_heading`` ``(lo, hi)`` and
+    ``heading_error`` are for ``odometry2d`` (the first required there);
+    ``sensor_offset`` ``(x, y)`` for the 2-D models. Times are matched to
+    steps by ``round((t - t0) / dt)``. A column the import does not read
+    is named in a ``UserWarning``.
+
+    Raises :class:`InputError` naming the setting, or the file and line of
+    a bad cell (``str(error)`` is the CLI's message), ``FileNotFoundError``
+    for a missing file.
+    """
+    import warnings
+
+    mission, notes = _nvector.import_csv(
+        model,
+        os.fspath(log),
+        os.fspath(detections),
+        [(str(k), float(v)) for k, v in errors.items()],
+        dt,
+        motion_error,
+        None if initial is None else [(float(a), float(b)) for a, b in initial],
+        None if initial_heading is None else tuple(initial_heading),
+        heading_error,
+        None if sensor_offset is None else tuple(sensor_offset),
+        landmark_count,
+        landmark_min_separation,
+        max_outliers,
+        name,
+    )
+    for note in notes:
+        warnings.warn(f"nvector.import_csv: {note}", stacklevel=2)
+    result: dict[str, Any] = mission
+    return result
 
 
 def boxes(result_boxes: Sequence[Any]) -> np.ndarray:

@@ -43,6 +43,35 @@ def check(mission: str | dict[str, Any]) -> dict[str, Any]:
     objects -> {"violations": [...], "unchecked": int,
     "broken_detections": int, "max_outliers": int}."""
 
+def import_dataset(
+    name: str,
+    directory: str,
+    operator: bool,
+    outlier_share: float,
+    false_detections: int,
+    seed: int,
+    set: int,
+) -> dict[str, Any]:
+    """A data set's directory as `nvector import` converts it."""
+
+def import_csv(
+    model: str,
+    log: str,
+    detections: str,
+    errors: list[tuple[str, float]],
+    dt: float | None,
+    motion_error: float,
+    initial: list[tuple[float, float]] | None,
+    initial_heading: tuple[float, ...] | None,
+    heading_error: float | None,
+    sensor_offset: tuple[float, ...] | None,
+    landmark_count: int | None,
+    landmark_min_separation: float | None,
+    max_outliers: int | None,
+    name: str | None,
+) -> tuple[dict[str, Any], list[str]]:
+    """A log CSV and a detections CSV as `nvector import --model` reads them: (mission, notes)."""
+
 def dumps(obj: Any) -> str:
     """Python objects as compact JSON text, as the nvector binary writes it."""
 

@@ -6,7 +6,9 @@
 //! - `simulate` -> `slam::simulate::simulate` (paper, auv, woods: as
 //!   `nvector simulate`);
 //! - `run` -> `slam::mission::Mission` + `slam::solve::solve` (as
-//!   `nvector run`).
+//!   `nvector run`);
+//! - `import_dataset`, `import_csv` -> nvector-import (as `nvector
+//!   import`).
 //!
 //! Python values cross as JSON values (`serde_json::Value`), converted here
 //! with the JSON path of every value that has no JSON form (NaN, a non-string
@@ -478,6 +480,151 @@ fn check<'py>(py: Python<'py>, mission: &Bound<'py, PyAny>) -> PyResult<Bound<'p
     to_py(py, &report.to_json())
 }
 
+// The importers (nvector-import, as `nvector import` calls them): a data
+// set's directory or a CSV pair as a mission, its errors as Python ones.
+
+/// An import error as a Python exception: a setting as
+/// `InputError(setting, message)`; a fault in a file as `InputError("",
+/// message, file="FILE:LINE")` (its `str` is the CLI's message); a file
+/// that cannot be read as the `OSError` of its kind.
+fn import_error(py: Python<'_>, e: nvector_import::ImportError) -> PyErr {
+    use nvector_import::ImportError as E;
+    let located = |file: String, message: String| -> PyErr {
+        let made = py
+            .import("nvector._errors")
+            .and_then(|m| m.getattr("InputError"))
+            .and_then(|cls| cls.call1(("", message.as_str(), file.as_str())));
+        match made {
+            Ok(instance) => PyErr::from_value(instance),
+            Err(_) => PyValueError::new_err(format!("{file}: {message}")),
+        }
+    };
+    match e {
+        E::Read { ref source, .. } => {
+            let text = e.to_string();
+            match source.kind() {
+                std::io::ErrorKind::NotFound => {
+                    pyo3::exceptions::PyFileNotFoundError::new_err(text)
+                }
+                std::io::ErrorKind::PermissionDenied => {
+                    pyo3::exceptions::PyPermissionError::new_err(text)
+                }
+                _ => pyo3::exceptions::PyOSError::new_err(text),
+            }
+        }
+        E::Cell {
+            ref path,
+            line,
+            column,
+            ref name,
+            ref text,
+        } => located(
+            format!("{}:{line}", path.display()),
+            format!("column {column} ({name}): '{text}' is not a finite number"),
+        ),
+        E::Line {
+            path,
+            line,
+            message,
+        } => located(format!("{}:{line}", path.display()), message),
+        E::File { path, message } => located(path.display().to_string(), message),
+        E::Setting { option, message } => input_error(py, &InputError::new(option, message)),
+        E::InvalidMission(e) | E::InvalidTdoa(e) => input_error(py, &e),
+    }
+}
+
+/// A data set's directory as `nvector import --cmu-plaza/--utias-woods/
+/// --locards-mlat DIR` converts it: a mission (a TDOA problem for LocaRDS).
+#[pyfunction]
+#[pyo3(signature = (name, directory, operator, outlier_share, false_detections, seed, set))]
+#[allow(clippy::too_many_arguments)]
+fn import_dataset<'py>(
+    py: Python<'py>,
+    name: &str,
+    directory: std::path::PathBuf,
+    operator: bool,
+    outlier_share: f64,
+    false_detections: usize,
+    seed: u64,
+    set: u32,
+) -> PyResult<Bound<'py, PyAny>> {
+    use nvector_import::{DataSet, DataSetImport};
+    let which = DataSet::parse(name).ok_or_else(|| {
+        input_error(
+            py,
+            &InputError::new(
+                "name",
+                format!(
+                    "unknown data set '{name}' (expected cmu-plaza, utias-woods or locards-mlat)"
+                ),
+            ),
+        )
+    })?;
+    if !(1..=8).contains(&set) {
+        return Err(input_error(
+            py,
+            &InputError::new("set", format!("must be in 1..=8, found {set}")),
+        ));
+    }
+    let o = DataSetImport {
+        operator,
+        outlier_share,
+        false_detections,
+        seed,
+        set,
+    };
+    let doc = py
+        .detach(|| nvector_import::import_dataset(which, &directory, &o))
+        .map_err(|e| import_error(py, e))?;
+    to_py(py, &doc)
+}
+
+/// A log CSV and a detections CSV as `nvector import --model ...` reads
+/// them: `(mission, notes)`, the notes naming the columns left unread.
+#[pyfunction]
+#[pyo3(signature = (model, log, detections, errors, dt, motion_error, initial, initial_heading, heading_error, sensor_offset, landmark_count, landmark_min_separation, max_outliers, name))]
+#[allow(clippy::too_many_arguments)]
+fn import_csv<'py>(
+    py: Python<'py>,
+    model: String,
+    log: std::path::PathBuf,
+    detections: std::path::PathBuf,
+    errors: Vec<(String, f64)>,
+    dt: Option<f64>,
+    motion_error: f64,
+    initial: Option<Vec<[f64; 2]>>,
+    initial_heading: Option<[f64; 2]>,
+    heading_error: Option<f64>,
+    sensor_offset: Option<[f64; 2]>,
+    landmark_count: Option<usize>,
+    landmark_min_separation: Option<f64>,
+    max_outliers: Option<u64>,
+    name: Option<String>,
+) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
+    let settings = nvector_import::CsvImport {
+        model,
+        log,
+        detections,
+        errors,
+        dt,
+        motion_error,
+        initial,
+        initial_heading,
+        heading_error,
+        sensor_offset,
+        landmark_count,
+        landmark_min_separation,
+        max_outliers,
+        name,
+    };
+    let imported = py
+        .detach(|| nvector_import::import_csv(&settings))
+        .map_err(|e| import_error(py, e))?;
+    Ok((to_py(py, &imported.mission)?, imported.notes))
+}
+
+// (end of the importers)
+
 /// The compiled part of the `nvector` package (use `import nvector`).
 #[pymodule]
 fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -488,6 +635,8 @@ fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(dumps, m)?)?;
     m.add_function(wrap_pyfunction!(figure, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(import_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(import_csv, m)?)?;
     m.add("MAX_STEPS", MAX_STEPS)?;
     Ok(())
 }

@@ -24,6 +24,7 @@ pub mod kept;
 pub mod mission;
 pub mod model;
 pub mod outliers;
+pub mod plant;
 pub mod result;
 pub mod robust_cliques;
 pub mod robust_conflicts;

@@ -20,6 +20,7 @@ use nvector_core::slam::result::{score, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::solve::solve_model;
 use nvector_core::slam::types::Association;
+use nvector_import::{DataSet, DataSetImport};
 use serde_json::{json, Value};
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -65,8 +66,14 @@ fn data(dir: &str) -> Result<&Path, String> {
     }
 }
 
+/// A data set as `nvector import` converts it (ids hidden).
+fn data_set(which: DataSet, dir: &str) -> Result<Value, String> {
+    nvector_import::import_dataset(which, data(dir)?, &DataSetImport::default())
+        .map_err(|e| e.to_string())
+}
+
 fn plaza1() -> Result<Value, String> {
-    super::import::cmu_plaza(data("data/cmu-plaza1")?, false, 0.0).map_err(|e| e.0)
+    data_set(DataSet::CmuPlaza, "data/cmu-plaza1")
 }
 
 fn woods_seed3() -> Result<Value, String> {
@@ -74,8 +81,7 @@ fn woods_seed3() -> Result<Value, String> {
 }
 
 fn lost_woods() -> Result<Value, String> {
-    super::import_woods::utias_woods(data("data/utias-lost-in-the-woods")?, false, 0.0)
-        .map_err(|e| e.0)
+    data_set(DataSet::UtiasWoods, "data/utias-lost-in-the-woods")
 }
 
 /// Runs the real-data measures (module doc).

@@ -1,6 +1,6 @@
-//! `nvector import --locards-mlat DIR [--set N]`: LocaRDS multilateration
-//! messages (../shared/data/locards-mlat, README there) as an
-//! `nvector-tdoa/1` problem, one pulse per message (docs/tdoa.md).
+//! LocaRDS multilateration messages (`data/locards-mlat`, README there;
+//! `nvector import --locards-mlat DIR [--set N]`) as an `nvector-tdoa/1`
+//! problem, one pulse per message (docs/tdoa.md).
 //!
 //! - Frame: WGS84 geodetic to ECEF (closed form), then to a local ENU
 //!   frame at the sensor nearest the sensors' mean (nalgebra for the rotation). The
@@ -17,7 +17,7 @@
 //!   set (the tail handled by wider bounds: docs/tdoa.md argues why), all
 //!   figures in `meta`.
 
-use crate::CliError;
+use crate::ImportError;
 use nalgebra::{Matrix3, Vector3};
 use serde_json::{json, Value};
 use std::collections::HashMap;
@@ -100,23 +100,16 @@ impl Frame {
     }
 }
 
-fn field(cols: &[&str], i: usize, file: &Path, line: usize) -> Result<f64, CliError> {
+fn field(cols: &[&str], i: usize, file: &Path, line: usize) -> Result<f64, ImportError> {
     cols.get(i)
         .and_then(|s| s.trim().parse::<f64>().ok())
         .filter(|x| x.is_finite())
-        .ok_or_else(|| {
-            CliError(format!(
-                "{}:{line}: column {} is not a number",
-                file.display(),
-                i + 1
-            ))
-        })
+        .ok_or_else(|| ImportError::line(file, line, format!("column {} is not a number", i + 1)))
 }
 
-fn read_sensors(dir: &Path) -> Result<HashMap<u64, [f64; 3]>, CliError> {
+fn read_sensors(dir: &Path) -> Result<HashMap<u64, [f64; 3]>, ImportError> {
     let file = dir.join("sensors.csv");
-    let text = std::fs::read_to_string(&file)
-        .map_err(|e| CliError(format!("reading {}: {e}", file.display())))?;
+    let text = std::fs::read_to_string(&file).map_err(|e| ImportError::read(&file, e))?;
     let mut out = HashMap::new();
     for (i, l) in text
         .lines()
@@ -138,10 +131,9 @@ fn read_sensors(dir: &Path) -> Result<HashMap<u64, [f64; 3]>, CliError> {
     Ok(out)
 }
 
-fn read_set(dir: &Path, set: u32) -> Result<Vec<Message>, CliError> {
+fn read_set(dir: &Path, set: u32) -> Result<Vec<Message>, ImportError> {
     let file = dir.join(format!("set_{set}.csv"));
-    let text = std::fs::read_to_string(&file)
-        .map_err(|e| CliError(format!("reading {}: {e}", file.display())))?;
+    let text = std::fs::read_to_string(&file).map_err(|e| ImportError::read(&file, e))?;
     let mut out = Vec::new();
     for (i, l) in text
         .lines()
@@ -150,25 +142,23 @@ fn read_set(dir: &Path, set: u32) -> Result<Vec<Message>, CliError> {
         .filter(|(_, l)| !l.trim().is_empty())
     {
         let line = i + 1;
-        let (head, quoted) = l.split_once('"').ok_or_else(|| {
-            CliError(format!(
-                "{}:{line}: no quoted measurements column",
-                file.display()
-            ))
-        })?;
+        let (head, quoted) = l
+            .split_once('"')
+            .ok_or_else(|| ImportError::line(&file, line, "no quoted measurements column"))?;
         let c: Vec<&str> = head.split(',').collect();
         let list: Vec<Vec<f64>> = serde_json::from_str(quoted.trim_end().trim_end_matches('"'))
-            .map_err(|e| CliError(format!("{}:{line}: measurements: {e}", file.display())))?;
+            .map_err(|e| ImportError::line(&file, line, format!("measurements: {e}")))?;
         let arrivals = list
             .iter()
             .map(|m| match m.as_slice() {
                 [s, t, _] if s.fract() == 0.0 && t.fract() == 0.0 && t.abs() < 9e15 => {
                     Ok((*s as u64, *t as i64))
                 }
-                _ => Err(CliError(format!(
-                    "{}:{line}: a measurement is [serial, ns, strength]",
-                    file.display()
-                ))),
+                _ => Err(ImportError::line(
+                    &file,
+                    line,
+                    "a measurement is [serial, ns, strength]",
+                )),
             })
             .collect::<Result<Vec<_>, _>>()?;
         out.push(Message {
@@ -202,8 +192,9 @@ fn residual_half_range(m: &Message, truth: [f64; 3], rx: &[[f64; 3]]) -> f64 {
     (hi - lo) / 2.0
 }
 
-/// The problem of set `set` of the LocaRDS directory `dir`.
-pub fn locards(dir: &Path, set: u32) -> Result<Value, CliError> {
+/// The problem of set `set` of the LocaRDS directory `dir` (the file
+/// `set_{set}.csv` and `sensors.csv`), validated as core reads it.
+pub fn locards(dir: &Path, set: u32) -> Result<Value, ImportError> {
     let sensors = read_sensors(dir)?;
     let messages = read_set(dir, set)?;
     let mut serials: Vec<u64> = messages
@@ -213,13 +204,15 @@ pub fn locards(dir: &Path, set: u32) -> Result<Value, CliError> {
     serials.sort_unstable();
     serials.dedup();
     let geo = |s: u64| {
-        sensors
-            .get(&s)
-            .copied()
-            .ok_or_else(|| CliError(format!("set_{set}.csv: sensor {s} is not in sensors.csv")))
+        sensors.get(&s).copied().ok_or_else(|| {
+            ImportError::file(
+                format!("set_{set}.csv"),
+                format!("sensor {s} is not in sensors.csv"),
+            )
+        })
     };
     if serials.is_empty() {
-        return Err(CliError(format!("set_{set}.csv: no message")));
+        return Err(ImportError::file(format!("set_{set}.csv"), "no message"));
     }
     // The frame at the sensor nearest the sensors' mean (ECEF).
     let pts = serials
@@ -263,6 +256,8 @@ pub fn locards(dir: &Path, set: u32) -> Result<Value, CliError> {
     }
     p["meta"]["altitude_bound_m"] = alt.into();
     p["meta"]["altitude_rule"] = "baroAltitude +- (1.1 x the largest |baro - geo| + 10 m), as a distance from the Earth's centre over the message's sensors' latitudes +- 4 degrees".into();
+    // Whatever was built must be a valid problem.
+    nvector_core::tdoa::problem::TdoaProblem::from_value(&p).map_err(ImportError::InvalidTdoa)?;
     Ok(p)
 }
 
@@ -273,8 +268,8 @@ pub fn locards(dir: &Path, set: u32) -> Result<Value, CliError> {
 fn altitude_bounds(
     set: u32,
     messages: &[Message],
-    geo: &dyn Fn(u64) -> Result<[f64; 3], CliError>,
-) -> Result<(f64, Vec<[f64; 2]>), CliError> {
+    geo: &dyn Fn(u64) -> Result<[f64; 3], ImportError>,
+) -> Result<(f64, Vec<[f64; 2]>), ImportError> {
     let alt = MARGIN
         * messages
             .iter()
@@ -289,7 +284,13 @@ fn altitude_bounds(
             l = [l[0].min(g[0] - 4.0), l[1].max(g[0] + 4.0)];
         }
         if !(l[0] >= 0.0 && l[1] <= 90.0) {
-            return Err(CliError(format!("set_{set}.csv: message {}: the altitude cut assumes latitudes 4 to 86 degrees north", m.id)));
+            return Err(ImportError::file(
+                format!("set_{set}.csv"),
+                format!(
+                    "message {}: the altitude cut assumes latitudes 4 to 86 degrees north",
+                    m.id
+                ),
+            ));
         }
         lats.push(l);
     }
@@ -378,7 +379,7 @@ fn problem(
         "pulses": pulses,
         "emitter_region": [[lo[0] - 6e5, hi[0] + 6e5], [lo[1] - 6e5, hi[1] + 6e5], [z_lo, 2e4]],
         "meta": {
-            "source": format!("LocaRDS set_{set}.csv (../shared/data/locards-mlat)"),
+            "source": format!("LocaRDS set_{set}.csv (data/locards-mlat of the nvector repository)"),
             "message_ids": messages.iter().map(|m| m.id).collect::<Vec<_>>(),
             "frame": {"origin_lat_lon_h": origin, "axes": "ENU (x east, y north, z up) at the sensor nearest the sensors' mean"},
             "time_bound_s": w,

@@ -1,7 +1,8 @@
-//! `nvector import --utias-woods DIR [--operator]`: the UTIAS "Lost in the
-//! Woods" data set (a robot without a heading sensor among 17 identical
-//! tubes, range-and-bearing detections from a laser ahead of its centre)
-//! as an `odometry2d` mission with its truth.
+//! The UTIAS "Lost in the Woods" data set (`data/utias-lost-in-the-woods`;
+//! `nvector import --utias-woods DIR [--operator]`): a robot without a
+//! heading sensor among 17 identical tubes, range-and-bearing detections
+//! from a laser ahead of its centre, as an `odometry2d` mission with its
+//! truth.
 //!
 //! Every error bound is derived from the data against the motion-capture
 //! truth, with a stated margin (docs/utias-woods.md gives the method and
@@ -29,8 +30,8 @@
 //! - `landmark_min_separation`: the smallest true distance between two
 //!   tubes less a margin; `scan`: detections at the same time.
 
-use crate::cli::csv::{read_csv, Csv};
-use crate::CliError;
+use crate::csv::{columns, read_csv, Csv};
+use crate::ImportError;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -99,21 +100,6 @@ pub mod bounds {
 /// `a` taken into (-pi, pi].
 fn wrap(a: f64) -> f64 {
     a - 2.0 * PI * (a / (2.0 * PI)).round()
-}
-
-/// The columns of a CSV by name, or an error naming the file and column.
-fn columns(csv: &Csv, path: &Path, names: &[&str]) -> Result<Vec<usize>, CliError> {
-    names
-        .iter()
-        .map(|n| {
-            csv.header.iter().position(|h| h == n).ok_or_else(|| {
-                CliError(format!(
-                    "{}: missing column '{n}' in the header",
-                    path.display()
-                ))
-            })
-        })
-        .collect()
 }
 
 /// Flagged-steps bounds: `(per-step bounds, ordinary bound, flagged count)`.
@@ -185,7 +171,7 @@ fn read_with<const N: usize>(
     dir: &Path,
     name: &str,
     names: [&str; N],
-) -> Result<(PathBuf, Csv, [usize; N]), CliError> {
+) -> Result<(PathBuf, Csv, [usize; N]), ImportError> {
     let path = dir.join(name);
     let csv = read_csv(&path, true)?;
     let cols = columns(&csv, &path, &names)?;
@@ -193,7 +179,7 @@ fn read_with<const N: usize>(
     Ok((path, csv, cols))
 }
 
-fn woods_files(dir: &Path) -> Result<WoodsFiles, CliError> {
+fn woods_files(dir: &Path) -> Result<WoodsFiles, ImportError> {
     Ok(WoodsFiles {
         odo: read_with(dir, "odometry.csv", ["t", "v", "om"])?,
         truth: read_with(dir, "truth.csv", ["t", "x", "y", "theta", "valid"])?,
@@ -222,59 +208,53 @@ struct WoodsLog {
 
 /// Checks the time grid of the odometry and of the truth, and unwraps the
 /// true headings.
-fn woods_log(f: &WoodsFiles) -> Result<WoodsLog, CliError> {
+fn woods_log(f: &WoodsFiles) -> Result<WoodsLog, ImportError> {
     let (odo_p, odo, [ot, ov, oom]) = &f.odo;
     let (truth_p, tru, [tt, tx, ty, tth, tvalid]) = &f.truth;
     let rows = odo.rows.len();
     if rows < 2 {
-        return Err(CliError(format!(
-            "{}: at least 2 rows are needed",
-            odo_p.display()
-        )));
+        return Err(ImportError::file(odo_p, "at least 2 rows are needed"));
     }
     if tru.rows.len() != rows {
-        return Err(CliError(format!(
-            "{}: {} rows, expected one per odometry row ({rows})",
-            truth_p.display(),
-            tru.rows.len()
-        )));
+        return Err(ImportError::file(
+            truth_p,
+            format!(
+                "{} rows, expected one per odometry row ({rows})",
+                tru.rows.len()
+            ),
+        ));
     }
     let n = rows - 1;
     let t0 = odo.rows[0][*ot];
     let dt = (odo.rows[n][*ot] - t0) / n as f64;
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(CliError(format!(
-            "{}: times must increase",
-            odo_p.display()
-        )));
+        return Err(ImportError::file(odo_p, "times must increase"));
     }
     for (k, (o, t)) in odo.rows.iter().zip(&tru.rows).enumerate() {
         if (o[*ot] - t0 - k as f64 * dt).abs() > dt / 4.0 {
-            return Err(CliError(format!(
-                "{}:{}: time {} is not on the grid t0 + k*dt (dt = {dt})",
-                odo_p.display(),
+            return Err(ImportError::line(
+                odo_p,
                 k + 2,
-                o[*ot]
-            )));
+                format!("time {} is not on the grid t0 + k*dt (dt = {dt})", o[*ot]),
+            ));
         }
         if (t[*tt] - o[*ot]).abs() > dt / 4.0 {
-            return Err(CliError(format!(
-                "{}:{}: time {} differs from the odometry's {}",
-                truth_p.display(),
+            return Err(ImportError::line(
+                truth_p,
                 k + 2,
-                t[*tt],
-                o[*ot]
-            )));
+                format!("time {} differs from the odometry's {}", t[*tt], o[*ot]),
+            ));
         }
     }
     let v: Vec<f64> = odo.rows[..n].iter().map(|r| r[*ov]).collect();
     let om: Vec<f64> = odo.rows[..n].iter().map(|r| r[*oom]).collect();
     let valid: Vec<bool> = tru.rows.iter().map(|r| r[*tvalid] != 0.0).collect();
     if !valid[0] {
-        return Err(CliError(format!(
-            "{}:2: the truth at the first row is not valid (the initial pose comes from it)",
-            truth_p.display()
-        )));
+        return Err(ImportError::line(
+            truth_p,
+            2,
+            "the truth at the first row is not valid (the initial pose comes from it)",
+        ));
     }
     let theta: Vec<f64> = tru.rows.iter().map(|r| r[*tth]).collect();
     let heading = unwrap_headings(&theta, &valid, &om, dt);
@@ -574,26 +554,26 @@ fn woods_motion_drift_meta(m: &mut Value, log: &WoodsLog, c: &Completed, motion:
 
 /// The tubes, indexed by their label, and the smallest true distance
 /// between two of them.
-fn woods_landmarks(f: &WoodsFiles) -> Result<(Vec<[f64; 2]>, f64), CliError> {
+fn woods_landmarks(f: &WoodsFiles) -> Result<(Vec<[f64; 2]>, f64), ImportError> {
     let (lm_p, lms, [ll, lx, ly]) = &f.lms;
     let count = lms.rows.len();
     let mut landmarks = vec![[f64::NAN; 2]; count];
     for (i, r) in lms.rows.iter().enumerate() {
         let id = r[*ll];
         if id < 0.0 || id.fract() != 0.0 || id as usize >= count {
-            return Err(CliError(format!(
-                "{}:{}: landmark {id} is not an integer in 0..{count}",
-                lm_p.display(),
-                i + 2
-            )));
+            return Err(ImportError::line(
+                lm_p,
+                i + 2,
+                format!("landmark {id} is not an integer in 0..{count}"),
+            ));
         }
         landmarks[id as usize] = [r[*lx], r[*ly]];
     }
     if landmarks.iter().any(|l| l[0].is_nan()) {
-        return Err(CliError(format!(
-            "{}: the labels must be 0..{count}, each once",
-            lm_p.display()
-        )));
+        return Err(ImportError::file(
+            lm_p,
+            format!("the labels must be 0..{count}, each once"),
+        ));
     }
     let mut separation = f64::INFINITY;
     for a in 0..count {
@@ -619,7 +599,7 @@ fn woods_detections(
     f: &WoodsFiles,
     log: &WoodsLog,
     landmarks: &[[f64; 2]],
-) -> Result<Vec<WoodsDetection>, CliError> {
+) -> Result<Vec<WoodsDetection>, ImportError> {
     use bounds::*;
     let (meas_p, meas, [mt, ml, mr, mb]) = &f.meas;
     let (t0, dt, n, count) = (log.t0, log.dt, log.n, landmarks.len());
@@ -628,26 +608,28 @@ fn woods_detections(
         let line = i + 2;
         let step = ((r[*mt] - t0) / dt).round();
         if !(0.0..=n as f64).contains(&step) || (r[*mt] - t0 - step * dt).abs() > dt / 4.0 {
-            return Err(CliError(format!(
-                "{}:{line}: time {} is not one of the odometry times",
-                meas_p.display(),
-                r[*mt]
-            )));
+            return Err(ImportError::line(
+                meas_p,
+                line,
+                format!("time {} is not one of the odometry times", r[*mt]),
+            ));
         }
         let step = step as usize;
         let id = r[*ml];
         if id < 0.0 || id.fract() != 0.0 || id as usize >= count {
-            return Err(CliError(format!(
-                "{}:{line}: landmark {id} is not an integer in 0..{count}",
-                meas_p.display()
-            )));
+            return Err(ImportError::line(
+                meas_p,
+                line,
+                format!("landmark {id} is not an integer in 0..{count}"),
+            ));
         }
         let (id, range, bearing) = (id as usize, r[*mr], r[*mb]);
         if range < 0.0 {
-            return Err(CliError(format!(
-                "{}:{line}: range {range} is negative",
-                meas_p.display()
-            )));
+            return Err(ImportError::line(
+                meas_p,
+                line,
+                format!("range {range} is negative"),
+            ));
         }
         let residual = match (log.position[step], log.heading[step]) {
             (Some(p), Some(h)) => {
@@ -669,10 +651,10 @@ fn woods_detections(
         });
     }
     if dets.iter().all(|d| d.residual.is_none()) {
-        return Err(CliError(format!(
-            "{}: no detection at a step with valid truth: no bound can be derived",
-            meas_p.display()
-        )));
+        return Err(ImportError::file(
+            meas_p,
+            "no detection at a step with valid truth: no bound can be derived",
+        ));
     }
     Ok(dets)
 }
@@ -773,7 +755,8 @@ impl WoodsBands {
 /// `outlier_share` P > 0 the range and bearing bands hold the central
 /// (1 - P) share of the residuals each, and `max_outliers` is the count of
 /// detections (at steps with a truth) left outside either.
-pub fn utias_woods(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, CliError> {
+pub fn utias_woods(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, ImportError> {
+    crate::check_outlier_share(outlier_share)?;
     let files = woods_files(dir)?;
     let log = woods_log(&files)?;
     let completed = complete_truth(&log);
@@ -812,7 +795,7 @@ pub fn utias_woods(dir: &Path, operator: bool, outlier_share: f64) -> Result<Val
             "outside": outside,
         });
     }
-    Ok(m)
+    crate::validated(m)
 }
 
 /// `heading_drift` and its `meta.heading_drift` (method, constants, each
@@ -875,7 +858,7 @@ fn woods_document(
         "sensor_offset": [SENSOR_OFFSET, 0.0],
         "detections": detections,
         "meta": {
-            "source": "UTIAS Lost in the Woods (dataset2.mat of T. D. Barfoot's AER1513 course, utiasASRL/aer1513, Apache-2.0), as CSV in ../shared/data/utias-lost-in-the-woods",
+            "source": "UTIAS Lost in the Woods (dataset2.mat of T. D. Barfoot's AER1513 course, utiasASRL/aer1513, Apache-2.0), as CSV in data/utias-lost-in-the-woods of the nvector repository",
             "method": "every bound from the data against the motion-capture truth (docs/utias-woods.md): per-step residuals of the truth, completed across its gaps by linear interpolation, against the odometry2d model; steps above a threshold flagged with their own residual x 1.5 + margin; ranges and bearings: measured - true over every detection at a valid step, bounded by the narrowest lines in r (ranges) and 1/r (bearings) holding every residual, within the constant band, plus a margin",
             "heading_error": {"ordinary": heading.1, "flag_above": HEADING_FLAG, "margin": HEADING_MARGIN, "flagged_steps": heading.2, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
             "motion_error": {"ordinary": motion_b.1, "flag_above": MOTION_FLAG, "margin": MOTION_MARGIN, "flagged_steps": motion_b.2, "flagged_factor": FLAGGED_FACTOR, "flagged_margin": FLAGGED_MARGIN},
@@ -918,29 +901,4 @@ fn woods_meta(meta: &mut Value, dets: &[WoodsDetection], bands: &WoodsBands, sep
     if let (Some(meta), Value::Object(fields)) = (meta.as_object_mut(), fields) {
         meta.extend(fields);
     }
-}
-
-/// Writes a mission to `out` (standard output when `None`), after core's
-/// common validation (`Mission::from_value`), like every other import: an
-/// invalid one is an error naming the field, never a file written.
-pub fn write(mission: &Value, out: Option<&Path>) -> Result<(), CliError> {
-    nvector_core::slam::mission::Mission::from_value(mission)
-        .map_err(|e| CliError(format!("the imported mission is invalid: {e}")))?;
-    write_json(mission, out)
-}
-
-/// Writes a document the caller validated to `out` (standard output when
-/// `None`).
-pub fn write_json(doc: &Value, out: Option<&Path>) -> Result<(), CliError> {
-    let text = serde_json::to_string(doc)?;
-    match out {
-        Some(p) => std::fs::write(p, text + "\n")
-            .map_err(|e| CliError(format!("writing {}: {e}", p.display())))?,
-        None => {
-            use std::io::Write as _;
-            writeln!(std::io::stdout(), "{text}")
-                .map_err(|e| CliError(format!("writing standard output: {e}")))?
-        }
-    }
-    Ok(())
 }
