@@ -161,6 +161,20 @@ const ROUNDS_LEFT_UNKNOWN: f64 = 10.0;
 /// Most rounds left an estimate gives.
 const MAX_ROUNDS_LEFT: f64 = 1e4;
 
+/// log2 of a positive finite `x`, to within 0.09: the exponent plus the
+/// mantissa's excess over 1 (a line between the powers of two). Enough for
+/// an estimate of rounds, and no transcendental function in the solver's
+/// wasm. 0 for what is not a positive normal number.
+fn log2(x: f64) -> f64 {
+    if !(x.is_normal() && x > 0.0) {
+        return 0.0;
+    }
+    let bits = x.to_bits();
+    let exponent = ((bits >> 52) & 0x7ff) as f64 - 1023.0;
+    let mantissa = f64::from_bits((bits & ((1 << 52) - 1)) | (1023 << 52));
+    exponent + (mantissa - 1.0)
+}
+
 /// The sum of the finite widths of the positions and the detection boxes:
 /// the propagation only shrinks them, so its fall per round is the change
 /// that round made (an unbounded axis counts 0 until bounded).
@@ -209,7 +223,7 @@ impl WorkEstimate {
     /// linearly: the change per round Δ (the fall of `widths`) falls by a
     /// steady ratio ρ (measured over the last [`WIDTH_WINDOW`] rounds and
     /// over the last one, the slower kept), so that the rounds left are
-    /// ln(Δ / floor) / ln ρ, each costing as this one. On CMU Plaza 1 the
+    /// log(Δ / floor) / log ρ, each costing as this one. On CMU Plaza 1 the
     /// fraction is then within about 0.15 of the share of the run's time
     /// (it was 0.97 from 45 % of the time on). Complexity: O(1).
     pub(crate) fn end_round_converging(
@@ -258,12 +272,16 @@ impl WorkEstimate {
             // The slower of the window's fall and the last round's: the
             // first rounds fall fastest, and an estimate from them alone
             // ends too soon.
-            let mut per_round = (libm::log(first) - libm::log(last)) / span;
+            let mut per_round = (log2(first) - log2(last)) / span;
             let before = w[n - 3] - w[n - 2];
             if before > last {
-                per_round = per_round.min(libm::log(before) - libm::log(last));
+                per_round = per_round.min(log2(before) - log2(last));
             }
-            (libm::log(last / floor) / per_round).clamp(1.0, MAX_ROUNDS_LEFT)
+            if per_round > 0.0 {
+                ((log2(last) - log2(floor)) / per_round).clamp(1.0, MAX_ROUNDS_LEFT)
+            } else {
+                fallback
+            }
         };
         self.rounds_left = Some(rounds);
         rounds
