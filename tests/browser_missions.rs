@@ -257,19 +257,11 @@ fn check_bar(bar: &[(f64, f64)]) {
             .find(|p| p.1 >= 1.0)
             .map_or(moved[moved.len() - 1].0, |p| p.0),
     );
-    let half = moved
-        .iter()
-        .filter(|p| p.0 <= (t0 + t1) / 2.0)
-        .last()
-        .unwrap();
+    let half = moved.iter().rfind(|p| p.0 <= (t0 + t1) / 2.0).unwrap();
     let summary: Vec<String> = (0..=10)
         .map(|k| {
             let t = t0 + (t1 - t0) * k as f64 / 10.0;
-            let v = moved
-                .iter()
-                .filter(|p| p.0 <= t)
-                .last()
-                .map_or(0.0, |p| p.1);
+            let v = moved.iter().rfind(|p| p.0 <= t).map_or(0.0, |p| p.1);
             format!("{:.2}", v)
         })
         .collect();

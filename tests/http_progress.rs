@@ -94,8 +94,7 @@ fn plaza_progress_tracks_the_work() {
         .map(|k| {
             let v = running
                 .iter()
-                .filter(|e| share(e.0) <= k as f64 / 10.0)
-                .last()
+                .rfind(|e| share(e.0) <= k as f64 / 10.0)
                 .map_or(0.0, |e| e.1);
             format!("{v:.2}")
         })
@@ -109,7 +108,7 @@ fn plaza_progress_tracks_the_work() {
     for w in running.windows(2) {
         assert!(w[1].1 >= w[0].1, "the fraction went back: {w:?}");
     }
-    let half = running.iter().filter(|e| share(e.0) <= 0.5).last().unwrap();
+    let half = running.iter().rfind(|e| share(e.0) <= 0.5).unwrap();
     assert!(half.1 <= 0.75, "{} at half the run: {tenths:?}", half.1);
     // The longest stretch of one value before the end.
     let mut still = 0.0f64;
