@@ -100,8 +100,11 @@ build_radar() {
 # wasm160c (core's sorts through one small sort in wasm): 73,497.
 WASM_BROTLI_BUDGET=75000
 # The figures module (outlines, region boundaries): the SLAM demo and the
-# missions tab.
-FIGURES_BROTLI_BUDGET=18500
+# missions tab. 18,156 bytes with the outlines alone; 56,243 with core's
+# description of a result's figure (`describe`: the CLI's picture, which
+# the missions tab draws), its JSON reading and writing and the titles'
+# number formatting (2026-11-29).
+FIGURES_BROTLI_BUDGET=57400
 # The SLAM demo's modules, fetched together by it: the solver's (pkg-slam:
 # `run`) and the simulators' (pkg-sim: `simulate`). One module held both
 # until 2026-11-24: 177,115 bytes when it was made, 182,724 once the woods
@@ -135,8 +138,10 @@ FIGURES_BROTLI_BUDGET=18500
 # 158,731 once intervals in messages took an exponent beyond 1e15
 # (core/src/interval.rs: `{:e}` is 457 of those bytes; 1e308 was 309
 # digits in a `reason`) and the robust tally and nvalue's group check were
-# in (2026-11-29): the budget raised to 159,300, within the aim of 160,000.
-SLAM_BROTLI_BUDGET=159300
+# in (2026-11-29): the budget raised to 159,300, within the aim of 160,000;
+# 159,303 with the rounds' progress estimated from the fall of the boxes'
+# change per round (slam/types.rs): 159,400.
+SLAM_BROTLI_BUDGET=159400
 # The simulators' 88,955 with the woods phantoms (branch woodsfalse), 89,229
 # once merged with the other branches of 2026-11-25 (third session).
 SIM_BROTLI_BUDGET=91000

@@ -48,6 +48,15 @@ fn missions_jobs_results(b: &Backend) {
     let (_, page2) = s.get(&format!("/api/v1/missions?limit=10&after={next}"));
     assert_eq!(page2["missions"].as_array().unwrap().len(), 1);
     assert_ne!(page1["missions"][0]["id"], page2["missions"][0]["id"]);
+    // Each item says when it was stored and its size: the stored JSON's
+    // bytes (the first mission is stored as its JSON text).
+    let first = &page1["missions"][0];
+    assert_eq!(first["id"], m["id"]);
+    assert_eq!(first["bytes"], mission.to_string().len(), "{first}");
+    assert!(
+        first["created_ms"].as_i64().unwrap() > 1_600_000_000_000,
+        "{first}"
+    );
     // The cursor's mission deleted between two pages: the next page is
     // still the missions after it (it was empty: a client lost the rest).
     let (st, extra) = s.post("/api/v1/missions", &small_mission(7, 200));
@@ -106,8 +115,30 @@ fn missions_jobs_results(b: &Backend) {
     );
     assert_eq!(st, 200);
     let csv = String::from_utf8(csv).unwrap();
-    assert!(csv.starts_with("step,x_lo,x_hi,y_lo,y_hi\n"));
+    assert!(
+        csv.starts_with("step,t,x_lo,x_hi,y_lo,y_hi\n"),
+        "{}",
+        &csv[..80]
+    );
     assert_eq!(csv.lines().count(), 2502);
+    // The time of step i is i dt (the mission's `dt`), and the bounds are
+    // the result's.
+    let dt = mission["dt"].as_f64().unwrap();
+    for i in [0usize, 1, 1000, 2500] {
+        let row: Vec<&str> = csv.lines().nth(i + 1).unwrap().split(',').collect();
+        assert_eq!(row[0], i.to_string());
+        let t: f64 = row[1].parse().unwrap();
+        assert!(
+            (t - i as f64 * dt).abs() <= 1e-9 * (1.0 + t),
+            "step {i}: t = {t}"
+        );
+        let x_lo: f64 = row[2].parse().unwrap();
+        assert_eq!(
+            Some(x_lo),
+            result["trajectory"][i][0][0].as_f64(),
+            "step {i}"
+        );
+    }
     let (st, _, svg) = s.req(
         "GET",
         &format!("/api/v1/jobs/{jid}/result?format=svg"),

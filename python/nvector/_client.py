@@ -91,7 +91,8 @@ class Client:
 
     def missions(self, limit: int = 100) -> list[dict[str, Any]]:
         """Every stored mission's summary (``id``, ``name``, ``steps``,
-        ``detections``, ``created_ms``), oldest first, fetched ``limit`` a page."""
+        ``detections``, ``created_ms``, ``bytes``: the size of the stored
+        JSON), oldest first, fetched ``limit`` a page."""
         out: list[dict[str, Any]] = []
         after: str | None = None
         while True:
@@ -208,7 +209,9 @@ class Client:
         """Follows the job's event stream until it ends and returns its
         result (``nvector-result/1`` dict; ``nvector-tdoa-result/1`` for a
         TDOA job). ``progress`` draws a progress bar
-        on stderr (tqdm when installed, else a text bar). A job that failed
+        on stderr (tqdm when installed, else a text bar) of the job's
+        ``progress.fraction``: the service's estimate of the share of the
+        work done (docs/api.md), not of the rounds. A job that failed
         or was cancelled raises :class:`JobError`; past ``timeout`` seconds,
         :class:`TimeoutError` (the job goes on)."""
         deadline = None if timeout is None else time.monotonic() + timeout

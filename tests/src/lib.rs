@@ -4,6 +4,7 @@
 //! PostgreSQL cluster ([`pg`]), and a minimal HTTP/1.1 client over a real
 //! socket (raw, so that malformed requests can be sent too).
 
+pub mod browser;
 pub mod chromium;
 pub mod pg;
 pub mod schema;

@@ -1,9 +1,12 @@
 //! The figures module's part of the facade (feature `figures`): the
-//! drawing outlines of detection shapes and the boundaries of landmark
-//! regions, computed by core (core/src/outline.rs), for the SLAM demo's and
-//! the missions tab's pictures.
+//! description of a result's picture (core's `figure::describe`, the one
+//! the CLI's SVG and PNG draw), which the missions tab draws; the drawing
+//! outlines of detection shapes and the boundaries of landmark regions,
+//! computed by core (core/src/outline.rs), for the SLAM demo's and the
+//! missions tab's pictures.
 
 use crate::{into_error, Nvector};
+use nvector_core::figure::describe;
 use nvector_core::outline::{shape_outline, union_boundary};
 use nvector_core::shapes::shape::{Shape, MAX_DIM};
 use nvector_core::{InputError, Interval, IntervalBox};
@@ -146,8 +149,33 @@ pub fn region_boundaries(input: &[f64]) -> Result<Vec<f64>, InputError> {
     Ok(out)
 }
 
+/// The figure of a result (`nvector-result/1` JSON text) with the truth of
+/// its mission (`nvector-mission/1` JSON text, or empty for none), as
+/// core's `figure::describe` gives it to the CLI's SVG and PNG: title,
+/// axis labels, view and layers (name, label, kind, colour, fill_alpha,
+/// line_width, rects, points, polygons), as JSON.
+pub fn describe_json(result: &str, mission: &str) -> Result<String, InputError> {
+    let read = |what: &str, text: &str| {
+        serde_json::from_str::<serde_json::Value>(text)
+            .map_err(|e| InputError::new(what.to_string(), format!("invalid JSON: {e}")))
+    };
+    let result = read("result", result)?;
+    let mission = if mission.trim().is_empty() {
+        None
+    } else {
+        Some(read("mission", mission)?)
+    };
+    serde_json::to_string(&describe(&result, mission.as_ref()))
+        .map_err(|e| InputError::new("figure".to_string(), e.to_string()))
+}
+
 #[wasm_bindgen]
 impl Nvector {
+    /// The figure of a result (see [`describe_json`]).
+    pub fn describe(&self, result: &str, mission: &str) -> Result<String, JsError> {
+        describe_json(result, mission).map_err(into_error)
+    }
+
     /// The outlines of detection shapes (see [`shape_outlines`]).
     pub fn outlines(&self, shapes: &[f64]) -> Result<Vec<f64>, JsError> {
         shape_outlines(shapes).map_err(into_error)
@@ -201,6 +229,35 @@ mod tests {
         assert_eq!(out[0], 6.0);
         assert_eq!(out[1 + 24], 4.0);
         assert_eq!(out.len(), 1 + 24 + 1 + 16);
+    }
+
+    #[test]
+    fn the_figure_is_cores_description() {
+        let result = r#"{"mission": "m", "status": "consistent", "options": {"contractor": "best"},
+            "trajectory": [[[0, 1], [0, 1]], [[1, 2], [0, 1]]],
+            "landmarks": [[[5, 6], [5, 6]]], "matching": [[0, 1]],
+            "landmark_regions": [[[[5, 5.1], [5, 6]]]]}"#;
+        let mission = r#"{"landmark_count": 4, "truth": {"positions": [[0.5, 0.5], [1.5, 0.5]]}}"#;
+        let fig: serde_json::Value =
+            serde_json::from_str(&describe_json(result, mission).unwrap()).unwrap();
+        let want = serde_json::to_value(describe(
+            &serde_json::from_str(result).unwrap(),
+            Some(&serde_json::from_str(mission).unwrap()),
+        ))
+        .unwrap();
+        assert_eq!(fig, want);
+        assert_eq!(fig["x_label"], "x (m)");
+        let names: Vec<&str> = fig["layers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(names, ["trajectory", "regions", "groups", "truth_path"]);
+        let e = describe_json("[1,", "").unwrap_err();
+        assert!(e.to_string().contains("result"), "{e}");
+        let e = describe_json("{}", "{").unwrap_err();
+        assert!(e.to_string().contains("mission"), "{e}");
     }
 
     #[test]

@@ -1,10 +1,12 @@
 // The missions tab: missions uploaded to the service, jobs run and
 // followed (Server-Sent Events), and the last two results drawn side by
-// side, each panel fitted to its own result.
+// side, each panel fitted to its own result and drawn from core's
+// description of the figure (figure.js: the CLI's picture).
 import * as api from './api.js';
 import { $, el, scheduler } from './dom.js';
-import { View, areaOf, drawMessage, drawResult, layerToggles } from './draw.js';
-import { loadFigures } from './wasm.js';
+import { View, drawMessage, layerToggles } from './draw.js';
+import { drawFigure, figureArea, figureOf } from './figure.js';
+import { handles, loadFigures } from './wasm.js';
 
 // Jobs submitted from this browser are remembered in localStorage (the API
 // lists missions, not jobs), so a reload still lists them and their results.
@@ -15,12 +17,47 @@ export const shown = [];
 const JOBS_KEY = 'nvector.jobs';
 let layers = null;
 let request = null;
-const fail = (e) => { $('ms-state').textContent = `error: ${e.message}`; };
+let uploading = false;
+/**
+ * Shows an error as one: in the error colour beside the controls (and in
+ * the list item `near`, when the action came from one), the progress bar
+ * cleared.
+ */
+function fail(e, near) {
+  const msg = `error: ${e && e.message ? e.message : e}`;
+  const state = $('ms-state');
+  state.textContent = msg;
+  state.classList.add('error');
+  $('ms-progress').value = 0;
+  $('ms-progress').classList.add('error');
+  if (near) {
+    near.querySelector('.error')?.remove();
+    near.append(el('span', ` ${msg}`, 'error'));
+  }
+}
+/** Plain news in the state line (an earlier error's colour removed). */
+function tell(text) {
+  const state = $('ms-state');
+  state.textContent = text;
+  state.classList.remove('error');
+  $('ms-progress').classList.remove('error');
+}
+/** A size in bytes, for reading. */
+function size(n) {
+  if (!Number.isFinite(n)) return '?';
+  if (n < 1024) return `${n} B`;
+  return n < 1024 * 1024 ? `${(n / 1024).toFixed(1)} kB` : `${(n / 1024 / 1024).toFixed(1)} MB`;
+}
+/** A time in ms since the epoch as local "YYYY-MM-DD HH:MM". */
+function when(ms) {
+  const d = new Date(ms), p = (x) => String(x).padStart(2, '0');
+  return Number.isFinite(ms) ? `${d.getFullYear()}-${p(d.getMonth() + 1)}-${p(d.getDate())} ${p(d.getHours())}:${p(d.getMinutes())}` : '?';
+}
 function savedJobs() { try { return JSON.parse(localStorage.getItem(JOBS_KEY) || '[]'); } catch (_) { return []; } }
 function saveJobs(jobs) { try { localStorage.setItem(JOBS_KEY, JSON.stringify(jobs.slice(0, 50))); } catch (_) { /* private mode */ } }
 function rememberJob(job) { saveJobs([job, ...savedJobs().filter((j) => j.id !== job.id)]); }
 
-function setFile(f) { pendingFile = f; $('ms-submit').disabled = !f; $('ms-state').textContent = f ? `ready: ${f.name || 'mission'}` : ''; }
+function setFile(f) { pendingFile = f; $('ms-submit').disabled = !f || uploading; tell(f ? `ready: ${f.name || 'mission'}` : ''); }
 
 /** Lists the service's missions and this browser's jobs. */
 export async function refreshLists() {
@@ -30,20 +67,22 @@ export async function refreshLists() {
     ul.replaceChildren();
     ms.missions.forEach((m) => {
       const li = el('li'); li.dataset.id = m.id;
-      li.append(el('span', `${m.name} (${m.steps} steps, ${m.detections} detections) `));
+      // Id, date and size: two uploads of one file are told apart.
+      const id = el('code', m.id.slice(0, 10)); id.title = m.id;
+      li.append(el('span', `${m.name} `), id, el('span', ` · ${when(m.created_ms)} · ${size(m.bytes)} · ${m.steps} steps, ${m.detections} detections `));
       const run = el('button', 'run', 'run'); run.title = 'run a job on this mission with the contractor and limits above';
-      run.addEventListener('click', () => runJob(m.id, m.name));
+      run.addEventListener('click', () => runJob(m.id, m.name, li));
       const del = el('button', 'delete', 'delete'); del.title = 'delete this mission and its jobs';
       del.addEventListener('click', async () => {
         if (!confirm(`Delete mission ${m.name} and its jobs?`)) return;
-        try { await api.deleteMission(m.id); saveJobs(savedJobs().filter((j) => j.mission !== m.id)); } catch (e) { fail(e); }
+        try { await api.deleteMission(m.id); saveJobs(savedJobs().filter((j) => j.mission !== m.id)); } catch (e) { fail(e, li); return; }
         refreshLists();
       });
       li.append(run, ' ', del);
       ul.append(li);
     });
     if (!ms.missions.length) ul.append(el('li', 'no mission yet: upload one above', 'hint'));
-  } catch (e) { $('ms-missions').textContent = `service unavailable: ${e.message}`; }
+  } catch (e) { $('ms-missions').replaceChildren(el('li', `service unavailable: ${e.message}`, 'error')); }
   await refreshJobs();
 }
 
@@ -55,13 +94,13 @@ function jobItem(job) {
   li.replaceChildren(el('span', `${job.name} · ${job.contractor}: ${job.state} `));
   if (job.state === 'done') {
     const show = el('button', 'show', 'show');
-    show.addEventListener('click', () => showResult(job.id, job.mission).catch(fail));
+    show.addEventListener('click', () => showResult(job.id, job.mission).catch((e) => fail(e, li)));
     li.append(show);
   } else if (job.state === 'queued' || job.state === 'running') {
     const cancel = el('button', 'cancel', 'cancel');
-    cancel.addEventListener('click', () => api.cancelJob(job.id).catch(fail));
+    cancel.addEventListener('click', () => api.cancelJob(job.id).catch((e) => fail(e, li)));
     li.append(cancel);
-  } else if (job.error) li.title = job.error;
+  } else if (job.error) { li.title = job.error; li.append(el('span', job.error, 'error')); }
   return li;
 }
 
@@ -79,7 +118,7 @@ async function refreshJobs() {
 }
 
 /** Queues a job on a stored mission with the chosen contractor and limits, follows it and shows its result. */
-async function runJob(missionId, name) {
+async function runJob(missionId, name, near) {
   const summary = $('rv-summary');
   const contractor = $('ms-mode').value;
   try {
@@ -90,11 +129,12 @@ async function runJob(missionId, name) {
     currentJob = job.id;
     $('ms-cancel').disabled = false;
     $('ms-progress').value = 0;
+    tell(`${name}, ${contractor}: ${job.state}`);
     summary.dataset.state = 'queued';
     const end = await api.followJob(job.id, (j) => {
       $('ms-progress').value = j.progress.fraction;
       const d = j.progress.max_trajectory_diameter;
-      $('ms-state').textContent = `${name}, ${contractor}: ${j.state} — round ${j.progress.round}, max diameter ${d == null ? '∞' : `${Number(d).toFixed(3)} m`}`;
+      tell(`${name}, ${contractor}: ${j.state} — ${Math.floor(100 * j.progress.fraction)} % of the estimated work, round ${j.progress.round}, max diameter ${d == null ? '∞' : `${Number(d).toFixed(3)} m`}`);
       jobItem({ ...entry, state: j.state, error: j.error });
       summary.dataset.state = j.state;
     });
@@ -106,13 +146,17 @@ async function runJob(missionId, name) {
     if (end.state === 'done') {
       const result = await showResult(job.id, missionId);
       $('ms-progress').value = 1;
-      $('ms-state').textContent = `${name}, ${contractor}: done — ${result.status}, ${result.metrics.rounds} rounds, max diameter ${Number(result.metrics.max_trajectory_diameter).toFixed(3)} m, ${Number(result.metrics.elapsed_ms).toFixed(1)} ms`;
+      tell(`${name}, ${contractor}: done — ${result.status}, ${result.metrics.rounds} rounds, max diameter ${Number(result.metrics.max_trajectory_diameter).toFixed(3)} m, ${Number(result.metrics.elapsed_ms).toFixed(1)} ms`);
+    } else if (end.state === 'cancelled') {
+      tell(`${name}, ${contractor}: cancelled`);
+      $('ms-progress').value = 0;
+      summary.dataset.state = end.state;
     } else {
-      $('ms-state').textContent = `${name}, ${contractor}: ${end.state}${end.error ? ` — ${end.error}` : ''}`;
+      fail(`${name}, ${contractor}: ${end.state}${end.error ? ` — ${end.error}` : ''}`, near);
       summary.dataset.state = end.state;
     }
   } catch (e) {
-    fail(e);
+    fail(e, near);
     summary.dataset.state = 'error';
   }
 }
@@ -147,16 +191,13 @@ async function showResult(jobId, missionId) {
   shown.unshift({ result, mission, jobId });
   shown.length = Math.min(shown.length, 2);
   for (const [fmt, id] of [['json', 'rv-json'], ['csv', 'rv-csv'], ['svg', 'rv-svg']]) $(id).href = api.resultUrl(jobId, fmt);
-  // Each panel fitted to its own result: a 10 m result beside a 600 m one
-  // stays readable.
-  shown.forEach((s, k) => { s.view = new View($(`rv-${k}`)); s.view.fit(areaOf(s.result, s.mission)); });
-  // Thousands of shapes wash the picture (grey for the unmatched ones,
-  // purple where groups' colours overlap): shown by default only when
-  // there are few; the legend's boxes show them on request.
-  const unmatched = Math.max(...shown.map((s) => (s.result.detections || []).length - (s.result.matching || []).reduce((a, g) => a + g.length, 0)));
-  layers.set('unmatched', unmatched <= 300);
-  layers.set('shapes', Math.max(...shown.map((s) => (s.result.detections || []).length)) <= 400);
-  layers.set('boxes', Math.max(...shown.map((s) => (s.result.detections || []).length)) <= 400);
+  // Each panel fitted to its own result's figure (its view: what core's
+  // description draws): a 10 m result beside a 600 m one stays readable.
+  const core = handles.figures;
+  shown.forEach((s, k) => { s.view = new View($(`rv-${k}`)); s.view.fit(figureArea(figureOf(core, s, s.result.trajectory.length - 1))); });
+  // The detection shapes are the page's own (the CLI's figure has none):
+  // shown on request, from the legend's boxes.
+  layers.set('shapes', false);
   $('rv-time').max = String(Math.max(...shown.map((s) => s.result.trajectory.length)) - 1);
   $('rv-time').value = $('rv-time').max;
   redrawResults();
@@ -171,13 +212,15 @@ async function showResult(jobId, missionId) {
   return result;
 }
 
-/** Draws the shown results; `moving` (pan, zoom) lets the picture of the previous view be moved instead of redrawn. */
-export function redrawResults(moving = false) {
+/** Draws the shown results (whole, during a pan or zoom too: a figure is a few thousand rectangles at most). */
+export function redrawResults() {
   const t = Number($('rv-time').value);
   const l = layers();
   shown.forEach((s, k) => {
-    s.drawn = drawResult($(`rv-${k}`), s.view, s.result, s.mission, t, l, moving === true);
-    $(`rv-cap-${k}`).textContent = `${s.result.mission} — ${s.result.options.contractor} — max diameter ${metres(s.result.metrics.max_trajectory_diameter)}, ${groupsText(s.result, s.mission)}`;
+    const last = Math.min(t, s.result.trajectory.length - 1);
+    s.drawn = drawFigure(handles.figures, $(`rv-${k}`), s.view, s, last, l);
+    const fig = figureOf(handles.figures, s, last);
+    $(`rv-cap-${k}`).textContent = `${fig.title} — ${fig.subtitle}`;
   });
   if (shown.length === 1) {
     drawMessage($('rv-1'), ['To compare, run another job:', 'choose a contractor (none for the basic', 'model) and press run next to the mission.']);
@@ -192,18 +235,28 @@ export function initMissions() {
   drop.addEventListener('dragover', (ev) => { ev.preventDefault(); drop.classList.add('over'); });
   drop.addEventListener('dragleave', () => drop.classList.remove('over'));
   drop.addEventListener('drop', (ev) => { ev.preventDefault(); drop.classList.remove('over'); setFile(ev.dataTransfer.files[0] || null); });
+  // One upload per chosen file: the button is off while it uploads, and
+  // the file is forgotten once stored (run it again from the list).
   $('ms-submit').addEventListener('click', async () => {
+    if (uploading || !pendingFile) return;
+    uploading = true;
     $('ms-submit').disabled = true;
+    const file = pendingFile;
     try {
-      const m = await api.uploadMission(pendingFile);
+      tell(`uploading ${file.name || 'mission'}…`);
+      $('ms-progress').value = 0;
+      const m = await api.uploadMission(file);
+      setFile(null);
+      $('ms-file').value = '';
       refreshLists();
+      uploading = false;
       await runJob(m.id, m.name);
     } catch (e) {
       fail(e);
       $('rv-summary').dataset.state = 'error';
-    } finally { $('ms-submit').disabled = !pendingFile; }
+    } finally { uploading = false; $('ms-submit').disabled = !pendingFile; }
   });
-  $('ms-cancel').addEventListener('click', () => { if (currentJob) api.cancelJob(currentJob).catch(fail); });
+  $('ms-cancel').addEventListener('click', () => { if (currentJob) api.cancelJob(currentJob).catch((e) => fail(e)); });
   request = scheduler(redrawResults);
   $('rv-time').addEventListener('input', () => request(false));
   layers = layerToggles($('rv-legend'), () => redrawResults());

@@ -69,7 +69,9 @@ use super::association::tracks::{track_unions, TrackOptions};
 use super::association::{Chain, Domains, ShapesState};
 use super::mission::Mission;
 use super::model::{operator_groups, Model};
-use super::types::{Association, Progress, Solution, SolveOptions, SolveStatus, WorkEstimate};
+use super::types::{
+    width_sum, Association, Progress, Solution, SolveOptions, SolveStatus, WorkEstimate,
+};
 use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
 use crate::contractors::motion_chain::{shrinkage, sweep_backward, sweep_forward, Sweep};
@@ -871,7 +873,13 @@ impl<'a> Propagation<'a> {
     /// Reports the end of a round: the new diameter, the detections still
     /// moving, and a new estimate of the work left ([`WorkEstimate`]).
     fn end_round(&mut self, moving: usize) {
-        let f = self.work.end_round(moving);
+        // The change below which nothing counts as moving: the tolerance
+        // on each bound of the moving detections' positions and boxes.
+        let floor = self.tol * (4 * self.model.dim * moving) as f64;
+        let k = self.mission.detections.len();
+        let f = self
+            .work
+            .end_round_converging(k, moving, width_sum(&self.model), floor);
         let max_d = self.model.max_trajectory_diameter();
         self.report.max_trajectory_diameter = max_d;
         self.report.moving = moving;

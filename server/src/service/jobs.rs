@@ -642,27 +642,28 @@ pub(super) async fn job_result(
     }
     match format {
         "json" => Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response()),
-        "csv" => {
+        "csv" | "svg" => {
             let v = parse_json_value(text.as_bytes())?;
-            Ok((
-                [(header::CONTENT_TYPE, "text/csv")],
-                super::result_files::trajectory_csv(&v),
-            )
-                .into_response())
-        }
-        "svg" => {
-            let v = parse_json_value(text.as_bytes())?;
+            // The mission: its `dt` (the CSV's times), its truth (the figure).
             let mission_id = job.mission.clone();
             let mission = state
                 .db(move |st| st.mission_body(&owner, &mission_id))
                 .await?
                 .and_then(|b| serde_json::from_str(&b).ok())
                 .unwrap_or(Value::Null);
-            Ok((
-                [(header::CONTENT_TYPE, "image/svg+xml")],
-                crate::render::render_svg(&v, &mission),
-            )
-                .into_response())
+            Ok(if format == "csv" {
+                (
+                    [(header::CONTENT_TYPE, "text/csv")],
+                    super::result_files::trajectory_csv(&v, &mission),
+                )
+                    .into_response()
+            } else {
+                (
+                    [(header::CONTENT_TYPE, "image/svg+xml")],
+                    crate::render::render_svg(&v, &mission),
+                )
+                    .into_response()
+            })
         }
         other => Err(AppError::new(
             StatusCode::BAD_REQUEST,

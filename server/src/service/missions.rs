@@ -76,6 +76,17 @@ async fn mission_body(req: Request, state: &AppState) -> ApiResult<Vec<u8>> {
 /// Validates a mission: this service's limits on steps and (for an upload)
 /// detections first, then core's parser.
 pub(super) fn check_mission(v: &Value, config: &Config, uploaded: bool) -> ApiResult<Mission> {
+    // Another of the project's formats (a result uploaded as a mission):
+    // said so, before its fields are read as a mission's.
+    let declared = v.get("format").and_then(Value::as_str);
+    if let Some(note) = super::formats::other_format(declared, "nvector-mission/1") {
+        return Err(AppError::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "invalid_mission",
+            format!("not a mission: {note}"),
+        )
+        .at("format"));
+    }
     // Cheap limits first, before building the model.
     if let Some(n) = v
         .get("steps")
@@ -140,6 +151,8 @@ pub struct MissionItem {
     pub detections: i64,
     /// When it was stored (ms since the Unix epoch).
     pub created_ms: i64,
+    /// The size of the stored mission JSON, in bytes.
+    pub bytes: i64,
 }
 
 /// A page of missions, oldest first.
@@ -179,8 +192,8 @@ pub(super) async fn store_mission(
 ) -> ApiResult<(String, Mission)> {
     let m = check_mission(v, &state.config, uploaded)?;
     let id = format!("m-{}", uuid::Uuid::new_v4().simple());
-    let row = store::mission_row(id.clone(), &m, now_ms());
     let body = v.to_string();
+    let row = store::mission_row(id.clone(), &m, now_ms(), body.len());
     let owner = owner.to_string();
     state
         .db(move |st| st.insert_mission(&owner, &row, &body))
@@ -337,6 +350,7 @@ pub(super) async fn list_missions(
             steps: r.steps,
             detections: r.detections,
             created_ms: r.created,
+            bytes: r.bytes,
         })
         .collect();
     Ok(Json(MissionList { missions, next }))

@@ -15,6 +15,7 @@ pub mod config;
 mod contract;
 mod docs_page;
 mod error;
+pub mod formats;
 pub mod job_runner;
 mod jobs;
 mod meters;

@@ -5,21 +5,42 @@
 
 use serde_json::Value;
 
-/// The trajectory as CSV: `step,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]`.
-pub fn trajectory_csv(result: &Value) -> String {
-    let traj = result["trajectory"].as_array().cloned().unwrap_or_default();
-    let dim = traj
+/// The trajectory as CSV: `step,t,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]`, `t`
+/// the time of the step in seconds (step times the mission's `dt`: the
+/// model's steps are `dt` apart from t = 0; empty when the mission has no
+/// positive finite `dt`), bounds as the JSON writes them.
+pub fn trajectory_csv(result: &Value, mission: &Value) -> String {
+    let dt = mission["dt"]
+        .as_f64()
+        .filter(|dt| dt.is_finite() && *dt > 0.0);
+    boxes_csv(&result["trajectory"], "step", Some(dt))
+}
+
+/// Boxes as CSV rows: the index (column `index`), the time when `time` is
+/// given (`Some(dt)`: the index times dt, or empty), then the bounds.
+fn boxes_csv(boxes: &Value, index: &str, time: Option<Option<f64>>) -> String {
+    let boxes = boxes.as_array().map_or(&[][..], Vec::as_slice);
+    let dim = boxes
         .iter()
         .find_map(|b| b.as_array().map(Vec::len))
-        .unwrap_or(2);
+        .unwrap_or(2)
+        .min(3);
     let names = ["x", "y", "z"];
-    let mut out = String::from("step");
+    let mut out = String::from(index);
+    if time.is_some() {
+        out.push_str(",t");
+    }
     for n in names.iter().take(dim) {
         out.push_str(&format!(",{n}_lo,{n}_hi"));
     }
     out.push('\n');
-    for (i, b) in traj.iter().enumerate() {
+    for (i, b) in boxes.iter().enumerate() {
         out.push_str(&i.to_string());
+        match time {
+            Some(Some(dt)) => out.push_str(&format!(",{}", i as f64 * dt)),
+            Some(None) => out.push(','),
+            None => {}
+        }
         for a in 0..dim {
             let cell = |k: usize| match &b[a][k] {
                 Value::Number(n) => n.to_string(),
@@ -36,8 +57,7 @@ pub fn trajectory_csv(result: &Value) -> String {
 /// A TDOA result's pulse boxes as CSV (`GET /jobs/{id}/result?format=csv`):
 /// `pulse,x_lo,x_hi,y_lo,y_hi,z_lo,z_hi`, bounds as the JSON writes them.
 pub fn pulses_csv(result: &Value) -> String {
-    let csv = trajectory_csv(&serde_json::json!({"trajectory": result["pulses"]}));
-    csv.replacen("step", "pulse", 1)
+    boxes_csv(&result["pulses"], "pulse", None)
 }
 
 /// A TDOA result's figure (`?format=svg`), drawn from the result and the

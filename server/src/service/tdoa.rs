@@ -190,14 +190,15 @@ pub(super) async fn post_tdoa(
     let p = check_problem(&v, state.config.max_detections)?;
     let arrivals: usize = p.pulses.iter().map(|k| k.arrivals.len()).sum();
     let id = format!("t-{}", uuid::Uuid::new_v4().simple());
+    let (pulses, body) = (p.pulses.len() as u64, v.to_string());
     let row = MissionRow {
         id: id.clone(),
         name: p.name.clone(),
         steps: p.pulses.len() as i64,
         detections: arrivals as i64,
         created: now_ms(),
+        bytes: body.len() as i64,
     };
-    let (pulses, body) = (p.pulses.len() as u64, v.to_string());
     drop((p, v));
     {
         let (owner, row) = (owner.clone(), row);

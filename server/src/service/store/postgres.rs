@@ -205,7 +205,7 @@ impl Store for PostgresStore {
                 None => 0,
             };
             let rows = c.query(
-                "SELECT id, name, steps, detections, created FROM missions
+                "SELECT id, name, steps, detections, created, octet_length(body)::BIGINT FROM missions
                  WHERE owner = $1 AND seq > $2 AND id NOT LIKE 't-%' ORDER BY seq LIMIT $3",
                 &[&owner, &after_seq, &limit],
             )?;
@@ -217,6 +217,7 @@ impl Store for PostgresStore {
                         steps: r.get(2),
                         detections: r.get(3),
                         created: r.get(4),
+                        bytes: r.get(5),
                     })
                     .collect(),
             ))

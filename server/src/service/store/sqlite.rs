@@ -150,7 +150,7 @@ impl Store for SqliteStore {
                 None => 0,
             };
             let mut st = c.prepare(
-                "SELECT id, name, steps, detections, created FROM missions
+                "SELECT id, name, steps, detections, created, length(CAST(body AS BLOB)) FROM missions
                  WHERE owner = ?1 AND seq > ?2 AND id NOT LIKE 't-%' ORDER BY seq LIMIT ?3",
             )?;
             let rows = st.query_map(params![owner, after_seq, limit], |r| {
@@ -160,6 +160,7 @@ impl Store for SqliteStore {
                     steps: r.get(2)?,
                     detections: r.get(3)?,
                     created: r.get(4)?,
+                    bytes: r.get(5)?,
                 })
             })?;
             rows.collect::<rusqlite::Result<Vec<_>>>().map(Some)
@@ -472,6 +473,7 @@ mod tests {
             steps,
             detections,
             created: 0,
+            bytes: 2,
         };
         st.insert_mission("", &row, "{}").unwrap();
     }

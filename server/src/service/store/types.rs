@@ -15,6 +15,9 @@ pub struct MissionRow {
     pub detections: i64,
     /// Creation time (ms since epoch).
     pub created: i64,
+    /// Size of the stored mission JSON in bytes (when listed: the stored
+    /// body's length).
+    pub bytes: i64,
 }
 
 // As stored (the `state` column holds `JobState::as_str`: the same strings
@@ -305,6 +308,7 @@ pub fn mission_row(
     id: String,
     m: &nvector_core::slam::mission::Mission,
     created: i64,
+    bytes: usize,
 ) -> MissionRow {
     MissionRow {
         id,
@@ -312,6 +316,7 @@ pub fn mission_row(
         steps: m.steps as i64,
         detections: m.detections.len() as i64,
         created,
+        bytes: bytes as i64,
     }
 }
 
