@@ -159,8 +159,7 @@ fn inside_mod_2pi(x: f64, lo: f64, hi: f64) -> bool {
 
 #[test]
 fn utias_woods_outlier_share_names_exactly_the_detections_left_outside() {
-    let dir =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
     assert!(
         dir.join("truth.csv").exists(),
         "the data must be at {}",

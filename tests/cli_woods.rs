@@ -15,8 +15,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 fn woods_dir() -> PathBuf {
-    let dir =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/utias-lost-in-the-woods");
     assert!(
         dir.join("odometry.csv").exists(),
         "the Lost in the Woods data must be at {} (../shared beside the repository)",

@@ -12,7 +12,7 @@ use nvector_core::format::contract::ContractDoc;
 use nvector_core::format::leaf::{
     BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, PointsIn,
 };
-use nvector_core::format::mission::MissionDoc;
+use nvector_core::format::mission_doc::MissionDoc;
 use nvector_core::format::tdoa::TdoaDoc;
 use nvector_core::format::{from_value, from_value_reference, Object};
 use nvector_core::slam::simulate::{simulate, SimulateLimits, SimulateRequest};

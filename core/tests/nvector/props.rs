@@ -291,7 +291,7 @@ proptest! {
     }
 }
 
-/// Regression (issue 12): signed zeros are one value. With every finite
+/// Regression: signed zeros are one value. With every finite
 /// bound ±0 (a range of 0) or bounds spreading over more than f64::MAX, the
 /// nvalue greedies keyed -0 below +0: n = 1 over [-0, -0], [0, 0] answered
 /// infeasible, and n = 2 over [-1e308, -0], [0, 1e308], [1e308, 1e308]

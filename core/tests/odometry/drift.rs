@@ -306,8 +306,10 @@ fn windows_longer_than_the_chain_are_vacuous() {
 /// its own truth (every heading known in a simulation): for each k, the
 /// largest |th(i+k) - th(i) - sum dt om| in f64 plus 1e-9 (the f64
 /// oracle's rounding is far below it).
-fn woods_with_windows(opts: &nvector_core::slam::woods::WoodsOptions) -> Mission {
-    let mut v = nvector_core::slam::woods::simulate_woods(opts);
+fn woods_with_windows(
+    opts: &nvector_core::slam::simulate::odometry_scenario::WoodsOptions,
+) -> Mission {
+    let mut v = nvector_core::slam::simulate::odometry_scenario::simulate_woods(opts);
     let n = v["steps"].as_u64().unwrap() as usize;
     let dt = v["dt"].as_f64().unwrap();
     let m = Mission::from_value(&v).unwrap();
@@ -347,9 +349,9 @@ fn woods_with_windows(opts: &nvector_core::slam::woods::WoodsOptions) -> Mission
 /// and the windows join at least as much as without them somewhere.
 #[test]
 fn tracks_with_windows_only_join_true_pairs() {
-    use nvector_core::slam::association::tracks::{track_unions, TrackOptions};
+    use nvector_core::slam::association::odometry2d::tracks::{track_unions, TrackOptions};
     use nvector_core::slam::model::Model;
-    use nvector_core::slam::woods::WoodsOptions;
+    use nvector_core::slam::simulate::odometry_scenario::WoodsOptions;
     use nvector_core::union_find::Uf;
     let (mut with_total, mut without_total) = (0, 0);
     for seed in 1..=12u64 {
@@ -396,9 +398,9 @@ fn tracks_with_windows_only_join_true_pairs() {
 /// inside (headings and positions), no matching error.
 #[test]
 fn the_solver_with_windows_keeps_the_truth_on_woods_worlds() {
+    use nvector_core::slam::simulate::odometry_scenario::WoodsOptions;
     use nvector_core::slam::solve::solve;
     use nvector_core::slam::types::{Association, SolveOptions};
-    use nvector_core::slam::woods::WoodsOptions;
     use std::sync::atomic::AtomicBool;
     for seed in 1..=4u64 {
         let opts = WoodsOptions {

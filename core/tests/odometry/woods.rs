@@ -1,4 +1,4 @@
-//! The woods scenario (core/src/odometry/simulate.rs) and the odometry2d
+//! The woods scenario (core/src/slam/simulate/odometry_scenario.rs) and the odometry2d
 //! pieces together: the simulated truth satisfies every constraint of the
 //! mission (checked with the platform's f64 maths, independently of the
 //! generator's libm), and rounds of the odometry chain and of the offset
@@ -9,7 +9,7 @@
 
 use nvector_core::odometry::chain::OdometryChain;
 use nvector_core::odometry::sensor::OffsetDetection;
-use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
+use nvector_core::slam::simulate::odometry_scenario::{simulate_woods, WoodsOptions};
 use nvector_core::Interval;
 use serde_json::Value;
 use std::collections::{HashMap, HashSet};

@@ -19,7 +19,7 @@ use nvector_core::shapes::branch::branch;
 use nvector_core::shapes::chain_sums::ChainSums;
 use nvector_core::shapes::distinct::{Distinct, Uf};
 use nvector_core::shapes::region::Paving;
-use nvector_core::shapes::relative::relative_pairs;
+use nvector_core::shapes::relative_pairs::relative_pairs;
 use nvector_core::shapes::shape::{disjoint_paved, distance_between, Shape};
 use nvector_core::shapes::witnesses::{find_witnesses, Item};
 use nvector_core::slam::association::{sightings, Chain, Domains, ShapesState};

@@ -4,8 +4,8 @@
 //! propagator on the sub-missions, independently of the search).
 
 use nvector_core::slam::diagnose::minimal_correction;
-use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagate::fixpoint::propagate;
 use nvector_core::slam::result::SolveStatus;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::solve::solve_model;

@@ -1,4 +1,4 @@
-//! Issue 19: unbounded and overflowing bounds, on planted solutions.
+//! Unbounded and overflowing bounds, on planted solutions.
 //!
 //! One displacement with an infinite bound (a speed of 1e308 ± 1e308 is
 //! [0, +inf]; a motion error of f64::MAX overflows when added) once made
@@ -1111,7 +1111,7 @@ fn the_engine_keeps_the_truth_across_unbounded_steps() {
     });
 }
 
-/// The three missions of issue 19, built in core (the CLI tests run them
+/// The three missions that found these faults, built in core (the CLI tests run them
 /// through the binary): a 3-step, 2-landmark mission whose first step has
 /// the unbounded speed and whose step 1 sees both landmarks at overlapping
 /// ranges; 2 steps and one landmark across an unbounded step (and the same

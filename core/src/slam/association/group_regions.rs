@@ -22,7 +22,7 @@ impl ShapesState {
     /// Step 1: regions of the groups, and their members contracted.
     pub(super) fn group_regions(&mut self, round: &mut Round) -> Result<(), String> {
         for g in round.uf.groups() {
-            // Issue 18: a group none of whose inputs moved since its last
+            // The incremental schedule: a group none of whose inputs moved since its last
             // step 1 (the same members, positions, boxes, pieces and
             // region, bit for bit) is not cut, refined and branched again.
             let seen = (!self.full_work).then(|| self.group_signature(&g, round));

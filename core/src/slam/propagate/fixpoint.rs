@@ -1,22 +1,22 @@
 //! The fixpoint of a mission, without the diagnosis of an infeasible
-//! result: the robust propagation ([`super::outliers`]) when the mission
-//! allows false detections, else the rounds of [`super::rounds`].
+//! result: the robust propagation ([`crate::slam::robust`]) when the mission
+//! allows false detections, else the rounds of [`crate::slam::propagate::rounds`].
 //!
 //! This is the one place that chooses between the two engines; the
-//! diagnosis ([`super::diagnose`]) and the entry points
-//! ([`super::solve`]) sit above it.
+//! diagnosis ([`crate::slam::diagnose`]) and the entry points
+//! ([`crate::slam::solve`]) sit above it.
 //!
 //! May import: the propagation layer (`rounds`, `outliers`) and below.
 
-use super::mission::Mission;
-use super::outliers::solve_robust;
-use super::rounds::rounds;
-use super::types::{Progress, Solution, SolveOptions};
+use crate::slam::mission::Mission;
+use crate::slam::propagate::rounds::rounds;
+use crate::slam::robust::solve_robust;
+use crate::slam::types::{Progress, Solution, SolveOptions};
 use std::sync::atomic::AtomicBool;
 
 /// The fixpoint alone, without the diagnosis of an infeasible result:
-/// the robust propagation ([`super::outliers`]) when the mission allows
-/// false detections, else the rounds of [`super::rounds`].
+/// the robust propagation ([`crate::slam::robust`]) when the mission allows
+/// false detections, else the rounds of [`crate::slam::propagate::rounds`].
 pub fn propagate(
     mission: &Mission,
     options: &SolveOptions,

@@ -5,9 +5,9 @@
 //! # Constraint
 //!
 //! A *conflict* is a set of detections that no reading with a solution
-//! keeps whole ([`super::robust_conflicts`]); the minimum hitting sets of
+//! keeps whole ([`crate::slam::robust::conflicts`]); the minimum hitting sets of
 //! a family of conflicts bound every reading's drops
-//! ([`super::robust_hitting`]).
+//! ([`crate::slam::robust::hitting`]).
 //!
 //! # Math
 //!
@@ -30,10 +30,10 @@
 //! reading keeping the detection (the caller passes the mission's initial
 //! domains, [`Model::new`]; the displacement boxes and headings are
 //! inputs, true in every reading), and a disjointness proved by [`relative_pairs`] is
-//! outward rounded ([`crate::shapes::relative`]). Only detections with a
+//! outward rounded ([`crate::shapes::relative_pairs`]). Only detections with a
 //! known heading and no sensor offset are tested (`plain_detections`);
 //! detections proved false (empty boxes) take no part. Tested by
-//! `core/tests/robust_cliques.rs` (planted false detections of every
+//! `core/tests/slam/robust/cliques.rs` (planted false detections of every
 //! kind: no clique of true detections only, the truth stays inside).
 //!
 //! # Complexity
@@ -42,11 +42,11 @@
 //! clique search of at most [`MAX_NODES`] nodes, each O(k) (a sorted
 //! neighbour list merged); memory O(k · [`MAX_AHEAD`]).
 
-use super::mission::Mission;
-use super::model::Model;
 use crate::shapes::chain_sums::ChainSums;
-use crate::shapes::relative::relative_pairs;
+use crate::shapes::relative_pairs::relative_pairs;
 use crate::shapes::shape::Sighting;
+use crate::slam::mission::Mission;
+use crate::slam::model::Model;
 
 /// Detections ahead (time order) each one is tested against.
 pub const MAX_AHEAD: usize = 96;

@@ -14,8 +14,8 @@
 //!
 //! # Math
 //!
-//! 1. *Relaxation* (as in [`super::robust_subsets`]): for a set S, the
-//!    mission `stripped(S)` ([`super::kept::stripped`]) with q = 0 is a
+//! 1. *Relaxation* (as in [`crate::slam::robust::subsets`]): for a set S, the
+//!    mission `stripped(S)` ([`crate::slam::robust::kept::stripped`]) with q = 0 is a
 //!    relaxation of every reading keeping all of S; its ordinary
 //!    propagation proving it infeasible proves that no reading with a
 //!    solution keeps all of S. Such an S is a *conflict*.
@@ -51,22 +51,22 @@
 //!
 //! 0. *Free conflicts* (ids hidden, `landmark_count` n): the
 //!    (n + 1)-cliques of pairwise distinct detections
-//!    ([`super::robust_cliques`]) are conflicts found without a
+//!    ([`crate::slam::robust::cliques`]) are conflicts found without a
 //!    propagation; what their hitting sets prove comes first, and when
 //!    there are any the disjoint packing (steps 3-4) is not run: step 5
 //!    starts from them. Every conflict test propagates the tested
-//!    detections only ([`super::kept::kept_only`], a relaxation of
+//!    detections only ([`crate::slam::robust::kept::kept_only`], a relaxation of
 //!    `stripped`).
 //! 5. *Overlapping conflicts* (`State::hit`, when the packing does not
 //!    account for the budget): conflicts may share detections; their
-//!    minimum hitting set ([`super::robust_hitting`], exact) bounds every
+//!    minimum hitting set ([`crate::slam::robust::hitting`], exact) bounds every
 //!    reading's drops, and a detection in every hitting set of at most b
 //!    is proved false (docs/outliers.md, "Overlapping conflicts"). At
 //!    most [`HIT_SOLVES`] propagations, within [`HIT_WORK`].
 //!
 //! What is returned: the detections proved false; the unresolved
 //! conflicts, each holding one drop of every reading
-//! ([`super::kept::kept_with_conflicts`] counts them with P, their
+//! ([`crate::slam::robust::kept::kept_with_conflicts`] counts them with P, their
 //! members are not sure, so with P and them accounting for q every other
 //! detection is sure and the refinement reports its groups); with m = b
 //! the positions of `stripped(N')`.
@@ -86,7 +86,7 @@
 //! cancelled solve counts as feasible: it proves nothing). The conflicts
 //! are pairwise disjoint by construction (each is shrunk out of what the
 //! earlier ones left), which is what makes their count a lower bound of
-//! every reading's drops. Tested by `core/tests/robust_conflicts.rs`
+//! every reading's drops. Tested by `core/tests/slam/robust/conflicts.rs`
 //! (planted false detections of every kind, q the number planted and
 //! more): no true detection proved false, no true position lost, no false
 //! detection grouped; and a packing that counts overlapping conflicts as
@@ -100,14 +100,14 @@
 //! before the cap is kept (conflicts proved are conflicts). Memory: a few
 //! keep vectors, O(k), and one positions vector, O(N · d).
 
-use super::kept::kept_only;
-use super::mission::Mission;
-use super::model::Model;
-use super::robust_cliques::clique_conflicts;
-use super::robust_hitting::{forced, hitting_set, minimum, Forced, Hit};
-use super::rounds::rounds;
-use super::types::{Progress, SolveOptions, SolveStatus};
 use crate::interval::Interval;
+use crate::slam::mission::Mission;
+use crate::slam::model::Model;
+use crate::slam::propagate::rounds::rounds;
+use crate::slam::robust::cliques::clique_conflicts;
+use crate::slam::robust::hitting::{forced, hitting_set, minimum, Forced, Hit};
+use crate::slam::robust::kept::kept_only;
+use crate::slam::types::{Progress, SolveOptions, SolveStatus};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Most ordinary propagations the rule runs.
@@ -327,7 +327,7 @@ impl State<'_> {
             self.hit(free)?;
             // What the overlapping conflicts left open: the disjoint
             // packing of the rest (its conflicts count one drop each in
-            // `kept.rs`), with a few more propagations of its own.
+            // `robust/kept.rs`), with a few more propagations of its own.
             if had_free && self.budget > 0 && self.conflicts.is_empty() {
                 self.s.cap = self.s.cap.max(self.s.solves + FALLBACK_SOLVES);
                 self.pack_and_resolve(q, p)?;
@@ -575,7 +575,7 @@ pub const FALLBACK_SOLVES: usize = 20;
 pub const HIT_WORK: u64 = 4_400_000;
 
 /// Most branch-and-bound nodes of the hitting-set searches of one packing
-/// ([`super::robust_hitting`]).
+/// ([`crate::slam::robust::hitting`]).
 pub const HIT_NODES: u64 = 2_000_000;
 
 /// Whether `State::hit`'s propagations fit [`HIT_WORK`].

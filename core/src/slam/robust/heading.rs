@@ -3,26 +3,26 @@
 //! windows, then the displacements and `heading_at` from the new headings.
 //!
 //! Also [`cut_headings`]: the headings cut to an enclosure of every
-//! reading's (consensus over subsets' hull, [`super::robust_subsets`]),
+//! reading's (consensus over subsets' hull, [`crate::slam::robust::subsets`]),
 //! with the same refresh.
 //!
 //! # Constraint
 //!
 //! The solution set is the union, over every set F of at most q dropped
 //! detections, of the solutions of the mission without F
-//! ([`super::outliers`]). The heading chain `th(t+1) = th(t) + Δth(t)`
+//! ([`crate::slam::robust`]). The heading chain `th(t+1) = th(t) + Δth(t)`
 //! (`Δth(t) = dt·ω(t) + [-f(t), f(t)]`, [`OdometryChain::heading_increment`]),
 //! the `heading_drift` windows, `initial_heading` and `final_heading` hold
 //! in every sub-mission. A detection j with a bearing β(j) holds only where
 //! j is kept: there the direction of d(j) - p(t_j) is th(t_j) + β(j),
 //! modulo 2π (the robust engine reads detections seen from p, the sensor
-//! offset folded in: `Mission::seen_from_position`). Headings are real
+//! offset folded in: `Mission::seen_from_p`). Headings are real
 //! numbers, never wrapped.
 //!
 //! # Math
 //!
 //! 1. **Evidence.** For each detection j not proved false, with a bearing
-//!    and an evidence box M(j) of p(t_j) ([`super::outliers`]: p(t_j)
+//!    and an evidence box M(j) of p(t_j) ([`crate::slam::robust`]: p(t_j)
 //!    contracted, on a copy, by j's range and bearing towards d(j), its own
 //!    box cut by its group's q-relaxed landmark box), the interval
 //!    `E(j) = th(t_j) ∩ (angle(d(j) - M(j)) - β(j) + 2πZ)`
@@ -36,7 +36,7 @@
 //!    at most `budget` (q minus the detections proved false) of the listed
 //!    evidences, so th(t) is at least the (budget+1)-th largest of the
 //!    carried lower bounds, at most the (budget+1)-th smallest upper bound.
-//!    These are the positions' passes ([`super::outliers`], `relaxed_passes`)
+//!    These are the positions' passes ([`crate::slam::robust`], `relaxed_passes`)
 //!    on a chain of dimension 1: keys relative to running sums of the
 //!    turn bounds, the (budget+1) best kept in a sorted list, the forward
 //!    keys recorded and merged by the backward pass; an unbounded turn
@@ -63,7 +63,7 @@
 //! the windows and the refresh are contractors of constraints that hold in
 //! every sub-mission. Keeping the budget-th best instead would let
 //! `budget` false bearings agreeing on a wrong heading cut the true one
-//! (core/tests/robust_heading.rs shows it).
+//! (core/tests/slam/robust/heading.rs shows it).
 //!
 //! # Complexity
 //!
@@ -73,15 +73,15 @@
 //! O(N·W) for the W drift windows and O(N) for the refresh. Memory O(N + k)
 //! beyond the recorded key snapshots of the passes.
 
-use super::mission::Mission;
-use super::model::Model;
 use crate::contractors::motion_chain::shrinkage;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::odometry::angle::contract_heading;
 use crate::odometry::chain::OdometryChain;
+use crate::slam::mission::Mission;
+use crate::slam::model::Model;
 
-/// The relaxed passes of [`super::outliers`] on a chain of dimension 1:
+/// The relaxed passes of [`crate::slam::robust`] on a chain of dimension 1:
 /// `(states th(0..=N), increments Δth(0..N), evidence E(j) per detection
 /// (one-axis boxes, empty: none), keep)`, keeping the `keep`-th best
 /// carried bound; the largest move, or `Err(step)` when a state empties.
@@ -187,7 +187,7 @@ fn headings(
 
 /// odometry2d: th(0..=N) cut to `headings` (N + 1 intervals enclosing
 /// every heading of every reading: consensus over subsets'
-/// hull, [`super::robust_subsets`]), then the displacements and
+/// hull, [`crate::slam::robust::subsets`]), then the displacements and
 /// `heading_at` from them. Returns how many headings changed; `Err`: one
 /// became empty. Nothing for the other models (or another length). O(N).
 pub fn cut_headings(

@@ -6,7 +6,7 @@
 //! # Constraint
 //!
 //! A *conflict* is a set of detections that no reading with a solution
-//! keeps whole ([`super::robust_conflicts`]). The detections D a reading
+//! keeps whole ([`crate::slam::robust::conflicts`]). The detections D a reading
 //! drops therefore meet (*hit*) every conflict, and D avoids every
 //! detection proved kept in every reading (*forbidden* here).
 //!

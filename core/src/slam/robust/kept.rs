@@ -1,6 +1,6 @@
 //! Which detections are kept in every reading of a mission with false
 //! detections (`max_outliers` = q > 0), and what is proved of them: the
-//! `matching` of the robust propagation ([`super::outliers`]).
+//! `matching` of the robust propagation ([`crate::slam::robust`]).
 //!
 //! # Question
 //!
@@ -70,15 +70,15 @@
 //!
 //! Conflict pairs: O(k log k · d) (sorting each group's bounds per axis,
 //! then pointers that only move forward). The refinement is one ordinary
-//! propagation (see [`super::rounds`]); O(N + k) memory for its copy of
+//! propagation (see [`crate::slam::propagate::rounds`]); O(N + k) memory for its copy of
 //! the mission and its model.
 
-use super::mission::{Detection, Mission};
-use super::model::Model;
-use super::rounds::rounds;
-use super::types::{Progress, SolveOptions, SolveStatus};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+use crate::slam::mission::{Detection, Mission};
+use crate::slam::model::Model;
+use crate::slam::propagate::rounds::rounds;
+use crate::slam::types::{Progress, SolveOptions, SolveStatus};
 use serde_json::Value;
 use std::sync::atomic::AtomicBool;
 
@@ -135,7 +135,7 @@ impl Accounted {
 }
 
 /// [`kept`], with `conflicts`: pairwise disjoint sets of detections of
-/// which every reading drops at least one ([`super::robust_conflicts`]).
+/// which every reading drops at least one ([`crate::slam::robust::conflicts`]).
 /// A conflict that holds a detection proved false is not counted (that
 /// detection already is); the others count one drop each, like a pair,
 /// and their members are not sure.

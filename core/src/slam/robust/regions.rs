@@ -10,7 +10,7 @@
 //! ones) at most `budget` = q - |proved false| are dropped. Every kept
 //! detection k sees one of the n landmarks, and in every solution of every
 //! reading keeping k that landmark lies in k's box `d(k)` (the robust
-//! propagation keeps that invariant, [`super::outliers`]).
+//! propagation keeps that invariant, [`crate::slam::robust`]).
 //!
 //! # Math
 //!
@@ -19,7 +19,7 @@
 //!    its landmark lies in its box, so in B: every solution of every
 //!    reading has a landmark in B. A box the caller proved to hold a
 //!    landmark in every reading (`held`: a valid track group's,
-//!    [`super::robust_tracks`]) serves as such a B too.
+//!    [`crate::slam::robust::track_groups`]) serves as such a B too.
 //! 2. *Exactly one.* With n pairwise disjoint such boxes B(1..n) and n
 //!    landmarks, each B(i) holds exactly one landmark, L(i), and every
 //!    landmark is one of them.
@@ -29,7 +29,7 @@
 //!    boxes, so in their q-relaxed intersection (per axis, the
 //!    (budget+1)-th largest lower bound and the (budget+1)-th smallest upper
 //!    bound). The region R(i) is B(i) cut by it.
-//! 4. *Use* (in [`super::outliers`]): every landmark lies in the union of
+//! 4. *Use* (in [`crate::slam::robust`]): every landmark lies in the union of
 //!    the R(i). A kept detection j sees one of them, so d(j) shrinks to the
 //!    hull, over the regions, of j's own constraints (distance, bearing)
 //!    contracted within d(j) ∩ R(i) (the position box contracted only in a
@@ -56,7 +56,7 @@
 //! relaxed intersection picks bounds of the input boxes. The truth is a
 //! solution of a reading, so a region never loses a true landmark, and a
 //! true detection is never proved false: planted-solution property tests in
-//! `core/tests/robust_regions.rs` (false detections of every kind, huge
+//! `core/tests/slam/robust/regions.rs` (false detections of every kind, huge
 //! and unbounded boxes).
 //!
 //! # Complexity
@@ -149,7 +149,7 @@ pub fn regions(det: &[IntervalBox], live: &[bool], budget: usize, n: usize) -> R
 }
 
 /// [`regions`] with `held`: boxes already proved to hold a landmark in
-/// every solution of every reading (a valid group's, [`super::robust_tracks`]),
+/// every solution of every reading (a valid group's, [`crate::slam::robust::track_groups`]),
 /// tried first as the boxes B of step 1, narrowest first, each kept when it
 /// meets none kept before.
 pub fn regions_with(

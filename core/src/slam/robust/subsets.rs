@@ -14,14 +14,14 @@
 //!
 //! 1. *Relaxation.* For a set S of detections, the mission `stripped(S)`
 //!    whose detections outside S lose every constraint (range [0, +inf],
-//!    no bearing, region, label or scan; [`super::kept::stripped`]), with
+//!    no bearing, region, label or scan; [`crate::slam::robust::kept::stripped`]), with
 //!    q = 0, is a relaxation of every reading that keeps all of S: a
 //!    solution of such a reading is one of it (a stripped detection takes
 //!    the landmark of any kept one). So the ordinary propagator, with the
 //!    requested association, encloses every solution of every reading
 //!    keeping S, and when it proves `stripped(S)` infeasible, no reading
 //!    keeps all of S. What is propagated is the mission of S's detections
-//!    only ([`super::kept::kept_only`]), a relaxation of `stripped(S)`
+//!    only ([`crate::slam::robust::kept::kept_only`]), a relaxation of `stripped(S)`
 //!    (its boxes enclose those of `stripped(S)`, its infeasibility proves
 //!    `stripped(S)`'s): the stripped detections' unbounded shapes cost
 //!    the shapes reasoning most of its time (measured: a 60-step
@@ -43,10 +43,10 @@
 //!    every feasible S(E), `stripped(S(E) ∪ {j})` is proved infeasible
 //!    (step 1: no reading keeps S(E) and j).
 //!
-//! The robust rounds ([`super::outliers`]) take the proved false
+//! The robust rounds ([`crate::slam::robust`]) take the proved false
 //! detections (each lowers the budget of the others) and the positions;
 //! when the proved false detections account for q, every other detection
-//! is kept in every reading ([`super::kept`]) and the ordinary
+//! is kept in every reading ([`crate::slam::robust::kept`]) and the ordinary
 //! propagation on them gives the matching.
 //!
 //! b is the largest block count with C(b, q) <= [`MAX_SETS`] and b <= k;
@@ -60,7 +60,7 @@
 //! soundness of the ordinary propagator (an infeasible verdict is a proof,
 //! a stopped one is treated as feasible); hulls of boxes are exact.
 //! Tested by planting up to q false detections of every kind
-//! (`core/tests/robust_subsets.rs`): no true detection is ever proved
+//! (`core/tests/slam/robust/subsets.rs`): no true detection is ever proved
 //! false, no true position is lost.
 //!
 //! # Complexity
@@ -71,11 +71,11 @@
 //! mission (each costs what a run with q = 0 costs), O(C(b, q) · N · d)
 //! memory for nothing more than one hull at a time: O(N · d + k).
 
-use super::kept::kept_only;
-use super::mission::Mission;
-use super::rounds::rounds;
-use super::types::{Progress, SolveOptions, SolveStatus};
 use crate::interval::Interval;
+use crate::slam::mission::Mission;
+use crate::slam::propagate::rounds::rounds;
+use crate::slam::robust::kept::kept_only;
+use crate::slam::types::{Progress, SolveOptions, SolveStatus};
 use std::sync::atomic::AtomicBool;
 
 /// Most sets S(E) of the family (ordinary propagations of step 2).

@@ -12,7 +12,7 @@
 //!
 //! # Math
 //!
-//! - **Direct pairs.** The track test ([`super::association::tracks`]) proves
+//! - **Direct pairs.** The track test ([`crate::slam::association::odometry2d::tracks`]) proves
 //!   from the odometry and the two measurements alone that the landmarks of
 //!   a and b are less than s apart: in every reading that keeps both, they
 //!   see one landmark. Nothing else is read, so no other detection's drop
@@ -48,7 +48,7 @@
 //! part. Missing a pair or a merge only proves less. Tested against brute
 //! force over every drop set on random pair graphs, and on simulated woods
 //! missions with planted false detections of every kind
-//! (`core/tests/robust_tracks.rs`).
+//! (`core/tests/slam/robust/track_groups.rs`).
 //!
 //! # Complexity
 //!
@@ -60,9 +60,9 @@
 //!
 //! [`gap_below`]: crate::odometry::relative::gap_below
 
-use super::association::tracks::{StepRuns, TrackOptions};
-use super::mission::Mission;
 use crate::odometry::chain::OdometryChain;
+use crate::slam::association::odometry2d::tracks::{StepRuns, TrackOptions};
+use crate::slam::mission::Mission;
 use crate::union_find::Uf;
 
 /// The larger side is tested by R2 too when it has at most this many

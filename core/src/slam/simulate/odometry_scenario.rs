@@ -21,7 +21,7 @@
 //! - `landmark_min_separation`: the smallest true distance between two
 //!   landmarks less 0.01 m.
 //! - Initial pose known to ±0.01 m and ±0.01 rad.
-//! - False detections ([`simulate_woods_with`], issue 18): K
+//! - False detections ([`simulate_woods_with`], `max_outliers`): K
 //!   range-and-bearing detections in the robot's scans of phantom points in
 //!   the sensor's field, at least `landmark_min_separation` + 0.5 m from
 //!   every landmark, from a stream of their own (the true mission is the
@@ -559,6 +559,7 @@ pub fn simulate_woods_with(o: &WoodsOptions, false_detections: usize) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::fnv;
 
     #[test]
     fn deterministic_and_sized() {
@@ -573,13 +574,6 @@ mod tests {
         assert_eq!(a["steps"], 400);
         assert_eq!(a["truth"]["landmarks"].as_array().unwrap().len(), 17);
         assert!(!a["detections"].as_array().unwrap().is_empty());
-    }
-
-    /// FNV-1a over the JSON text: a fingerprint of a whole mission.
-    fn fnv(s: &str) -> u64 {
-        s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-            (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-        })
     }
 
     /// Without false detections the mission is what it was before they

@@ -13,9 +13,9 @@
 //! schema-valid one must be accepted (201) or refused by a service limit
 //! (413), every schema-invalid one refused.
 
-use super::mission::{MAX_LANDMARKS, MAX_STEPS};
-use super::simulate::{SimulateRequest, MAX_FALSE_DETECTIONS};
 use crate::format::openapi::nullable;
+use crate::slam::mission::{MAX_LANDMARKS, MAX_STEPS};
+use crate::slam::simulate::{SimulateRequest, MAX_FALSE_DETECTIONS};
 use utoipa::openapi::schema::{AdditionalProperties, ObjectBuilder, OneOfBuilder, Schema, Type};
 use utoipa::openapi::RefOr;
 use utoipa::{PartialSchema, ToSchema};

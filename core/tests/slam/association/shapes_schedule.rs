@@ -1,4 +1,4 @@
-//! Issue 18: the shapes' incremental schedule of `best` (a group whose
+//! The shapes' incremental schedule of `best` (a group whose
 //! inputs did not move is not worked again; with every landmark named by
 //! the operator the names give the distinct pairs instead of the shapes)
 //! may only skip work that proves nothing: on random missions (the paper
@@ -12,11 +12,11 @@
 
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagate::rounds::{rounds, rounds_full_shapes};
 use nvector_core::slam::result::{score, Solution, SolveStatus};
-use nvector_core::slam::rounds::{rounds, rounds_full_shapes};
+use nvector_core::slam::simulate::odometry_scenario::{simulate_woods, WoodsOptions};
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, SolveOptions};
-use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
 use nvector_core::Interval;
 use std::sync::atomic::AtomicBool;
 

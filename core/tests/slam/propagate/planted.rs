@@ -10,7 +10,7 @@
 //! `PROPTEST_CASES` scales the number of cases (common::config).
 
 use nvector_core::nvector::Contractor;
-use nvector_core::slam::fixpoint::propagate;
+use nvector_core::slam::propagate::fixpoint::propagate;
 use nvector_core::slam::result::score;
 use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;

@@ -1,12 +1,12 @@
-//! Progress reports of the propagator (issue 12): what a user reads
+//! Progress reports of the propagator: what a user reads
 //! (round, pass, detections processed, detections still moving, the fall of
 //! the max trajectory diameter) is consistent with the result, the fraction
 //! never decreases and is 1 exactly at the fixpoint, and cancellation stops
 //! within a pass with sound boxes.
 
 use nvector_core::nvector::Contractor;
-use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagate::fixpoint::propagate;
 use nvector_core::slam::result::{score, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, Progress, SolveOptions};

@@ -1,4 +1,4 @@
-//! The propagator of issue 12 (`propagate`: a forward and a backward pass per round,
+//! The propagator by passes (`propagate`: a forward and a backward pass per round,
 //! sweeping only what changed) against the one before it (each detection
 //! swept on its own), kept as a reference in `propagation_reference/`: on
 //! random simulated missions (paper and AUV scenarios, landmark layouts,
@@ -7,14 +7,14 @@
 //! new box, and each new box lies in the reference's box up to a slack of
 //! the order of the tolerance (bounds that a sweep stopping below the
 //! tolerance leaves behind), and the other way round: the same fixpoint.
-//! `best` has gained contractors since (the detection shapes of issue 11):
+//! `best` has gained contractors since (the detection shapes):
 //! there the new boxes lie in the old ones and the old groups in new ones.
 
 use crate::propagation_reference;
 
 use nvector_core::nvector::Contractor;
-use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagate::fixpoint::propagate;
 use nvector_core::slam::result::{score, Solution, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Layout, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, SolveOptions};
@@ -83,7 +83,7 @@ fn same_status(a: &SolveStatus, b: &SolveStatus) -> bool {
 }
 
 /// Whether the association step of `propagate` is the reference's for
-/// `association`: `best` gained the detection shapes of issue 11 (a
+/// `association`: `best` gained the detection shapes (a
 /// stronger contractor), where the new boxes may only be tighter and the
 /// groups only larger.
 fn same_association(association: Association) -> bool {

@@ -1,4 +1,4 @@
-//! The robust propagation (max_outliers = q > 0, core/src/slam/outliers.rs)
+//! The robust propagation (max_outliers = q > 0, core/src/slam/robust/mod.rs)
 //! with its truth ON the boundary: the start is an exact point, seen by
 //! q + 1 true detections (so its evidence is tight and not dropped by the
 //! q-relaxed intersection), and the true robot then moves by exactly the
@@ -13,9 +13,9 @@
 
 use num_rational::BigRational;
 use nvector_core::shapes::shape::distance_between;
-use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::model::Model;
+use nvector_core::slam::propagate::fixpoint::propagate;
 use nvector_core::slam::result::SolveStatus;
 use nvector_core::slam::types::{Association, SolveOptions};
 use nvector_core::Interval;

@@ -1,4 +1,4 @@
-//! Free conflicts from distinct pairs (`core/src/slam/robust_cliques.rs`),
+//! Free conflicts from distinct pairs (`core/src/slam/robust/cliques.rs`),
 //! with planted solutions: paper missions, ids hidden, with false
 //! detections of every kind planted (the simulator's phantoms, a range
 //! 0.5 m off a real landmark's, a cluster of three consistent with a
@@ -10,15 +10,14 @@
 //! groups no false detection.
 //!
 //! The cases come from a fixed seed; `NVECTOR_PROPTEST_CASES` scales them.
-//! `NVECTOR_CLIQUE_MISSIONS=a.json,b.json` (with `--ignored --nocapture`)
-//! prints what the cliques and the packing find on those missions.
+//! What the cliques and the packing find on mission files is measured by
+//! `cargo run --release -p nvector-core --example measure_robust`.
 
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::model::Model;
-use nvector_core::slam::outliers::solve_robust;
-use nvector_core::slam::robust_cliques::clique_conflicts;
-use nvector_core::slam::robust_conflicts::{pack, Packing};
+use nvector_core::slam::robust::cliques::clique_conflicts;
+use nvector_core::slam::robust::solve_robust;
 use nvector_core::slam::simulate::{simulate, Layout, Rng, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, SolveOptions, SolveStatus};
 use serde_json::{json, Value};
@@ -166,169 +165,5 @@ fn ten_simulated_phantoms_keep_the_truth() {
             assert!(first.is_some(), "{what}: false {} grouped {g:?}", g[0]);
             assert!(g.iter().all(|&j| truth[j] == first), "{what}: {g:?}");
         }
-    }
-}
-
-// A measurement on the user's mission files, with the time it took: the
-// one I/O and clock of this test file, outside every checked test.
-#[test]
-#[ignore]
-#[allow(clippy::disallowed_methods)]
-fn measure_cliques() {
-    let Ok(list) = std::env::var("NVECTOR_CLIQUE_MISSIONS") else {
-        return;
-    };
-    let options = SolveOptions {
-        association: Association::NVector(Contractor::Best),
-        ..SolveOptions::default()
-    };
-    let cancel = AtomicBool::new(false);
-    for path in list.split(',') {
-        let m = Mission::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let truth = m.truth.as_ref().unwrap().matching.clone();
-        let k = m.detections.len();
-        let order = order_of(&m);
-        let cliques = clique_conflicts(&m, &Model::new(&m), &vec![true; k], &order);
-        let mut with = vec![0usize; k];
-        for c in &cliques {
-            for &j in c {
-                with[j] += 1;
-            }
-        }
-        let phantoms: Vec<usize> = (0..k).filter(|&j| truth[j].is_none()).collect();
-        let per: Vec<usize> = phantoms.iter().map(|&j| with[j]).collect();
-        let t0 = std::time::Instant::now();
-        let r = pack(
-            &m,
-            m.max_outliers,
-            &vec![false; k],
-            &order,
-            &options,
-            &cancel,
-        );
-        let secs = t0.elapsed().as_secs_f64();
-        let summary = match r {
-            Packing::Proved {
-                proved_false,
-                solves,
-                ..
-            } => format!(
-                "proved false {} (phantoms {}) solves {solves}",
-                proved_false.iter().filter(|&&f| f).count(),
-                phantoms.iter().filter(|&&j| proved_false[j]).count()
-            ),
-            other => format!("{other:?}"),
-        };
-        println!(
-            "{path}: k {k} cliques {} per phantom {per:?}; {summary} {secs:.1} s",
-            cliques.len()
-        );
-    }
-}
-
-/// The distance of two 2-D points.
-fn dist(p: &[f64], q: &[f64]) -> f64 {
-    let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
-    (dx * dx + dy * dy).sqrt()
-}
-
-/// Whether detection j of `m` is false by the truth: no landmark (a
-/// planted range), or its true distance outside its range interval (a
-/// tight band's outlier). Range-only, 2-D.
-fn false_by_truth(m: &Mission, j: usize) -> bool {
-    let t = m.truth.as_ref().unwrap();
-    let d = &m.detections[j];
-    let Some(l) = t.matching[j] else {
-        return true;
-    };
-    let (p, q) = (&t.positions[d.step], &t.landmarks[l]);
-    let r = dist(p, q);
-    r < d.range.lo() || r > d.range.hi()
-}
-
-// What the free conflicts prove on large missions (CMU Plaza 1 with
-// planted false ranges or a tight band: docs/outliers.md, "Free conflicts
-// on CMU Plaza 1"): the cliques found with the limits
-// `NVECTOR_CLIQUE_LIMITS=ahead,per_detection,nodes,nodes_each`, how many
-// false detections they hold, their components, the sum of the
-// components' minimum hitting sets against q, and what `forced` proves.
-#[test]
-#[ignore]
-#[allow(clippy::disallowed_methods)]
-fn measure_free_conflicts() {
-    use nvector_core::slam::robust_cliques::{clique_conflicts_with, Limits};
-    use nvector_core::slam::robust_hitting::{components, forced, minimum, Forced, Hit};
-    let Ok(list) = std::env::var("NVECTOR_CLIQUE_MISSIONS") else {
-        return;
-    };
-    let mut limits = Limits::default();
-    if let Ok(l) = std::env::var("NVECTOR_CLIQUE_LIMITS") {
-        let v: Vec<u64> = l.split(',').map(|x| x.parse().unwrap()).collect();
-        (limits.ahead, limits.per_detection) = (v[0] as usize, v[1] as usize);
-        (limits.nodes, limits.nodes_each) = (v[2], v[3]);
-    }
-    for path in list.split(',') {
-        let m = Mission::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let k = m.detections.len();
-        let t0 = std::time::Instant::now();
-        let cliques =
-            clique_conflicts_with(&m, &Model::new(&m), &vec![true; k], &order_of(&m), &limits);
-        let secs = t0.elapsed().as_secs_f64();
-        let bad: Vec<usize> = (0..k).filter(|&j| false_by_truth(&m, j)).collect();
-        // False ranges that hold some landmark's true distance: the truth
-        // keeping them is a solution (never refutable).
-        let t = m.truth.as_ref().unwrap();
-        let fit = bad
-            .iter()
-            .filter(|&&j| {
-                let d = &m.detections[j];
-                let p = &t.positions[d.step];
-                t.landmarks.iter().any(|l| {
-                    let r = dist(p, l);
-                    d.range.lo() <= r && r <= d.range.hi()
-                })
-            })
-            .count();
-        let held = bad
-            .iter()
-            .filter(|&&j| cliques.iter().any(|c| c.contains(&j)))
-            .count();
-        let (mut sum, mut margins) = (0, Vec::new());
-        for comp in components(&cliques) {
-            let fam: Vec<Vec<usize>> = comp.iter().map(|&i| cliques[i].clone()).collect();
-            let mut w = 5_000_000;
-            let Hit::Found(h) = minimum(&fam, &[], m.max_outliers, &mut w) else {
-                continue;
-            };
-            sum += h.len();
-            let mut best = 0;
-            for &x in &h {
-                let mut ban = vec![false; k];
-                ban[x] = true;
-                let mut w = 5_000_000;
-                if let Hit::Found(h2) = minimum(&fam, &ban, m.max_outliers, &mut w) {
-                    best = best.max(h2.len() - h.len());
-                }
-            }
-            margins.push(best);
-        }
-        let (mut fam, mut b, mut proved) = (cliques.clone(), m.max_outliers, 0);
-        let mut work = 20_000_000;
-        while let Forced::Members(xs) = forced(&fam, b, &mut work) {
-            if xs.is_empty() {
-                break;
-            }
-            assert!(xs.iter().all(|&j| false_by_truth(&m, j)), "{path}: {xs:?}");
-            (b, proved) = (b - xs.len(), proved + xs.len());
-            fam.retain(|c| !c.iter().any(|j| xs.contains(j)));
-        }
-        println!(
-            "{path}: {limits:?}: k {k}, q {}, false by the truth {} ({fit} fitting a landmark), {} cliques in {secs:.2} s, holding {held} of them; \
-             components' minimum hitting sets sum to {sum} (slack {}), best margin per component {margins:?}; proved false {proved}",
-            m.max_outliers,
-            bad.len(),
-            cliques.len(),
-            m.max_outliers.saturating_sub(sum)
-        );
     }
 }

@@ -1,4 +1,4 @@
-//! Conflict packing (`core/src/slam/robust_conflicts.rs`): planted 4 to
+//! Conflict packing (`core/src/slam/robust/conflicts.rs`): planted 4 to
 //! 10 false detections (q > 3, where consensus over subsets does not
 //! apply) of every kind in simulated paper missions, ids hidden: the
 //! simulator's own phantoms (a range and bearing to a point that is no
@@ -17,8 +17,8 @@
 
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::outliers::solve_robust;
-use nvector_core::slam::robust_conflicts::{pack, Packing};
+use nvector_core::slam::robust::conflicts::{pack, Packing};
+use nvector_core::slam::robust::solve_robust;
 use nvector_core::slam::simulate::{simulate, Layout, Rng, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, SolveOptions};
 use serde_json::{json, Value};
@@ -288,73 +288,5 @@ fn the_packing_after_the_overlapping_conflicts_accounts_for_the_last_phantom() {
         let first = t.matching[g[0]];
         assert!(first.is_some(), "false {} grouped {g:?}", g[0]);
         assert!(g.iter().all(|&j| t.matching[j] == first), "{g:?}");
-    }
-}
-
-/// Measurement, not a check: `NVECTOR_CONFLICT_MISSIONS` names mission
-/// files (`nvector simulate` output, with truth); prints what the packing
-/// finds on each (BENCHMARKS.md, issue 18, branch `qten`).
-#[test]
-#[ignore]
-// A measurement tool run by hand on `nvector simulate` files: the only
-// place a core test reads a file.
-#[allow(clippy::disallowed_methods)]
-fn measure_packing() {
-    let Ok(list) = std::env::var("NVECTOR_CONFLICT_MISSIONS") else {
-        return;
-    };
-    let options = SolveOptions {
-        association: Association::NVector(Contractor::Best),
-        ..SolveOptions::default()
-    };
-    let cancel = AtomicBool::new(false);
-    for path in list.split(',') {
-        let text = std::fs::read_to_string(path).unwrap();
-        let m = Mission::from_json(&text).unwrap();
-        let truth = m.truth.as_ref().unwrap().matching.clone();
-        let k = m.detections.len();
-        let mut order: Vec<usize> = (0..k).collect();
-        order.sort_by_key(|&j| (m.detections[j].step, j));
-        let r = pack(
-            &m,
-            m.max_outliers,
-            &vec![false; k],
-            &order,
-            &options,
-            &cancel,
-        );
-        match r {
-            Packing::Proved {
-                proved_false,
-                conflicts,
-                positions,
-                solves,
-                ..
-            } => {
-                let sizes: Vec<String> = conflicts
-                    .iter()
-                    .map(|c| {
-                        let ph = c.iter().filter(|&&j| truth[j].is_none()).count();
-                        format!("{}({}ph)", c.len(), ph)
-                    })
-                    .collect();
-                let pf: Vec<bool> = proved_false
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, &f)| f)
-                    .map(|(j, _)| truth[j].is_none())
-                    .collect();
-                println!(
-                    "{path}: k {k} q {} unresolved {} [{}] proved false {} (phantoms {}) positions {} solves {solves}",
-                    m.max_outliers,
-                    conflicts.len(),
-                    sizes.join(" "),
-                    pf.len(),
-                    pf.iter().filter(|&&b| b).count(),
-                    positions.is_some(),
-                );
-            }
-            other => println!("{path}: {other:?}"),
-        }
     }
 }

@@ -1,4 +1,4 @@
-//! The headings in the robust rounds (`core/src/slam/robust_heading.rs`):
+//! The headings in the robust rounds (`core/src/slam/robust/heading.rs`):
 //! planted odometry2d missions with up to q false detections, solved with
 //! `max_outliers` = q. Random chains with a true trajectory and true
 //! headings (headings far beyond ±π, up to 1e6 rad; bearings given with
@@ -26,8 +26,8 @@
 
 #![allow(clippy::disallowed_methods)]
 
-use nvector_core::slam::fixpoint::propagate;
 use nvector_core::slam::mission::Mission;
+use nvector_core::slam::propagate::fixpoint::propagate;
 use nvector_core::slam::types::{Association, SolveOptions, SolveStatus};
 use nvector_core::Interval;
 use serde_json::{json, Value};

@@ -1,5 +1,5 @@
-//! Overlapping conflicts (`core/src/slam/robust_hitting.rs` and the
-//! hitting-set stage of `core/src/slam/robust_conflicts.rs`), with planted
+//! Overlapping conflicts (`core/src/slam/robust/hitting.rs` and the
+//! hitting-set stage of `core/src/slam/robust/conflicts.rs`), with planted
 //! solutions.
 //!
 //! 1. The rule alone: a planted set of at most q false detections, random
@@ -19,9 +19,9 @@
 
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::outliers::solve_robust;
-use nvector_core::slam::robust_conflicts::{pack, Packing};
-use nvector_core::slam::robust_hitting::{hitting_set, minimum, Hit};
+use nvector_core::slam::robust::conflicts::{pack, Packing};
+use nvector_core::slam::robust::hitting::{hitting_set, minimum, Hit};
+use nvector_core::slam::robust::solve_robust;
 use nvector_core::slam::simulate::{simulate, Layout, Rng, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, SolveOptions, SolveStatus};
 use serde_json::{json, Value};

@@ -14,8 +14,8 @@
 
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::outliers::solve_robust;
 use nvector_core::slam::result::{Solution, SolveStatus};
+use nvector_core::slam::robust::solve_robust;
 use nvector_core::slam::simulate::{simulate, Rng, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, SolveOptions};
 use proptest::prelude::*;
@@ -503,7 +503,7 @@ fn an_infeasible_result_names_the_detections_to_check() {
     assert_eq!(r["score"]["truth_inside"], true);
 }
 
-/// Issue 19: with q = 1, a false detection labelled with landmark 0, or a
+/// Regression: with q = 1, a false detection labelled with landmark 0, or a
 /// true detection relabelled, was reported in `matching` with the group of
 /// its label (2 matching errors on this mission). Here each is proved false
 /// (its range cannot meet its group's landmark), which accounts for q: every
@@ -597,7 +597,7 @@ fn a_label_pair_with_disjoint_boxes_uses_up_q() {
 /// and the solution's rounds count both.
 #[test]
 fn the_refinement_continues_the_progress_reports() {
-    use nvector_core::slam::fixpoint::propagate;
+    use nvector_core::slam::propagate::fixpoint::propagate;
     use nvector_core::slam::types::Progress;
     let p = plant(4, 3000, 3, &[Kind::FarAway, Kind::FarAway], true, true);
     let mut m = p.mission.clone();

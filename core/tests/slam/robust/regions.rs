@@ -1,4 +1,4 @@
-//! Landmark regions under `max_outliers` (core/src/slam/robust_regions.rs):
+//! Landmark regions under `max_outliers` (core/src/slam/robust/regions.rs):
 //! n planted landmarks, true detection boxes that hold their landmark
 //! (tight, wide, huge or unbounded), and up to q false detection boxes of
 //! every kind (near a real landmark but missing it, far from everything,
@@ -15,7 +15,7 @@
 
 use nvector_core::ibox::IntervalBox;
 use nvector_core::interval::Interval;
-use nvector_core::slam::robust_regions::{regions, Regions};
+use nvector_core::slam::robust::regions::{regions, Regions};
 
 /// A small deterministic generator (the tests' own; no platform float
 /// methods).

@@ -1,4 +1,4 @@
-//! Consensus over subsets (`core/src/slam/robust_subsets.rs`): planted up
+//! Consensus over subsets (`core/src/slam/robust/subsets.rs`): planted up
 //! to q false detections of every kind (a range to nothing, a phantom near
 //! a real landmark, a range far beyond everything, a true detection whose
 //! range is moved off, a cluster of ranges to a phantom landmark that does
@@ -14,8 +14,8 @@
 
 use nvector_core::nvector::Contractor;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::outliers::solve_robust;
-use nvector_core::slam::robust_subsets::{consensus, Consensus};
+use nvector_core::slam::robust::solve_robust;
+use nvector_core::slam::robust::subsets::{consensus, Consensus};
 use nvector_core::slam::simulate::{simulate, Rng, Scenario, SimulateOptions};
 use nvector_core::slam::types::{Association, SolveOptions};
 use serde_json::{json, Value};

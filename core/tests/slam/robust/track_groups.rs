@@ -1,4 +1,4 @@
-//! Tracks with false detections (core/src/slam/robust_tracks.rs) on
+//! Tracks with false detections (core/src/slam/robust/track_groups.rs) on
 //! planted woods worlds: false detections of every kind are added (a
 //! phantom far from every landmark, one near a true landmark, a phantom
 //! landmark seen from several steps, one between two landmarks closer than
@@ -8,11 +8,11 @@
 //! the first check); and the whole engine with `max_outliers` keeps the
 //! truth inside and reports no group holding a false detection.
 
-use nvector_core::slam::association::tracks::TrackOptions;
+use nvector_core::slam::association::odometry2d::tracks::TrackOptions;
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::model::Model;
-use nvector_core::slam::robust_tracks::robust_track_groups;
-use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
+use nvector_core::slam::robust::track_groups::robust_track_groups;
+use nvector_core::slam::simulate::odometry_scenario::{simulate_woods, WoodsOptions};
 use serde_json::{json, Value};
 
 use crate::common::Rng;

@@ -1,5 +1,5 @@
-//! False detections in the woods scenario (issue 18 on the missions of
-//! issue 20): `simulate --scenario woods --false-detections K` plants K
+//! False detections in the woods scenario (`max_outliers` on odometry2d
+//! missions): `simulate --scenario woods --false-detections K` plants K
 //! range-and-bearing detections of phantom points in the robot's scans.
 //! Checked on the JSON with the platform's f64 maths (independently of the
 //! generator's libm): K of them, `null` in `truth.matching`, each in a scan
@@ -14,10 +14,12 @@
 #![allow(clippy::disallowed_methods)]
 
 use nvector_core::slam::mission::Mission;
+use nvector_core::slam::simulate::odometry_scenario::{
+    simulate_woods, simulate_woods_with, WoodsOptions,
+};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::solve::solve;
 use nvector_core::slam::types::{Association, SolveOptions};
-use nvector_core::slam::woods::{simulate_woods, simulate_woods_with, WoodsOptions};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::f64::consts::PI;

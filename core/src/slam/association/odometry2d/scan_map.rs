@@ -1,4 +1,4 @@
-//! Scan registration against the closed-world map (issue 20): the
+//! Scan registration against the closed-world map (odometry2d): the
 //! detections of one scan are matched to a set M of groups proved pairwise
 //! distinct by the distances between them, which the scan knows in the
 //! robot's own frame whatever the heading; a detection that every

@@ -1,4 +1,4 @@
-//! The scan pose in the passes (issue 20): when a pass reaches a detection
+//! The scan pose in the passes (odometry2d): when a pass reaches a detection
 //! step, its detections contract p(step), th(step) and their landmark
 //! boxes together ([`contract_scan_pose`], over pieces of the heading).
 //!

@@ -1,5 +1,5 @@
 //! The minimum separation as association evidence (`landmark_min_separation`,
-//! formats.md; issue 20, point 4).
+//! formats.md), for robots without a heading sensor (odometry2d).
 //!
 //! # Constraint
 //!

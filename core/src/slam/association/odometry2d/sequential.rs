@@ -1,4 +1,4 @@
-//! The minimum separation inside the passes (issue 20): each detection is
+//! The minimum separation inside the passes (odometry2d): each detection is
 //! compared with the groups' landmark boxes as the pass reaches it, a
 //! sequential filter, so that a landmark seen again joins its group (and
 //! contracts the pose) in the same pass rather than at the end of the

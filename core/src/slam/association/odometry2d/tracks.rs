@@ -1,5 +1,5 @@
 //! Tracks: detections at nearby steps proved to see one landmark from the
-//! relative evidence and the minimum separation (issue 20, point 4), for
+//! relative evidence and the minimum separation, for
 //! robots without a heading sensor (odometry2d).
 //!
 //! # Constraint
@@ -339,7 +339,7 @@ impl Bridge<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::slam::woods::{simulate_woods, WoodsOptions};
+    use crate::slam::simulate::odometry_scenario::{simulate_woods, WoodsOptions};
 
     /// Planted woods missions (random trajectories among identical
     /// landmarks, bounds around the truth): every union joins two

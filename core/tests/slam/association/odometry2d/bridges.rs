@@ -1,4 +1,4 @@
-//! Track bridges (core/src/slam/association/tracks.rs, "Bridges") on
+//! Track bridges (core/src/slam/association/odometry2d/tracks.rs, "Bridges") on
 //! planted woods worlds (random trajectories among identical landmarks,
 //! bounds around the truth; the robot circles, so the headings run beyond
 //! ±pi, and the bearings are wrapped into (-pi, pi]): every union the
@@ -6,10 +6,10 @@
 //! landmark, and the bridges join tracks the window alone leaves apart
 //! (a rule that bridges nothing passes the first check).
 
-use nvector_core::slam::association::tracks::{track_unions, TrackOptions};
+use nvector_core::slam::association::odometry2d::tracks::{track_unions, TrackOptions};
 use nvector_core::slam::mission::Mission;
 use nvector_core::slam::model::Model;
-use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
+use nvector_core::slam::simulate::odometry_scenario::{simulate_woods, WoodsOptions};
 use nvector_core::union_find::Uf;
 
 fn groups(uf: &mut Uf) -> usize {

@@ -1,5 +1,5 @@
 //! Scan registration against the closed-world map
-//! (core/src/slam/association/scan_map.rs), with planted solutions: n
+//! (core/src/slam/association/odometry2d/scan_map.rs), with planted solutions: n
 //! landmarks at least s apart, a map of groups (one detection each) whose
 //! boxes hold their true landmark (tight, wide, point, or several groups of
 //! one landmark; all n landmarks or only some: the open world), and one
@@ -16,7 +16,7 @@
 
 use nvector_core::ibox::IntervalBox;
 use nvector_core::rng::Rng;
-use nvector_core::slam::association::scan_map::ScanMap;
+use nvector_core::slam::association::odometry2d::scan_map::ScanMap;
 use nvector_core::slam::mission::Mission;
 use nvector_core::union_find::Uf;
 use nvector_core::Interval;

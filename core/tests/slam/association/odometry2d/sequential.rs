@@ -1,5 +1,5 @@
 //! The minimum separation inside the passes
-//! (core/src/slam/association/sequential.rs), with planted solutions:
+//! (core/src/slam/association/odometry2d/sequential.rs), with planted solutions:
 //! landmarks at least s apart, detection boxes that hold their true
 //! landmark (narrow, wide, zero-width, unbounded, far from the origin),
 //! read in a random order as a pass reads them. The rule must never join
@@ -14,9 +14,9 @@
 
 use nvector_core::ibox::IntervalBox;
 use nvector_core::rng::Rng;
-use nvector_core::slam::association::sequential::SeparationGrid;
+use nvector_core::slam::association::odometry2d::sequential::SeparationGrid;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::woods::{simulate_woods, WoodsOptions};
+use nvector_core::slam::simulate::odometry_scenario::{simulate_woods, WoodsOptions};
 use nvector_core::union_find::Uf;
 use nvector_core::Interval;
 
