@@ -35,7 +35,7 @@ pub struct Simulated {
 }
 
 // The body is read as core's one simulation request type, whose schema
-// (core/src/slam/simulate_schema.rs) the document gives.
+// (core/src/slam/simulate/schema.rs) the document gives.
 impl RequestBody for Options {
     const CODE: &'static str = "invalid_request";
 }
