@@ -645,10 +645,12 @@ fn the_graph_holds_known_imports() {
     let g = Crate::new(&files).graph();
     let m = |s: &str| -> Module { s.split("::").map(str::to_string).collect() };
     for (a, b) in [
-        ("slam::propagate::rounds", "slam::association"),
-        ("slam::propagate::rounds", "contractors::motion_chain"),
+        ("slam::propagate::rounds", "slam::association::step"),
+        ("slam::propagate::passes", "contractors::motion_chain"),
         ("slam::solve", "slam::diagnose"),
         ("slam::propagate::fixpoint", "slam::robust"),
+        ("slam::robust::subsets", "slam::propagate::rounds"),
+        ("slam::association::step", "slam::association::odometry2d::separation"),
         ("shapes::shape", "contractors::distance"),
         ("slam::association::state", "shapes::frames"),
         ("slam::association", "slam::association::round"),
