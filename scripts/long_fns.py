@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Lists the functions of the workspace's sources (core, server, web,
-python; outside `#[cfg(test)]` modules and the tests' directories) of more
+python; outside `#[cfg(test)]` modules, `tests.rs` files and the tests'
+directories) of more
 than LIMIT lines, with whether a reason is written above them: a comment
 line starting with `// Long:` among the attributes and comments right
 above the `fn`. With `--check` (run by `make test`, target `lint`): exit
@@ -81,7 +82,9 @@ def main():
     for root in roots:
         for d, _, files in os.walk(root):
             for f in sorted(files):
-                if f.endswith('.rs'):
+                # `tests.rs`: a module's tests in a file of their own
+                # (`#[cfg(test)] mod tests;`), test code as the inline ones.
+                if f.endswith('.rs') and f != 'tests.rs':
                     p = os.path.join(d, f)
                     for name, line, n, reason in functions(p):
                         if n > LIMIT:

@@ -45,7 +45,7 @@ fn the_page_in_headless_chromium() {
     let base = format!("http://{}", s.addr);
 
     // Playground: the Figure 8 preset with the per-axis contractor gives the
-    // groups derived by hand in core/tests/nvector_examples.rs.
+    // groups derived by hand in core/tests/nvector/examples.rs.
     d.goto(&format!("{base}/?preset=fig8"));
     d.wait(
         "return document.getElementById('wasm-status').dataset.ready === 'true'",

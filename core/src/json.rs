@@ -305,7 +305,7 @@ mod tests {
         assert!(interval(&json!(["inf", "inf"]), "").is_err());
     }
 
-    /// Regression (issue 13, the schema-driven fuzzer): `3.0` is the
+    /// Regression (found by the schema-driven fuzzer): `3.0` is the
     /// integer 3 for JSON Schema, and the OpenAPI document says `integer`;
     /// it was refused.
     #[test]

@@ -15,7 +15,7 @@
 /// one place where a bound's bit pattern decided an outcome: callers read
 /// `image(x) < image(y)` as `x < y`, and the total order's -0 < +0 made the
 /// nvalue greedies place a second point for [0, 0] after [-0, -0] and skip
-/// a kernel ending at -0 when looking up a lower bound +0 (issue 12).
+/// a kernel ending at -0 when looking up a lower bound +0.
 /// Canonicalizing here (one addition: `-0 + 0 = +0` and `x + 0 = x`
 /// otherwise) fixes every user of the keys at once and costs nothing in the
 /// interval arithmetic; canonicalizing at the boundary of `Interval` instead
@@ -247,7 +247,7 @@ mod tests {
         }
     }
 
-    /// Regression (issue 12): -0 and +0 had different keys (the total
+    /// Regression: -0 and +0 had different keys (the total
     /// order), so an image could claim -0 < +0 (see `f64_key`).
     #[test]
     fn regression_signed_zeros_have_one_key_and_one_image() {

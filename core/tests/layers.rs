@@ -5,192 +5,69 @@
 //! import of one module (file) by another. The test fails on
 //! - an import circle between modules (files), or between the top-level
 //!   modules (`slam`, `shapes`, `nvector`, ...);
-//! - a module importing a module of a higher layer (the table [`LAYERS`]);
-//! - a module of core/src missing from the table.
+//! - a module importing a module of a higher layer;
+//! - a module of core/src missing from the tables, or a row naming none.
 //!
-//! The layers are the pipeline of ARCHITECTURE.md: each may import only
-//! its own layer (without circles) and the layers below.
+//! The layers are the pipeline of ARCHITECTURE.md, read from its tables
+//! ([`table`]: the one copy): each may import only its own layer (without
+//! circles) and the layers below. A file declared test-only by its parent
+//! (`#[cfg(test)] mod tests;`) is no module of the graph, as an inline
+//! `mod tests { .. }` is not.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-/// (module, layer, what it is): a module takes the layer of the longest
-/// entry that is a prefix of its path; lower layers come first.
-const LAYERS: &[(&str, u32, &str)] = &[
-    ("error", 0, "the input error type"),
-    ("interval", 0, "sound interval arithmetic"),
-    ("radix", 0, "radix sorts"),
-    ("rng", 0, "the one splitmix64 generator"),
-    ("sort", 0, "the one comparison sort (wasm size)"),
-    ("union_find", 0, "the union-find of proved equalities"),
-    ("test_rng", 0, "the tests' generator"),
-    ("ibox", 1, "interval boxes"),
-    ("json", 2, "JSON reading helpers of the formats"),
-    (
-        "format",
-        2,
-        "the JSON formats as serde types (paths in errors)",
-    ),
-    // `figure` and `odometry` are on main (merged while this table was
-    // written): their places from their imports there.
-    ("figure", 2, "the description of a result's picture"),
-    (
-        "contractors",
-        3,
-        "the basic contractors: distance, bearing, motion chain",
-    ),
-    ("nvector", 3, "the atmost_nvector contractors"),
-    ("nvector::contract", 4, "the `contract` job on JSON"),
-    (
-        "shapes",
-        4,
-        "pure geometry of detection shapes (no mission)",
-    ),
-    (
-        "odometry",
-        4,
-        "the odometry2d pieces (angle, chain, sensor, sector)",
-    ),
-    (
-        "odometry::drift",
-        4,
-        "the heading drift bound over windows of k steps",
-    ),
-    (
-        "odometry::motion_drift",
-        4,
-        "the position drift bound over windows of k steps",
-    ),
-    (
-        "odometry::pair_heading",
-        4,
-        "the heading from two detections of one step",
-    ),
-    (
-        "odometry::relative",
-        4,
-        "relative poses from the odometry alone",
-    ),
-    (
-        "odometry::scan_pose",
-        4,
-        "a step's detections, position and heading over heading pieces",
-    ),
-    ("outline", 5, "outlines of shapes and regions for drawing"),
-    ("slam::mission", 5, "the typed, validated mission"),
-    ("tdoa::problem", 5, "the typed, validated TDOA problem"),
-    ("tdoa::arrival", 5, "the arrival constraint (TDOA)"),
-    ("tdoa::cuts", 5, "altitude and region cuts (TDOA)"),
-    ("slam::model", 6, "the domains"),
-    (
-        "slam::codec",
-        6,
-        "the validated mission as a binary stream (the page's solver)",
-    ),
-    ("slam::simulate", 6, "mission writer (beside the pipeline)"),
-    (
-        "slam::simulate_schema",
-        6,
-        "the simulation request's OpenAPI schema",
-    ),
-    ("slam::woods", 6, "the woods scenario writer (odometry2d)"),
-    (
-        "slam::check",
-        6,
-        "the constraints a mission's truth breaks (nvector check)",
-    ),
-    (
-        "slam::plant",
-        6,
-        "false ranges planted in a mission with truth",
-    ),
-    ("tdoa::pulse", 6, "the per-pulse fixpoint and paving"),
-    ("slam::types", 7, "shared options, progress, solution"),
-    (
-        "slam::robust_regions",
-        7,
-        "landmark regions under max_outliers",
-    ),
-    (
-        "slam::robust_heading",
-        7,
-        "odometry2d headings under max_outliers",
-    ),
-    ("tdoa::readings", 7, "max_outliers over arrivals"),
-    (
-        "tdoa::shell",
-        7,
-        "a pulse's hyperbolic shells as a detection shape",
-    ),
-    ("tdoa::simulate", 7, "the radar scenario writer"),
-    (
-        "slam::association",
-        8,
-        "the shapes part of the association step",
-    ),
-    (
-        "slam::association::tracks",
-        8,
-        "tracks from the relative evidence",
-    ),
-    (
-        "slam::association::sequential",
-        8,
-        "the minimum separation inside the passes",
-    ),
-    (
-        "slam::association::scan_map",
-        8,
-        "scan registration against the closed-world map",
-    ),
-    (
-        "slam::association::scan_pose",
-        8,
-        "the scan pose in the passes",
-    ),
-    ("tdoa::shell_step", 8, "the shapes step of the TDOA rounds"),
-    ("tdoa::solve", 8, "the TDOA rounds with atmost_nvector"),
-    ("slam::rounds", 9, "the physics-guided rounds"),
-    ("tdoa::result", 9, "the TDOA result format and score"),
-    ("slam::kept", 10, "what the robust propagation keeps"),
-    (
-        "slam::robust_cliques",
-        10,
-        "conflicts from pairwise distinct detections",
-    ),
-    (
-        "slam::robust_hitting",
-        10,
-        "minimum hitting sets of conflicts",
-    ),
-    (
-        "slam::robust_tracks",
-        10,
-        "track groups that survive false detections",
-    ),
-    ("slam::outliers", 11, "the robust propagation"),
-    (
-        "slam::robust_conflicts",
-        11,
-        "conflict packing under max_outliers",
-    ),
-    (
-        "slam::robust_subsets",
-        11,
-        "consensus over subsets under max_outliers",
-    ),
-    ("slam::fixpoint", 12, "which propagation runs"),
-    (
-        "slam::diagnose",
-        13,
-        "the diagnosis of an infeasible mission",
-    ),
-    ("slam::result", 14, "the result format and the score"),
-    ("slam::solve", 15, "the entry points"),
-    ("slam", 17, "the facade of slam (re-exports)"),
-    ("tdoa", 17, "the facade of tdoa (re-exports)"),
-    ("", 18, "the crate root (re-exports)"),
-];
+/// The layer tables of ARCHITECTURE.md, the one copy: every table under a
+/// heading `### core layer N: ...`, one row per module (its first cell the
+/// module's path in backticks, `crate` for the root). A module takes the
+/// layer of the longest row that is its path or a parent of it. Errors: a
+/// heading without a number, a module named twice, no row at all.
+fn table(md: &str) -> Result<Vec<(String, u32)>, String> {
+    let mut rows: Vec<(String, u32)> = Vec::new();
+    let mut layer: Option<u32> = None;
+    for (i, line) in md.lines().enumerate() {
+        if line.starts_with('#') {
+            layer = match line.strip_prefix("### core layer ") {
+                None => None,
+                Some(rest) => {
+                    let n = rest.split(|c: char| !c.is_ascii_digit()).next();
+                    let n = n.and_then(|n| n.parse().ok()).ok_or_else(|| {
+                        format!("ARCHITECTURE.md line {}: no layer number: {line}", i + 1)
+                    })?;
+                    Some(n)
+                }
+            };
+            continue;
+        }
+        let (Some(l), Some(row)) = (layer, line.strip_prefix("| `")) else {
+            continue;
+        };
+        let Some((module, _)) = row.split_once('`') else {
+            return Err(format!("ARCHITECTURE.md line {}: {line}", i + 1));
+        };
+        let module = if module == "crate" { "" } else { module };
+        if rows.iter().any(|(m, _)| m == module) {
+            return Err(format!(
+                "ARCHITECTURE.md line {}: `{module}` is in the tables twice",
+                i + 1
+            ));
+        }
+        rows.push((module.to_string(), l));
+    }
+    if rows.is_empty() {
+        return Err("ARCHITECTURE.md has no `### core layer N` table".to_string());
+    }
+    Ok(rows)
+}
+
+/// ARCHITECTURE.md's layer tables.
+// The test reads the workspace's own map: I/O of core's tests only.
+#[allow(clippy::disallowed_methods, clippy::disallowed_types)]
+fn architecture() -> Vec<(String, u32)> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../ARCHITECTURE.md");
+    let md = std::fs::read_to_string(&path).expect("ARCHITECTURE.md beside core/");
+    table(&md).unwrap_or_else(|e| panic!("{e}"))
+}
 
 /// A module path: `[]` is the crate root, `["slam", "rounds"]` is
 /// `slam/rounds.rs`.
@@ -269,6 +146,32 @@ fn strip(src: &str) -> String {
         from = i;
     }
     s
+}
+
+/// The file modules a source declares test-only: `#[cfg(test)]` (or a
+/// compound cfg with `test`, not `not(test)`) before `mod NAME;`.
+fn test_files(src: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut test_attr = false;
+    for line in src.lines().map(str::trim) {
+        if line.starts_with("#[cfg(") {
+            test_attr = line
+                .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .any(|w| w == "test")
+                && !line.contains("not(");
+            continue;
+        }
+        if test_attr {
+            let decl = ["pub(crate) ", "pub(super) ", "pub "]
+                .iter()
+                .fold(line, |l, vis| l.strip_prefix(vis).unwrap_or(l));
+            if let Some(name) = decl.strip_prefix("mod ").and_then(|r| r.strip_suffix(';')) {
+                out.push(name.trim().to_string());
+            }
+        }
+        test_attr = false;
+    }
+    out
 }
 
 /// Expands a use tree (`a::{b, c::{d, e as f}, self}`) into paths (the
@@ -350,14 +253,21 @@ struct Crate {
 impl Crate {
     fn new(files: &[(String, String)]) -> Crate {
         let mut modules = BTreeMap::new();
+        let mut test_only: BTreeSet<Module> = BTreeSet::new();
         for (rel, src) in files {
             let rel = rel.trim_end_matches(".rs");
             let mut m: Module = rel.split('/').map(str::to_string).collect();
             if m.last().is_some_and(|l| l == "mod" || l == "lib") {
                 m.pop();
             }
+            for child in test_files(src) {
+                let mut c = m.clone();
+                c.push(child);
+                test_only.insert(c);
+            }
             modules.insert(m, strip(src));
         }
+        modules.retain(|m, _| !test_only.iter().any(|t| m.starts_with(t)));
         let mut c = Crate {
             modules,
             aliases: BTreeMap::new(),
@@ -514,16 +424,16 @@ fn inline_paths(src: &str) -> Vec<Vec<String>> {
     out
 }
 
-fn layer(m: &[String]) -> Option<u32> {
+fn layer(m: &[String], layers: &[(String, u32)]) -> Option<u32> {
     let n = name(m);
-    LAYERS
+    layers
         .iter()
-        .filter(|(p, _, _)| {
+        .filter(|(p, _)| {
             p.is_empty() && m.is_empty()
                 || !p.is_empty() && (n == *p || n.starts_with(&format!("{p}::")))
         })
-        .max_by_key(|(p, _, _)| p.len())
-        .map(|&(_, l, _)| l)
+        .max_by_key(|(p, _)| p.len())
+        .map(|&(_, l)| l)
 }
 
 /// A circle of the graph, if any, as the modules along it.
@@ -585,7 +495,7 @@ fn reaches<N: Ord + Clone>(g: &BTreeMap<N, BTreeSet<N>>, from: &N, to: &N) -> bo
 }
 
 /// Every violation of the laws of the module doc, one line each.
-fn violations(files: &[(String, String)], check_layers: bool) -> Vec<String> {
+fn violations(files: &[(String, String)], layers: Option<&[(String, u32)]>) -> Vec<String> {
     let c = Crate::new(files);
     let g = c.graph();
     let mut bad = Vec::new();
@@ -618,14 +528,17 @@ fn violations(files: &[(String, String)], check_layers: bool) -> Vec<String> {
             cyc.join(" -> ")
         ));
     }
-    if check_layers {
+    if let Some(layers) = layers {
         for (m, to) in &g {
-            let Some(lm) = layer(m) else {
-                bad.push(format!("{} is in no layer: add it to LAYERS", name(m)));
+            let Some(lm) = layer(m, layers) else {
+                bad.push(format!(
+                    "{} is in no layer: add it to the tables of ARCHITECTURE.md",
+                    name(m)
+                ));
                 continue;
             };
             for t in to {
-                match layer(t) {
+                match layer(t, layers) {
                     Some(lt) if lt > lm => bad.push(format!(
                         "{} (layer {lm}) imports {} of the higher layer {lt}",
                         name(m),
@@ -667,7 +580,27 @@ fn core_is_a_one_way_pipeline() {
     let mut files = Vec::new();
     sources(&root, &root, &mut files);
     assert!(files.len() > 30, "read {} files of core/src", files.len());
-    let bad = violations(&files, true);
+    let layers = architecture();
+    assert!(
+        layers.len() > 40,
+        "read {} rows of ARCHITECTURE.md",
+        layers.len()
+    );
+    let mut bad = violations(&files, Some(&layers));
+    // One copy, kept true: a row naming no module of core/src is stale.
+    let c = Crate::new(&files);
+    for (row, _) in &layers {
+        let m: Module = row
+            .split("::")
+            .filter(|s| !s.is_empty())
+            .map(str::to_string)
+            .collect();
+        if !c.modules.contains_key(&m) {
+            bad.push(format!(
+                "ARCHITECTURE.md names `{row}`, no module of core/src"
+            ));
+        }
+    }
     assert!(
         bad.is_empty(),
         "core/src breaks its layers:\n{}",
@@ -686,7 +619,7 @@ fn the_workspace_has_no_import_circle() {
         .parent()
         .expect("core sits in the workspace");
     let mut seen = 0;
-    for krate in ["server", "web", "web-radar", "python", "tests"] {
+    for krate in ["server", "import", "web", "web-radar", "python", "tests"] {
         let root = workspace.join(krate).join("src");
         let mut files = Vec::new();
         sources(&root, &root, &mut files);
@@ -697,7 +630,7 @@ fn the_workspace_has_no_import_circle() {
         }
         assert!(!files.is_empty(), "read no file of {krate}/src");
         seen += files.len();
-        let bad = violations(&files, false);
+        let bad = violations(&files, None);
         assert!(bad.is_empty(), "{krate}/src:\n{}", bad.join("\n"));
     }
     assert!(seen > 40, "read {seen} files of the other crates");
@@ -712,10 +645,15 @@ fn the_graph_holds_known_imports() {
     let g = Crate::new(&files).graph();
     let m = |s: &str| -> Module { s.split("::").map(str::to_string).collect() };
     for (a, b) in [
-        ("slam::rounds", "slam::association"),
-        ("slam::rounds", "contractors::motion_chain"),
+        ("slam::propagate::rounds", "slam::association::step"),
+        ("slam::propagate::passes", "contractors::motion_chain"),
         ("slam::solve", "slam::diagnose"),
-        ("slam::fixpoint", "slam::outliers"),
+        ("slam::propagate::fixpoint", "slam::robust"),
+        ("slam::robust::subsets", "slam::propagate::rounds"),
+        (
+            "slam::association::step",
+            "slam::association::odometry2d::separation",
+        ),
         ("shapes::shape", "contractors::distance"),
         ("slam::association::state", "shapes::frames"),
         ("slam::association", "slam::association::round"),
@@ -748,7 +686,7 @@ fn a_circle_through_use_super_and_a_re_export_is_found() {
             "pub struct Other;\nfn f() -> crate::Thing { todo!() }\n",
         ),
     ];
-    let bad = violations(&files, false);
+    let bad = violations(&files, None);
     assert!(
         bad.iter()
             .any(|l| l.contains("import circle: ") && l.contains("a::x") && l.contains("b::y")),
@@ -767,7 +705,7 @@ fn comments_and_test_modules_are_not_imports() {
             "pub fn f() {}\n// crate::a::g\n#[cfg(test)]\npub(crate) mod tests {\n    use crate::a::*;\n    fn t() { crate::a::g(); }\n}\n",
         ),
     ];
-    assert!(violations(&files, false).is_empty());
+    assert!(violations(&files, None).is_empty());
     // A test module under a compound cfg is a test module too; a
     // `not(test)` one is code.
     let unix =
@@ -777,22 +715,90 @@ fn comments_and_test_modules_are_not_imports() {
         file("a.rs", "use crate::b::f;\npub fn g() {}\n"),
         file("b.rs", unix),
     ];
-    assert!(violations(&files, false).is_empty());
+    assert!(violations(&files, None).is_empty());
     let files = [
         file("lib.rs", "pub mod a;\npub mod b;\n"),
         file("a.rs", "use crate::b::f;\npub fn g() {}\n"),
         file("b.rs", &unix.replace("all(test, unix)", "not(test)")),
     ];
-    assert!(!violations(&files, false).is_empty());
+    assert!(!violations(&files, None).is_empty());
     let files = [
         file("lib.rs", "pub mod a;\npub mod b;\n"),
         file("a.rs", "use super::b::f;\npub fn g() {}\n"),
         file("b.rs", "pub fn f() { super::a::g() }\n"),
     ];
-    let bad = violations(&files, false);
+    let bad = violations(&files, None);
     assert!(
         bad.iter()
             .any(|l| l.starts_with("import circle: a -> b -> a")),
         "{bad:?}"
     );
+}
+
+/// A small crate and its tables: `low` (layer 0) and `high` (layer 1).
+fn two_layers() -> Vec<(String, u32)> {
+    table("### core layer 0: low\n| module | what |\n|---|---|\n| `low` | x. |\n\n### core layer 1: high\n| module | what |\n|---|---|\n| `high` | y. |\n| `crate` | root. |\n").expect("a table")
+}
+
+#[test]
+fn an_import_of_a_higher_layer_is_found() {
+    let layers = two_layers();
+    assert_eq!(
+        layers,
+        [("low".into(), 0), ("high".into(), 1), (String::new(), 1)]
+    );
+    let files = [
+        file("lib.rs", "pub mod low;\npub mod high;\n"),
+        file("low.rs", "pub fn f() {}\n"),
+        file("high.rs", "use crate::low::f;\npub fn g() { f() }\n"),
+    ];
+    assert!(violations(&files, Some(&layers)).is_empty());
+    let files = [
+        file("lib.rs", "pub mod low;\npub mod high;\n"),
+        file("low.rs", "pub fn f() { crate::high::g() }\n"),
+        file("high.rs", "pub fn g() {}\n"),
+    ];
+    let bad = violations(&files, Some(&layers));
+    assert!(
+        bad.iter()
+            .any(|l| l == "low (layer 0) imports high of the higher layer 1"),
+        "{bad:?}"
+    );
+}
+
+#[test]
+fn a_module_missing_from_the_tables_is_found() {
+    let layers = two_layers();
+    let files = [
+        file("lib.rs", "pub mod low;\npub mod other;\n"),
+        file("low.rs", "pub fn f() {}\n"),
+        file("other.rs", "pub fn g() {}\n"),
+    ];
+    let bad = violations(&files, Some(&layers));
+    assert!(
+        bad.iter().any(|l| l.starts_with("other is in no layer")),
+        "{bad:?}"
+    );
+    // A child takes its parent's row; a test-only file is no module.
+    let files = [
+        file("lib.rs", "pub mod low;\n"),
+        file("low/mod.rs", "pub mod inner;\n#[cfg(test)]\nmod tests;\n"),
+        file("low/inner.rs", "pub fn f() {}\n"),
+        file("low/tests.rs", "use crate::high::g;\n"),
+    ];
+    assert!(violations(&files, Some(&layers)).is_empty());
+}
+
+#[test]
+fn the_tables_are_read_strictly() {
+    assert!(
+        table("# Architecture\n| `a` | x |\n").is_err(),
+        "no core layer"
+    );
+    assert!(table("### core layer x: bad\n| `a` | x |\n").is_err());
+    let twice = "### core layer 0: a\n| `a` | x |\n### core layer 1: b\n| `a` | y |\n";
+    assert!(table(twice).unwrap_err().contains("twice"));
+    // Rows of other tables (the server's, the concepts') are not read.
+    let md = "### core layer 2: a\n| `a` | x |\n\n## Server\n| `b` | y |\n";
+    assert_eq!(table(md).unwrap(), [("a".to_string(), 2)]);
 }

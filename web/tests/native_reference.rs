@@ -21,13 +21,14 @@ fn bad_simulation_options_name_the_field() {
 fn woods_through_the_facade() {
     let m = simulate_json(&json!({"scenario": "woods", "seed": 3, "steps": 120, "operator": null}))
         .unwrap();
-    let direct =
-        nvector_core::slam::woods::simulate_woods(&nvector_core::slam::woods::WoodsOptions {
+    let direct = nvector_core::slam::simulate::odometry_scenario::simulate_woods(
+        &nvector_core::slam::simulate::odometry_scenario::WoodsOptions {
             seed: 3,
             steps: Some(120),
             landmarks: None,
             operator: false,
-        });
+        },
+    );
     assert_eq!(m, direct);
     assert_eq!(m["model"], "odometry2d");
     assert_eq!(m["truth"]["headings"].as_array().unwrap().len(), 121);

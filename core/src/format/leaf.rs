@@ -559,7 +559,7 @@ mod tests {
         );
     }
 
-    /// Regression (issue 13): `3.0` is the integer 3.
+    /// Regression (found by the schema-driven fuzzer): `3.0` is the integer 3.
     #[test]
     fn whole_floats_are_integers() {
         let int = |v| from_value::<Integer>(&v).unwrap();

@@ -40,7 +40,7 @@ pub mod contract;
 pub mod leaf;
 #[cfg(feature = "openapi")]
 mod leaf_schema;
-pub mod mission;
+pub mod mission_doc;
 #[cfg(feature = "openapi")]
 pub mod openapi;
 pub mod tdoa;
@@ -104,7 +104,7 @@ pub fn from_value<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
 
 /// [`from_value`] as it was before [`tracked`]: serde_path_to_error over
 /// serde_json's `&Value`. Native only, for the differential test
-/// (`core/tests/format_paths.rs`) that holds the two to the same results
+/// (`core/tests/format/paths.rs`) that holds the two to the same results
 /// and messages; never in a wasm module.
 #[cfg(not(target_arch = "wasm32"))]
 #[doc(hidden)]

@@ -146,7 +146,7 @@ impl PartialSchema for PerStep {
 
 impl ToSchema for PerStep {}
 
-/// The schema of `mission::ChannelDoc` (named `Channel`): the channel's
+/// The schema of `mission_doc::ChannelDoc` (named `Channel`): the channel's
 /// two shapes (the validation refuses any other mix of its four fields,
 /// naming them).
 pub fn channel() -> RefOr<Schema> {

@@ -12,7 +12,7 @@
 //! visitor type is read by one deserializer, not by two stacked.
 //!
 //! The path is the one serde_path_to_error gives (the differential test
-//! `tests/format_paths.rs` runs both over many bad documents): an error
+//! `tests/format/paths.rs` runs both over many bad documents): an error
 //! leaving the read of a value is pinned to that value's path unless a
 //! deeper read already pinned it (the first pin wins); an error reading a
 //! map key (an unknown field) is pinned to the key's path. Paths are

@@ -270,7 +270,7 @@ mod tests {
         assert!(bad(json!({"format": "nvector-contract/1", "n": 1, "boxes": [[[0, 1]]], "contractor": "fast"})).starts_with("contractor:"));
     }
 
-    /// The worst case of issue 12 as a request (see
+    /// The worst case of `exact` as a request (see
     /// `hitting_set::tests::worst_case`).
     fn worst_case_request() -> Value {
         let boxes: Vec<Value> = crate::nvector::hitting_set::tests::worst_case()

@@ -568,7 +568,7 @@ pub(crate) mod tests {
         }
     }
 
-    /// The worst case of issue 12: 40 overlapping boxes in 8-D (integer
+    /// A worst case measured when the work budget was set: 40 overlapping boxes in 8-D (integer
     /// bounds, centres in [0, 10], sides 4 to 8), n = 6. Without a budget the
     /// grid of lower bounds alone (about 15^8 points) takes minutes.
     pub(crate) fn worst_case() -> Vec<IntervalBox> {

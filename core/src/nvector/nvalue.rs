@@ -414,7 +414,7 @@ mod tests {
         assert_eq!(d, vec![iv(0.0, 1.0), iv(0.0, 1.0)]);
     }
 
-    /// Regression (issue 12): with every finite bound equal up to its sign
+    /// Regression: with every finite bound equal up to its sign
     /// (-0 and +0) the range of the bound images is 0, the images fell back
     /// to the f64 total order, which puts -0 below +0, and the greedy placed
     /// a second point for [0, 0] after [-0, -0]: n = 1 answered infeasible
@@ -432,7 +432,7 @@ mod tests {
         }
     }
 
-    /// Regression (issue 12): with finite bounds spread over more than
+    /// Regression: with finite bounds spread over more than
     /// f64::MAX the images fell back to the total order; kernel 0 =
     /// [-1e308, -0] then had an image below the table bucket of the lower
     /// bound +0 of [0, 1e308], the lookup skipped kernel 0, and the box was

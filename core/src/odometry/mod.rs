@@ -1,4 +1,4 @@
-//! The `odometry2d` model's pieces (issue 20): a ground robot whose heading
+//! The `odometry2d` model's pieces: a ground robot whose heading
 //! is not measured but integrated from its odometry.
 //!
 //! - [`angle`]: sound angle arithmetic on the real line (the direction arc
@@ -18,7 +18,7 @@
 //!   heading contraction from "the landmark is in box B".
 //!
 //! The `woods` scenario (an odometry2d robot among identical landmarks,
-//! with scans and a stated minimum separation) is `crate::slam::woods`: it
+//! with scans and a stated minimum separation) is `crate::slam::simulate::odometry_scenario`: it
 //! writes missions, beside the pipeline, and `slam` imports this module.
 //!
 //! Headings are real numbers, never wrapped into [-π, π]: every angle

@@ -1,4 +1,4 @@
-//! The motion drift windows of odometry2d (`motion_drift`, issue 20):
+//! The motion drift windows of odometry2d (`motion_drift`):
 //! what the odometry's position error is over k steps, read between two
 //! steps of the relative evidence ([`crate::odometry::relative`]).
 //!

@@ -1,4 +1,4 @@
-//! The heading from two detections of one step (issue 20, point 5): a
+//! The heading from two detections of one step: a
 //! constellation seen in the robot's own frame turns with the heading,
 //! whatever the robot's position.
 //!

@@ -1,5 +1,4 @@
-//! Relative evidence between two detections close in time (issue 20,
-//! points 4 and 5): the pose of step j in the body frame of step i,
+//! Relative evidence between two detections close in time: the pose of step j in the body frame of step i,
 //! enclosed from the odometry alone, and the vector between the two
 //! detections' landmarks in that frame.
 //!

@@ -1,4 +1,4 @@
-//! The scan pose (issue 20): the detections of one step share one position
+//! The scan pose: the detections of one step share one position
 //! and one heading, so they are contracted together over pieces of the
 //! heading, which keeps the correlation between the heading and the
 //! position that the detections' separate contractions lose.

@@ -30,7 +30,7 @@
 //!
 //! An empty sector (empty P, T, range or C) is never called disjoint from
 //! another: emptiness proves the mission infeasible, not two landmarks
-//! distinct (issue 19).
+//! distinct (an empty box proves nothing about distinctness).
 //!
 //! # Soundness
 //!

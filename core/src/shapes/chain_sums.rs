@@ -295,7 +295,7 @@ mod tests {
         }
     }
 
-    /// Issue 19: one displacement with an infinite bound (a speed of
+    /// Regression: one displacement with an infinite bound (a speed of
     /// 1e308 ± 1e308 is [0, +inf]) made every later prefix sum empty, so
     /// every window across it was empty and every pair of detections across
     /// it "disjoint". Windows containing an unbounded, huge or overflowing
@@ -373,7 +373,7 @@ mod tests {
         assert!(!sums.delta(41, 99)[0].is_empty() && !sums.delta(0, 40)[0].is_empty());
     }
 
-    /// Issue 18: sums kept across rounds answer, once attached to the
+    /// Sums kept across rounds answer, once attached to the
     /// same displacements, with the bits of freshly built ones; attached
     /// to a chain of another size or dimension they are refused.
     #[test]

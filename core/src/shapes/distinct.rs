@@ -208,7 +208,7 @@ struct Enum<'a> {
     mark: Vec<u32>,
     epoch: u32,
     /// The common neighbour sets closed this pass with no edge inside and
-    /// merged (issue 18: on the hidden 10^6-step paper mission 96 % of the
+    /// merged (measured: on the hidden 10^6-step paper mission 96 % of the
     /// closed sets repeat one closed before in the pass; the graph does not
     /// change during a pass, so the check finds no edge again and the
     /// merge is already made): skipped. At most [`MAX_CLOSED`] roots held.
@@ -450,7 +450,7 @@ mod tests {
         assert!(d.infer(&mut uf, 5, 1000).unwrap().is_empty());
     }
 
-    /// The enumeration before issue 18's buffers (a new candidate list per
+    /// The enumeration before the reused buffers (a new candidate list per
     /// node, a full clique's lists all intersected, the 5-clique check by
     /// binary searches): the reference of
     /// `the_clique_pass_matches_the_plain_enumeration`.

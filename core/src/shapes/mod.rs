@@ -13,7 +13,7 @@
 //!   the matching);
 //! - [`registration`]: the landmarks seen around one step, in its frame,
 //!   placed on the n witness regions (the robot position where they fit);
-//! - [`chain_sums`], [`frames`], [`relative`]: displacements summed along
+//! - [`chain_sums`], [`frames`], [`relative_pairs`]: displacements summed along
 //!   the chain, local frames, distinct pairs in the frame of a step;
 //! - [`distinct`]: the union-find and the distinct pairs.
 //!
@@ -28,7 +28,7 @@ pub mod distinct;
 pub mod frames;
 pub mod region;
 pub mod registration;
-pub mod relative;
+pub mod relative_pairs;
 pub mod shape;
 pub mod witnesses;
 

@@ -514,7 +514,7 @@ mod tests {
     /// own witness.
     /// The merges of [`merge_neighbours`] (costs kept between merges) are
     /// those of computing every neighbour's cost again before each merge
-    /// (the loop it replaced, issue 18), bit for bit, on random sets with
+    /// (the loop it replaced), bit for bit, on random sets with
     /// many equal costs (boxes on a grid); and a piece coarsened by
     /// [`coarsen_piece`] is read unchanged when coarsened again.
     #[test]

@@ -92,7 +92,7 @@ pub struct Shape {
     /// C: a box known to hold the landmark (the detection variable d(j)).
     pub cut: IntervalBox,
     /// (φ, cos φ, sin φ) for φ = θ + β of `bearing`, made at the first
-    /// contraction (issue 18: a shape is contracted against every box of
+    /// contraction (a shape is contracted against every box of
     /// a paving, and the interval cosine and sine of φ were recomputed
     /// each time). Used only while θ + β gives the same bits as φ (a
     /// changed `bearing` recomputes them), so every contraction gives the
@@ -372,7 +372,7 @@ impl Shape {
     ///
     /// An empty shape proves nothing here (`false`): its emptiness says the
     /// mission is infeasible, which is for the caller to report as such,
-    /// not to turn into "distinct landmarks" (issue 19: an empty centre box
+    /// not to turn into "distinct landmarks" (an empty centre box
     /// from an unbounded displacement made every pair across it
     /// "disjoint").
     pub fn disjoint(&self, other: &Shape) -> bool {
@@ -498,7 +498,7 @@ mod tests {
         assert!(!a.meets_box(b2(7.0, 8.0, 7.0, 8.0).axes()));
     }
 
-    /// Issue 18: the cosine and sine kept with a shape stand for those of
+    /// The cosine and sine kept with a shape stand for those of
     /// its bearing only: a bearing changed after a contraction gives the
     /// pieces of a shape made with the new bearing, and the same shape
     /// gives the same bits at every contraction.
@@ -557,7 +557,7 @@ mod tests {
         assert!(disjoint_paved(&port, &starboard, 64));
     }
 
-    /// Issue 19: an empty centre box (an unbounded displacement made the
+    /// Regression: an empty centre box (an unbounded displacement made the
     /// displacement sums empty) made every pair "disjoint". An empty shape
     /// proves nothing; an unbounded centre box meets everything.
     #[test]

@@ -29,8 +29,8 @@
 //! each test a whole propagation of the sub-mission; `max_tests` bounds the
 //! work (then the answer is a correction set that may not be minimal).
 
-use super::fixpoint::propagate;
 use super::mission::Mission;
+use super::propagate::fixpoint::propagate;
 use super::types::{SolveOptions, SolveStatus};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, Ordering};

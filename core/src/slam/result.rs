@@ -2,7 +2,7 @@
 //! mission (docs/formats.md, "Result").
 
 use super::mission::Mission;
-use super::outliers::relaxed_intersection;
+use super::robust::relaxed_intersection;
 use super::types::SolveOptions;
 pub use super::types::{Solution, SolveStatus};
 use crate::ibox::IntervalBox;
@@ -19,7 +19,7 @@ impl Solution {
     /// intersection of its members' boxes; with false detections allowed
     /// (q = `max_outliers` > 0), the q-relaxed intersection of the boxes of
     /// the members not proved false (a sub-mission may drop up to q of
-    /// them; see [`super::outliers`]).
+    /// them; see [`super::robust`]).
     pub fn landmarks(&self) -> Vec<IntervalBox> {
         let q = self.model.max_outliers;
         self.matching
@@ -574,7 +574,7 @@ mod tests {
         );
         o.insert("matching".into(), json!(s.matching));
         if !m.landmark_regions.is_empty() {
-            // Added since (issue 11): per group, the landmark region the
+            // Added with the detection shapes: per group, the landmark region the
             // shapes contractor built (found at any member), each box cut
             // to the group's landmark box and the empty ones dropped; the
             // landmark box alone when there is none.

@@ -1,14 +1,14 @@
 //! The entry points of the SLAM pipeline, at its top: a mission in, a
 //! typed [`Solution`] ([`solve_model`]) or the `nvector-result/1` JSON
-//! ([`solve`]) out. The fixpoint ([`super::fixpoint`]), then, when it
+//! ([`solve`]) out. The fixpoint ([`super::propagate::fixpoint`]), then, when it
 //! proves the mission infeasible, the diagnosis ([`super::diagnose`])
 //! names a minimal set of detections to check.
 //!
 //! May import: every layer of `slam` below it.
 
 use super::diagnose::minimal_correction;
-use super::fixpoint::propagate;
 use super::mission::Mission;
+use super::propagate::fixpoint::propagate;
 use super::result::result_json;
 use super::types::{Progress, Solution, SolveOptions, SolveStatus};
 use serde_json::Value;

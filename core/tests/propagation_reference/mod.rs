@@ -1,4 +1,4 @@
-//! The propagator before issue 12 (each detection that moves its position
+//! The propagator before the passes (each detection that moves its position
 //! swept forward and backward on its own, O(N·k) per round), kept verbatim
 //! as the reference the new propagator is compared with. Progress reports
 //! are left out; nothing else changed.

@@ -284,5 +284,6 @@ pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
     nvector_independent_1e4_2d(&mut b, runs);
     exact_max_k_1s(&mut b);
     super::bench_slam::run(&mut b);
+    super::bench_real::run(&mut b);
     Ok(())
 }

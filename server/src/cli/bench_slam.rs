@@ -45,7 +45,6 @@ pub fn run(b: &mut Bench) {
     propagate_1e6(b, runs);
     best_1e6(b);
     paper_seeds_1_10(b);
-    super::bench_real::run(b);
 }
 
 /// One forward + one backward sweep of the motion chain on 10^6 steps

@@ -1,7 +1,7 @@
 //! Missions: `POST /api/v1/missions` (JSON body or multipart `file`),
 //! `GET /api/v1/missions` (paged), `GET` and `DELETE /api/v1/missions/{id}`.
 //! The mission itself is read and validated by core (`Mission::from_value`);
-//! its document schema is core's `format::mission::MissionDoc` (named `Mission`).
+//! its document schema is core's `format::mission_doc::MissionDoc` (named `Mission`).
 
 use super::config::Config;
 use super::error::ErrorBody;
@@ -14,7 +14,7 @@ use axum::extract::{FromRequest, Multipart, Path, Query, Request, State};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use nvector_core::format::mission::MissionDoc;
+use nvector_core::format::mission_doc::MissionDoc;
 use nvector_core::slam::mission::Mission;
 use serde::Serialize;
 use serde_json::Value;

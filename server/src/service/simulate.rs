@@ -15,10 +15,10 @@ use super::state::{AppState, Owner};
 use axum::extract::State;
 use axum::http::StatusCode;
 use axum::Json;
-use nvector_core::format::mission::MissionDoc as Mission;
+use nvector_core::format::mission_doc::MissionDoc as Mission;
+use nvector_core::slam::simulate::odometry_scenario as woods;
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::simulate::{SimulateLimits, SimulateRequest as Options};
-use nvector_core::slam::woods;
 use serde::Serialize;
 use serde_json::Value;
 use utoipa::ToSchema;
@@ -35,7 +35,7 @@ pub struct Simulated {
 }
 
 // The body is read as core's one simulation request type, whose schema
-// (core/src/slam/simulate_schema.rs) the document gives.
+// (core/src/slam/simulate/schema.rs) the document gives.
 impl RequestBody for Options {
     const CODE: &'static str = "invalid_request";
 }

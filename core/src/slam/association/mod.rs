@@ -18,7 +18,7 @@
 //!    contracted by [`branch`](crate::shapes::branch::branch) against its group's region alone: d(j) and
 //!    p(step) shrink to the hulls of the pieces.
 //! 2. **Distinct pairs.** Detections at nearby steps whose shapes are
-//!    disjoint in the frame of the earlier step ([`relative_pairs`](crate::shapes::relative::relative_pairs)) see
+//!    disjoint in the frame of the earlier step ([`relative_pairs`](crate::shapes::relative_pairs::relative_pairs)) see
 //!    distinct landmarks; so do a detection and a region its branch
 //!    excluded (step 4). With n known, [`Distinct::infer`](crate::shapes::distinct::Distinct::infer) merges the
 //!    common neighbours of every n-1 pairwise-distinct groups and proves
@@ -82,16 +82,13 @@ use crate::shapes::chain_sums::ChainSums;
 use crate::union_find::Uf;
 use round::Round;
 
+mod group_regions;
+pub mod odometry2d;
 mod pairs;
-mod regions;
-mod registration;
+mod registration_step;
 mod round;
-pub mod scan_map;
-pub mod scan_pose;
-pub mod separation;
-pub mod sequential;
 mod state;
-pub mod tracks;
+pub mod step;
 mod witness_step;
 
 pub use round::sightings;

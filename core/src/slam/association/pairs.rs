@@ -21,13 +21,13 @@ use super::round::sightings;
 use super::round::Round;
 use super::state::ShapesState;
 use crate::shapes::chain_sums::ChainSums;
-use crate::shapes::relative::relative_pairs_where;
+use crate::shapes::relative_pairs::relative_pairs_where;
 use crate::union_find::Uf;
 
 impl ShapesState {
     /// Step 2 (module doc): `order` lists the detections by step.
     ///
-    /// At most n groups (issue 18; every detection named by the operator,
+    /// At most n groups (the incremental schedule; every detection named by the operator,
     /// say, or the groups complete): the pairs between different groups
     /// are then not looked for (the relative pairs of round 1 between
     /// different groups, the frames' tests), only those inside a group

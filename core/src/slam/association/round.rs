@@ -133,7 +133,7 @@ mod tests {
         }
     }
 
-    /// Issue 19: an infinite bound that a branch leaves unchanged counted
+    /// Regression: an infinite bound that a branch leaves unchanged counted
     /// as an infinite move (`-inf - -inf` is NaN, read as "moved"), so an
     /// unbounded position was reported moving in every round. It moves
     /// only when it becomes finite or a finite bound moves by more than the

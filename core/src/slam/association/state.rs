@@ -156,7 +156,7 @@ pub struct ShapesState {
     /// By step, in step order.
     pub(super) registered: Vec<(usize, RegKey, Vec<u64>)>,
     /// The pieces the last round's registrations moved and coarsened
-    /// (issue 18: the same inputs give the same boxes, so they are read
+    /// (the same inputs give the same boxes, so they are read
     /// from here while the piece and its displacement sum are the same).
     pub(super) coarse_pieces: CoarsePieces,
     /// The displacement boxes D(i) stay the same over the propagation
@@ -167,7 +167,7 @@ pub struct ShapesState {
     /// The chain sums of the last round, with `fixed_displacements`.
     pub(super) stored_sums: Option<StoredSums>,
     /// Every step runs in every round over every group (the schedule
-    /// before issue 18; kept as the reference the tests compare with):
+    /// before the incremental one; kept as the reference the tests compare with):
     /// no group skipped for not having moved, the distinct pairs of the
     /// detection shapes computed even when the operator named every
     /// detection's landmark.

@@ -1,0 +1,190 @@
+//! The minimum separation inside the passes (odometry2d): each detection is
+//! compared with the groups' landmark boxes as the pass reaches it, a
+//! sequential filter, so that a landmark seen again joins its group (and
+//! contracts the pose) in the same pass rather than at the end of the
+//! round ([`super::separation`]).
+//!
+//! # Constraint
+//!
+//! Distinct landmarks are at least s apart (`landmark_min_separation`):
+//! `l(a) != l(b)` implies `|l(a) - l(b)| >= s`; every detection sees a
+//! real landmark (`max_outliers` = 0).
+//!
+//! # Math
+//!
+//! When the pass reaches detection j, its group's box B (held at the
+//! group's root, the intersection of what the group's members proved so
+//! far) is compared with the boxes G of the groups held in a grid of
+//! cells of side s (each group under the cell of its box's centre when it
+//! was entered). When no point of B is s or more from a point of G
+//! ([`super::separation::farthest_above`] below s) the two landmarks are less than s apart, so they are one: a union, and
+//! the merged group's box is B ∩ G. Only groups whose centre was within
+//! two cells of B's centre are compared (a group whose points are all
+//! within s of B's has its centre within s of B's). B itself may be up to
+//! 2 s wide (a wider box has points 2 s apart, at least s from any G).
+//!
+//! # Soundness
+//!
+//! The argument of [`super::separation`]: every box holds its group's true
+//! landmark at every moment of the pass (each contraction keeps every
+//! solution), so the two landmarks, one in each box, are less than the
+//! largest cross distance apart; it is bounded from above with outward
+//! rounding, so "below s" is proved, and with it one landmark (when both
+//! groups see real landmarks). Its point is then in B ∩ G; an empty
+//! intersection proves the mission infeasible. A grid entry left behind by
+//! a moved centre or a merged group only makes the rule miss unions
+//! (entries are read through the union-find's current roots).
+//!
+//! # Complexity
+//!
+//! O(log G) for the grid lookups and O(c) box tests per detection, c the
+//! groups entered in the 25 cells around it (bounded by the packing of
+//! boxes narrower than s, at most a few tens when the groups are distinct
+//! landmarks); memory O(G).
+
+use super::separation::{diameter_above, farthest_above};
+use crate::ibox::IntervalBox;
+use crate::union_find::Uf;
+use std::collections::BTreeMap;
+
+/// Groups narrower than s, by the grid cell of their box's centre.
+#[derive(Debug, Clone, Default)]
+pub struct SeparationGrid {
+    s: f64,
+    cells: BTreeMap<(i64, i64), Vec<usize>>,
+    /// Per detection: entered in the grid (as a representative).
+    entered: Vec<bool>,
+}
+
+/// The cell of `x` (the centre of a bounded box) for a side `s`.
+fn cell(x: f64, s: f64) -> i64 {
+    // Bounded boxes narrower than s: x / s is finite; the cast saturates
+    // for huge coordinates (those only miss unions).
+    libm::floor(x / s) as i64
+}
+
+impl SeparationGrid {
+    /// An empty grid for `k` detections and separation `s` (None: the
+    /// rule does not apply, s <= 0 or NaN).
+    pub fn new(k: usize, s: f64) -> Option<SeparationGrid> {
+        (s > 0.0 && s.is_finite()).then(|| SeparationGrid {
+            s,
+            cells: BTreeMap::new(),
+            entered: vec![false; k],
+        })
+    }
+
+    /// The cell of the centre of `b` (None: not a 2-D box narrower than s).
+    fn key(&self, b: &IntervalBox) -> Option<(i64, i64)> {
+        self.key_within(b, self.s)
+    }
+
+    /// The cell of the centre of `b` (None: not a 2-D box narrower than
+    /// `w`, w <= 2 s: the cell index stays finite for bounded boxes).
+    fn key_within(&self, b: &IntervalBox, w: f64) -> Option<(i64, i64)> {
+        if b.dim() != 2 || b.is_empty() || diameter_above(b) >= w {
+            return None;
+        }
+        Some((cell(b[0].mid(), self.s), cell(b[1].mid(), self.s)))
+    }
+
+    /// Detection j's group (box `det[root]`) compared with the grid's
+    /// groups (module doc); the unions are applied to `uf` and `det` (the
+    /// merged root holds the intersection) and returned. Err: two groups
+    /// proved to be one landmark have disjoint boxes.
+    pub fn merge(
+        &mut self,
+        det: &mut [IntervalBox],
+        uf: &mut Uf,
+        j: usize,
+    ) -> Result<Vec<(usize, usize)>, String> {
+        let mut unions = Vec::new();
+        let mut root = uf.find(j);
+        let Some((cx, cy)) = self.key_within(&det[root], 2.0 * self.s) else {
+            return Ok(unions);
+        };
+        let mut seen: Vec<usize> = Vec::new();
+        for x in cx.saturating_sub(2)..=cx.saturating_add(2) {
+            for y in cy.saturating_sub(2)..=cy.saturating_add(2) {
+                let Some(list) = self.cells.get(&(x, y)) else {
+                    continue;
+                };
+                for &e in list {
+                    let r = uf.find(e);
+                    if r == root || seen.contains(&r) {
+                        continue;
+                    }
+                    seen.push(r);
+                    let (b, g) = (&det[root], &det[r]);
+                    if g.is_empty() || farthest_above(b, g) >= self.s {
+                        continue;
+                    }
+                    let common = b.intersect(g);
+                    if common.is_empty() {
+                        return Err(format!(
+                            "landmark_min_separation: detections {e} and {j} (with their groups) are closer than {} so one landmark, but their boxes have no common point",
+                            self.s
+                        ));
+                    }
+                    let nr = uf.union(root, r);
+                    det[root] = common.clone();
+                    det[r] = common;
+                    unions.push((e, j));
+                    root = nr;
+                }
+            }
+        }
+        if !self.entered[j] {
+            if let Some(k) = self.key(&det[root]) {
+                self.entered[j] = true;
+                self.cells.entry(k).or_default().push(j);
+            }
+        }
+        Ok(unions)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interval::Interval;
+
+    fn square(x: f64, y: f64, w: f64) -> IntervalBox {
+        IntervalBox::new(&[Interval::new(x, x + w), Interval::new(y, y + w)])
+    }
+
+    /// Two boxes of one landmark (hull 0.5 wide) merge; a box 1.2 away
+    /// (hull diameter above s = 1) does not; the merged root holds the
+    /// intersection.
+    #[test]
+    fn near_boxes_merge_and_far_ones_do_not() {
+        let mut det = vec![
+            square(0.0, 0.0, 0.4),
+            square(0.1, 0.1, 0.4),
+            square(1.2, 0.0, 0.4),
+        ];
+        let mut uf = Uf::new(3);
+        let mut g = SeparationGrid::new(3, 1.0).expect("a grid");
+        assert!(g.merge(&mut det, &mut uf, 0).expect("no error").is_empty());
+        assert_eq!(
+            g.merge(&mut det, &mut uf, 1).expect("no error"),
+            vec![(0, 1)]
+        );
+        let r = uf.find(0);
+        assert_eq!(det[r], square(0.1, 0.1, 0.3));
+        assert!(g.merge(&mut det, &mut uf, 2).expect("no error").is_empty());
+        assert_ne!(uf.find(2), uf.find(0));
+    }
+
+    /// A box wider than s is never merged, nor entered.
+    #[test]
+    fn wide_boxes_prove_nothing() {
+        let mut det = vec![square(0.0, 0.0, 0.4), square(0.0, 0.0, 1.5)];
+        let mut uf = Uf::new(2);
+        let mut g = SeparationGrid::new(2, 1.0).expect("a grid");
+        assert!(g.merge(&mut det, &mut uf, 0).expect("no error").is_empty());
+        assert!(g.merge(&mut det, &mut uf, 1).expect("no error").is_empty());
+        assert!(SeparationGrid::new(2, 0.0).is_none());
+        assert!(SeparationGrid::new(2, f64::NAN).is_none());
+    }
+}

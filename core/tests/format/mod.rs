@@ -1,0 +1,3 @@
+//! The format layer (core/src/format).
+
+mod paths;

@@ -1,0 +1,6 @@
+//! The rounds and the fixpoint (core/src/slam/propagate).
+
+mod planted;
+mod progress;
+mod same_fixpoint;
+mod work_limit;
