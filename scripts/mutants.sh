@@ -37,13 +37,13 @@ mutant() {
 mutant a core/src/shapes/shape.rs "tangent shapes called disjoint (< to <= in Shape::disjoint)" \
   '(r1 + r2).hi() < dd.lo()' '(r1 + r2).hi() <= dd.lo()' \
   lib:shapes::shape shapes_props
-mutant b core/src/slam/motion_chain.rs "outward rounding dropped in the forward sweep step" \
+mutant b core/src/contractors/motion_chain.rs "outward rounding dropped in the forward sweep step" \
   '(pred(q.lo() + d.lo()), succ(q.hi() + d.hi()))' '(q.lo() + d.lo(), q.hi() + d.hi())' \
   slam_contractors
-mutant c core/src/slam/outliers.rs "outward rounding dropped in the robust evidence sums (add_lo)" \
+mutant c core/src/slam/robust/mod.rs "outward rounding dropped in the robust evidence sums (add_lo)" \
   'let s = pred(a + b);' 'let s = a + b;' \
   lib:slam::outliers outliers outliers_boundary
-mutant d core/src/slam/distance.rs "the distance contractor loses the true range (r cut by one axis)" \
+mutant d core/src/contractors/distance.rs "the distance contractor loses the true range (r cut by one axis)" \
   '*r = r.intersect(sum.sqrt());' '*r = r.intersect(s[0].sqrt());' \
   lib:slam::distance slam_contractors
 mutant e core/src/shapes/registration.rs "the registration's injectivity filter removed" \
@@ -64,10 +64,10 @@ mutant h core/src/interval.rs "sqr: the lower bound rounded to nearest" \
 mutant i core/src/interval.rs "sqrt: the upper bound rounded to nearest" \
   'Interval::new(lo, up(libm::sqrt(x.hi)))' 'Interval::new(lo, libm::sqrt(x.hi))' \
   lib:interval interval_props
-mutant j core/src/slam/bearing.rs "bearing in 3-D: the slant range taken for the horizontal one" \
+mutant j core/src/contractors/bearing.rs "bearing in 3-D: the slant range taken for the horizontal one" \
   'let rho = if p.len() >= 3 {' 'let rho = if p.len() >= 4 {' \
   lib:slam::bearing slam_contractors
-mutant k core/src/slam/motion_chain.rs "unicycle displacement: the motion error dropped on y" \
+mutant k core/src/contractors/motion_chain.rs "unicycle displacement: the motion error dropped on y" \
   '[v * heading.cos() + e, v * heading.sin() + e]' '[v * heading.cos() + e, v * heading.sin()]' \
   lib:slam::motion_chain slam_contractors
 mutant l core/src/nvector/nvalue.rs "atmost_nvalue: touching intervals counted as two values" \
@@ -96,7 +96,7 @@ mutant r core/src/shapes/frames.rs "frames: a piece translated the wrong way" \
 mutant s core/src/shapes/witnesses.rs "witnesses: an item disjoint from one chosen (not all) added" \
   'if chosen.iter().all(|&c| disjoint(c, i)) {' 'if chosen.iter().any(|&c| disjoint(c, i)) {' \
   lib:shapes::witnesses shapes_props
-mutant t core/src/slam/outliers.rs "outliers: the q-th instead of the (q+1)-th evidence bound" \
+mutant t core/src/slam/robust/mod.rs "outliers: the q-th instead of the (q+1)-th evidence bound" \
   '                budget + 1,' '                budget,' \
   lib:slam::outliers outliers outliers_boundary
 

@@ -26,7 +26,7 @@ function redraw(moving = false) {
  * bearing (the paper's experiment) against `best`; range only (the
  * paper's P'') against `shapes`; the woods scenario (an odometry2d robot
  * among 17 identical landmarks, with scans; 400 steps, small enough for
- * the browser, core/src/slam/woods.rs) against `projection` (`best` takes
+ * the browser, core/src/slam/simulate/odometry_scenario.rs) against `projection` (`best` takes
  * tens of seconds there). Noise, layout and range only are the paper
  * scenario's: the woods preset sets them to their defaults and they are
  * disabled while the scenario is woods.
