@@ -27,16 +27,16 @@ def test_a_simulated_mission_breaks_nothing(cli: Cli, tmp_path: Path, paper: dic
 
 def test_a_planted_range_is_found_as_the_cli_finds_it(cli: Cli, tmp_path: Path, paper: dict) -> None:
     mission = json.loads(nvector.dumps(paper))
-    lo, hi = (float(x) for x in mission["detections"][3]["range"])
+    lo, hi = (float(x) for x in mission["detections"][1]["range"])
     # Moved 2 m beyond the truth's distance, which is within [lo, hi].
-    mission["detections"][3]["range"] = [hi + 2.0, hi + 3.0]
+    mission["detections"][1]["range"] = [hi + 2.0, hi + 3.0]
     found = nvector.check(mission)
-    assert [v["path"] for v in found] == ["detections[3].range"]
+    assert [v["path"] for v in found] == ["detections[1].range"]
     v = found[0]
     assert v["kind"] == "range" and v["unit"] == "m" and v["relation"] == "within"
     assert 2.0 <= v["excess"] <= 2.0 + (hi - lo) + 1e-9
     assert v["bound"] == [hi + 2.0, hi + 3.0]
-    assert v["detection"] == 3 and v["outlier"] is False
+    assert v["detection"] == 1 and v["outlier"] is False
     path = tmp_path / "bad.json"
     path.write_text(nvector.dumps(mission), encoding="utf-8")
     done = cli.run("check", str(path), "--json", check=False)

@@ -33,9 +33,11 @@ def test_submit_wait_result_equals_local_run_and_cli(service: Service, cli: Cli,
     assert canonical(client.result(job), CLOCK) == canonical(result, CLOCK)
     csv = client.result(job, format="csv")
     lines = csv.strip().splitlines()
-    assert lines[0] == "step,x_lo,x_hi,y_lo,y_hi"
+    # A row per position: its step, its time (step x dt), then its box.
+    assert lines[0] == "step,t,x_lo,x_hi,y_lo,y_hi"
     assert len(lines) == mission["steps"] + 2
-    first = [float(x) for x in lines[1].split(",")[1:]]
+    assert [float(x) for x in lines[2].split(",")[:2]] == [1.0, mission["dt"]]
+    first = [float(x) for x in lines[1].split(",")[2:]]
     assert first == [b for axis in result["trajectory"][0] for b in axis]
     svg = client.result(job, format="svg")
     assert svg.lstrip().startswith("<svg") and "x (m)" in svg and "Legend" in svg
