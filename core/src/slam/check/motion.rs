@@ -294,16 +294,20 @@ fn odometry_steps(t: &mut Truthy, style: &PathStyle, out: &mut Vec<Violation>) {
         }
         push_heading_step(heading_bad, i, heading_value, f, style, out);
         if motion_bad {
-            let v = Violation::new(
+            out.push(step_above(
                 style.motion_error(i),
                 Kind::MotionStep,
                 value,
-                Bound::AtMost(e),
-                minus_down(value, e),
-            );
-            out.push(v.at_step(i));
+                e,
+                i,
+            ));
         }
     }
+}
+
+/// A step's `value` above its bound `e` (motion or heading), by how much.
+fn step_above(path: String, kind: Kind, value: f64, e: f64, i: usize) -> Violation {
+    Violation::new(path, kind, value, Bound::AtMost(e), minus_down(value, e)).at_step(i)
 }
 
 fn push_heading_step(
@@ -315,14 +319,13 @@ fn push_heading_step(
     out: &mut Vec<Violation>,
 ) {
     if bad {
-        let v = Violation::new(
+        out.push(step_above(
             style.heading_error(i),
             Kind::HeadingStep,
             value,
-            Bound::AtMost(f),
-            minus_down(value, f),
-        );
-        out.push(v.at_step(i));
+            f,
+            i,
+        ));
     }
 }
 
