@@ -99,7 +99,9 @@ impl Driver {
         }
         let profile =
             std::env::temp_dir().join(format!("nvector-chromium-{}-{port}", std::process::id()));
-        let caps = json!({"capabilities": {"alwaysMatch": {"goog:loggingPrefs": {"browser": "ALL"}, "goog:chromeOptions": {
+        // Scripts may run 100 s (WebDriver's default is 30 s): a loaded CI
+        // machine draws the 3,529 shapes of CMU Plaza 1 several times slower.
+        let caps = json!({"capabilities": {"alwaysMatch": {"timeouts": {"script": 100_000}, "goog:loggingPrefs": {"browser": "ALL"}, "goog:chromeOptions": {
             "binary": chromium,
             "args": ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--disable-dev-shm-usage",
                      "--disable-background-networking", "--disable-component-update", "--disable-sync",

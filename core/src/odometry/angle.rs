@@ -44,6 +44,7 @@
 //!
 //! O(1): four atan2 calls; at most a few copies tried per bound.
 
+use crate::contractors::motion_chain::shrinkage;
 use crate::interval::{pred, succ, Interval};
 
 /// An enclosure of π: [fl(π), succ(fl(π))] (fl(π) is below π).
@@ -54,7 +55,7 @@ pub const TWO_PI: Interval =
     Interval::new_unchecked(2.0 * std::f64::consts::PI, 2.0 * 3.141_592_653_589_793_6);
 
 /// Largest bound magnitude [`contract_periodic`] contracts.
-const PERIODIC_LIMIT: f64 = 1e12;
+pub const PERIODIC_LIMIT: f64 = 1e12;
 
 fn down3(x: f64) -> f64 {
     pred(pred(pred(x)))
@@ -99,6 +100,37 @@ pub fn box_angle(x: Interval, y: Interval) -> Option<Interval> {
     } else {
         None
     }
+}
+
+/// How far the bounds of a heading moved from `old` to `new`, for the
+/// fixpoint's "still moving" tests: [`shrinkage`], except that a move
+/// counts as 0 when one bound is the same in both and beyond
+/// [`PERIODIC_LIMIT`] in magnitude (infinite included) while the other
+/// bound is within it in both (a bound coming in from beyond the limit
+/// still counts).
+///
+/// Why: the bearing constraints reach a heading through
+/// [`contract_periodic`], which keeps a bound beyond the limit. On such a
+/// heading, `[-inf, H]` or `[L, 1e300]`, two bearings that disagree modulo
+/// 2π move the near bound by about a turn per round, each to the next
+/// copy of its arc, without ever reaching a fixpoint: an inconsistent set
+/// of detections (as the consensus over subsets tries) then ran
+/// `max_rounds` rounds. The heading stays wider than a turn all along, so
+/// a displacement's cos and sin and a bearing's direction computed from
+/// it do not change. Not counting the move only stops the propagation
+/// earlier, which is sound (the boxes stay enclosures); what may be lost
+/// is a contraction that a far absolute heading bound would bring after
+/// a number of rounds proportional to its distance in turns. O(1).
+pub fn heading_moved(old: Interval, new: Interval) -> f64 {
+    let far = |b: f64| b.abs() > PERIODIC_LIMIT;
+    let creeping = !new.is_empty()
+        && !old.is_empty()
+        && ((old.lo() == new.lo() && far(old.lo()) && !far(old.hi()) && !far(new.hi()))
+            || (old.hi() == new.hi() && far(old.hi()) && !far(old.lo()) && !far(new.lo())));
+    if creeping {
+        return 0.0;
+    }
+    shrinkage(old, new)
 }
 
 /// The hull of `t ∩ (arc + 2πZ)` (see the module doc): `t` unchanged when
@@ -176,6 +208,35 @@ pub fn contract_heading(t: Interval, x: Interval, y: Interval, offset: Interval)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_heading_creeping_beside_a_far_bound_is_not_moving() {
+        let inf = f64::INFINITY;
+        let (a, b) = (Interval::new(-inf, -147.6), Interval::new(-inf, -149.5));
+        assert_eq!(heading_moved(a, b), 0.0);
+        let (a, b) = (
+            Interval::new(125_629.0, 1e300),
+            Interval::new(125_632.0, 1e300),
+        );
+        assert_eq!(heading_moved(a, b), 0.0);
+        // A bound coming in from beyond the limit counts, as does any move
+        // of a heading with both bounds near.
+        assert_eq!(heading_moved(Interval::new(-inf, inf), b), inf);
+        assert!(heading_moved(Interval::new(-1e300, 1e300), Interval::new(-1e300, 5.0)) > 1e299);
+        assert_eq!(
+            heading_moved(Interval::new(0.0, 7.0), Interval::new(0.5, 7.0)),
+            0.5
+        );
+        assert_eq!(
+            heading_moved(Interval::new(-inf, 3.0), Interval::new(-2.0, 3.0)),
+            inf
+        );
+        // An emptied heading counts as moving (shrinkage: +inf).
+        assert_eq!(
+            heading_moved(Interval::new(-inf, 3.0), Interval::EMPTY),
+            inf
+        );
+    }
 
     #[test]
     fn pi_encloses_pi() {

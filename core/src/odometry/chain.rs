@@ -41,7 +41,7 @@
 
 use crate::contractors::motion_chain::{shrinkage, Sweep};
 use crate::interval::Interval;
-use crate::odometry::angle::contract_heading;
+use crate::odometry::angle::{contract_heading, heading_moved};
 use crate::odometry::drift::{DriftWindow, HeadingDrift};
 use crate::odometry::motion_drift::{MotionDrift, MotionWindow};
 
@@ -425,7 +425,7 @@ impl OdometryChain {
     fn moved(old: ([Interval; 2], Interval), pos: &[Interval; 2], heading: Interval) -> f64 {
         shrinkage(old.0[0], pos[0])
             .max(shrinkage(old.0[1], pos[1]))
-            .max(shrinkage(old.1, heading))
+            .max(heading_moved(old.1, heading))
     }
 
     /// Forward sweep from state `from` (steps from..N), stopping at the

@@ -67,8 +67,8 @@
 //! `relative_heading(i, k)` finds the windows of k steps by binary search
 //! in the windows sorted by k: O(log W) plus those windows.
 
-use crate::contractors::motion_chain::shrinkage;
 use crate::interval::Interval;
+use crate::odometry::angle::heading_moved;
 
 /// u = 2^-53, the unit roundoff of f64 (round to nearest).
 const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
@@ -448,7 +448,7 @@ impl HeadingDrift {
         if h == heading[s] {
             return Ok(false);
         }
-        if shrinkage(heading[s], h) > tol {
+        if heading_moved(heading[s], h) > tol {
             moved[s] = true;
         }
         heading[s] = h;

@@ -13,6 +13,7 @@ use crate::contractors::bearing::contract_bearing;
 use crate::contractors::distance::contract_distance;
 use crate::contractors::motion_chain::shrinkage;
 use crate::interval::Interval;
+use crate::odometry::angle::heading_moved;
 use crate::odometry::pair_heading::{contract_pair_heading, Seen};
 use crate::slam::association::odometry2d::scan_pose_step::scan_pose_step;
 use crate::slam::association::odometry2d::sequential::SeparationGrid;
@@ -213,7 +214,7 @@ impl Propagation<'_> {
             )));
         }
         self.model.heading[t] = h;
-        Ok(shrinkage(before, h) > self.tol)
+        Ok(heading_moved(before, h) > self.tol)
     }
 
     /// One contraction of each detection at the `s`-th distinct step
@@ -250,7 +251,7 @@ impl Propagation<'_> {
             let mut p_moved =
                 shrinkage(before.0, m.pos[2 * t]).max(shrinkage(before.1, m.pos[2 * t + 1]));
             if let Some(h) = before.2 {
-                p_moved = p_moved.max(shrinkage(h, m.heading[t]));
+                p_moved = p_moved.max(heading_moved(h, m.heading[t]));
             }
             let d_moved =
                 shrinkage(d_before[0], m.det[j][0]).max(shrinkage(d_before[1], m.det[j][1]));

@@ -73,10 +73,10 @@
 //! O(N·W) for the W drift windows and O(N) for the refresh. Memory O(N + k)
 //! beyond the recorded key snapshots of the passes.
 
-use crate::contractors::motion_chain::shrinkage;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::odometry::angle::contract_heading;
+use crate::odometry::angle::heading_moved;
 use crate::odometry::chain::OdometryChain;
 use crate::slam::mission::Mission;
 use crate::slam::model::Model;
@@ -180,7 +180,7 @@ fn headings(
     let moved = before
         .iter()
         .zip(&model.heading)
-        .map(|(a, b)| shrinkage(*a, *b))
+        .map(|(a, b)| heading_moved(*a, *b))
         .fold(0.0, f64::max);
     Ok(moved)
 }

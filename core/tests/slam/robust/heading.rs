@@ -432,3 +432,33 @@ fn planted_headings_and_positions_stay_inside() {
         "a heading narrowed in only {narrower} of {compared} cases"
     );
 }
+
+/// A mission of the planted family above (case 888 of the generator: 9
+/// steps, 8 detections, q = 1, turn inputs up to 1e300 wide) on which the
+/// consensus over subsets' solves of inconsistent detection sets moved a
+/// heading's near bound by about a turn per round towards its far bound
+/// (1e300) and ran the 10,000 rounds of `max_rounds`: 2,710,477
+/// contractions for 8 detections. The heading's moves with a far bound
+/// fixed no longer count as moving (`odometry::angle::heading_moved`), so
+/// each solve reaches its fixpoint in a few rounds; the answer stays
+/// consistent and every heading keeps the initial heading's bound.
+#[test]
+fn a_heading_with_a_far_bound_reaches_a_fixpoint() {
+    let mission: Value = serde_json::from_str(include_str!("far_heading.json")).unwrap();
+    let m = Mission::from_value(&mission).unwrap();
+    for association in ["none", "best"] {
+        let options = SolveOptions {
+            association: Association::parse(association).unwrap(),
+            ..SolveOptions::default()
+        };
+        let s = propagate(&m, &options, &mut |_| {}, &AtomicBool::new(false));
+        assert_eq!(s.status, SolveStatus::Consistent, "{association}");
+        assert!(
+            s.contractions < 100_000,
+            "{association}: {} contractions",
+            s.contractions
+        );
+        let h0 = s.model.heading[0];
+        assert!(h0.lo() <= -31.157458864541987 && h0.hi() >= -31.117458864541987);
+    }
+}
