@@ -175,3 +175,87 @@ fn an_oversized_body_is_answered_413_to_a_client_that_sends_it_whole() {
     assert_eq!(st, 200, "{again}");
     assert_eq!(again["steps"], 50, "the mission stored before is intact");
 }
+
+/// The resident memory (VmRSS) and its peak (VmHWM) of a process, in
+/// bytes (Linux).
+fn memory(pid: u32) -> (u64, u64) {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    let field = |name: &str| {
+        let line = status.lines().find(|l| l.starts_with(name)).unwrap();
+        let kib: u64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        kib * 1024
+    };
+    (field("VmRSS:"), field("VmHWM:"))
+}
+
+/// A 50 MiB mission (the paper scenario, 660,000 steps) uploaded ten
+/// times: the service reads each upload into typed data without a JSON
+/// tree, so its resident memory ends within three bodies of where it
+/// started (it held about 5.5 bodies more, and peaked at 11, when each
+/// upload became a JSON tree), and its peak stays under six bodies. Each
+/// stored mission lists its steps and its stored size, the text without
+/// whitespace.
+#[test]
+fn ten_large_uploads_leave_the_service_within_three_bodies_of_its_start() {
+    let path = nvector_tests::temp_file("large.json");
+    let out = nvector_tests::run(&[
+        "simulate",
+        "--scenario",
+        "paper",
+        "--steps",
+        "660000",
+        "--seed",
+        "5",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    nvector_tests::succeeded(&out);
+    let body = std::fs::read(&path).unwrap();
+    let size = body.len() as u64;
+    assert!(size > 48 << 20, "{size} bytes");
+    let s = Server::start(&["--workers", "1", "--short-lane-workers", "0"]);
+    let pid = s.child.id();
+    let (start, _) = memory(pid);
+    for k in 0..10 {
+        let (st, _, answer) = s.req(
+            "POST",
+            "/api/v1/missions",
+            Some(("application/json", &body)),
+            &[],
+        );
+        assert_eq!(st, 201, "upload {k}: {}", String::from_utf8_lossy(&answer));
+    }
+    let (end, peak) = memory(pid);
+    let mib = |b: u64| b as f64 / (1 << 20) as f64;
+    eprintln!(
+        "BENCH upload_memory body {:.1} MiB: resident {:.1} -> {:.1} MiB, peak {:.1} MiB",
+        mib(size),
+        mib(start),
+        mib(end),
+        mib(peak)
+    );
+    assert!(
+        end <= start + 3 * size,
+        "resident {:.1} MiB after ten uploads of {:.1} MiB, from {:.1} MiB",
+        mib(end),
+        mib(size),
+        mib(start)
+    );
+    assert!(peak <= start + 6 * size, "peak {:.1} MiB", mib(peak));
+    let (st, list) = s.get("/api/v1/missions?limit=20");
+    assert_eq!(st, 200);
+    let missions = list["missions"].as_array().unwrap();
+    assert_eq!(missions.len(), 10);
+    let uploaded: Value = serde_json::from_slice(&body).unwrap();
+    for m in &missions[..1] {
+        assert_eq!(m["steps"], 660000);
+        let id = m["id"].as_str().unwrap();
+        let (st, _, stored) = s.req("GET", &format!("/api/v1/missions/{id}"), None, &[]);
+        assert_eq!(st, 200);
+        // The stored text reads as the uploaded mission, and is what the
+        // list counts.
+        assert_eq!(m["bytes"], stored.len() as u64, "{m}");
+        assert!(stored.len() as u64 <= size);
+        assert!(serde_json::from_slice::<Value>(&stored).unwrap() == uploaded);
+    }
+}

@@ -9,11 +9,12 @@ use super::error::{parse_json, ApiResult, AppError};
 use super::state::{AppState, Owner};
 use super::store;
 use super::worker::now_ms;
-use axum::body::Bytes;
 use axum::extract::{FromRequest, Multipart, Path, Query, Request, State};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use futures_util::StreamExt;
+use nvector_core::format::leaf::{Integer, List};
 use nvector_core::format::mission_doc::MissionDoc;
 use nvector_core::slam::mission::Mission;
 use serde::Serialize;
@@ -50,7 +51,7 @@ async fn mission_body(req: Request, state: &AppState) -> ApiResult<Vec<u8>> {
                     AppError::new(StatusCode::BAD_REQUEST, "invalid_multipart", e.body_text())
                 })?;
                 let upload = MissionUpload {
-                    file: bytes.to_vec(),
+                    file: Vec::from(bytes),
                 };
                 return Ok(upload.file);
             }
@@ -63,14 +64,40 @@ async fn mission_body(req: Request, state: &AppState) -> ApiResult<Vec<u8>> {
             format!("expected application/json or multipart/form-data, found {ctype}"),
         ));
     }
-    let bytes = Bytes::from_request(req, state).await.map_err(|e| {
-        AppError::new(
-            StatusCode::PAYLOAD_TOO_LARGE,
-            "body_too_large",
-            e.body_text(),
-        )
-    })?;
-    Ok(bytes.to_vec())
+    read_body(req, state.config.max_body).await
+}
+
+/// A request body read into one buffer: its declared `Content-Length`
+/// (within `max`, which the body limit layer has checked) reserved once,
+/// so that a large upload is held once while it is read, not as chunks
+/// plus their concatenation. Past `max`: 413.
+async fn read_body(req: Request, max: usize) -> ApiResult<Vec<u8>> {
+    let declared = req
+        .headers()
+        .get(header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .unwrap_or(0);
+    let mut out = Vec::with_capacity(declared.min(max));
+    let mut stream = req.into_body().into_data_stream();
+    while let Some(chunk) = stream.next().await {
+        let chunk = chunk.map_err(|_| {
+            AppError::new(
+                StatusCode::BAD_REQUEST,
+                "invalid_body",
+                "the request body could not be read to its end",
+            )
+        })?;
+        if out.len() + chunk.len() > max {
+            return Err(AppError::new(
+                StatusCode::PAYLOAD_TOO_LARGE,
+                "body_too_large",
+                format!("the request body is above this service's limit of {max} bytes"),
+            ));
+        }
+        out.extend_from_slice(&chunk);
+    }
+    Ok(out)
 }
 
 /// Validates a mission: this service's limits on steps and (for an upload)
@@ -92,16 +119,8 @@ pub(super) fn check_mission(v: &Value, config: &Config, uploaded: bool) -> ApiRe
         .get("steps")
         .and_then(|s| nvector_core::json::integer(s, "steps", u64::MAX).ok())
     {
-        if n as usize > config.max_steps {
-            return Err(AppError::new(
-                StatusCode::PAYLOAD_TOO_LARGE,
-                "too_large",
-                format!(
-                    "{n} steps is above this service's limit of {}",
-                    config.max_steps
-                ),
-            )
-            .at("steps"));
+        if n > config.max_steps as u64 {
+            return Err(too_many_steps(n, config));
         }
     }
     if let Some(d) = v
@@ -110,19 +129,36 @@ pub(super) fn check_mission(v: &Value, config: &Config, uploaded: bool) -> ApiRe
         .filter(|_| uploaded)
     {
         if d.len() > config.max_detections {
-            return Err(AppError::new(
-                StatusCode::PAYLOAD_TOO_LARGE,
-                "too_large",
-                format!(
-                    "{} detections is above this service's limit of {}",
-                    d.len(),
-                    config.max_detections
-                ),
-            )
-            .at("detections"));
+            return Err(too_many_detections(d.len(), config));
         }
     }
     Mission::from_value(v).map_err(|e| AppError::bad("invalid_mission", e))
+}
+
+/// 413 for a mission of `n` steps, above the service's limit.
+fn too_many_steps(n: u64, config: &Config) -> AppError {
+    AppError::new(
+        StatusCode::PAYLOAD_TOO_LARGE,
+        "too_large",
+        format!(
+            "{n} steps is above this service's limit of {}",
+            config.max_steps
+        ),
+    )
+    .at("steps")
+}
+
+/// 413 for a mission of `n` detections, above the service's limit.
+fn too_many_detections(n: usize, config: &Config) -> AppError {
+    AppError::new(
+        StatusCode::PAYLOAD_TOO_LARGE,
+        "too_large",
+        format!(
+            "{n} detections is above this service's limit of {}",
+            config.max_detections
+        ),
+    )
+    .at("detections")
 }
 
 /// A stored mission, as `POST /missions` and `POST /simulate` answer.
@@ -191,14 +227,35 @@ pub(super) async fn store_mission(
     uploaded: bool,
 ) -> ApiResult<(String, Mission)> {
     let m = check_mission(v, &state.config, uploaded)?;
+    let id = insert_mission(state, owner, &m, v.to_string()).await?;
+    Ok((id, m))
+}
+
+/// Stores a validated mission with its JSON text; its new id.
+async fn insert_mission(
+    state: &AppState,
+    owner: &str,
+    m: &Mission,
+    body: String,
+) -> ApiResult<String> {
+    let row = store::mission_row(String::new(), m, now_ms(), body.len());
+    insert_row(state, owner, row, body).await
+}
+
+/// Stores a mission's row (given a new id here) and JSON text; the id.
+async fn insert_row(
+    state: &AppState,
+    owner: &str,
+    mut row: store::MissionRow,
+    body: String,
+) -> ApiResult<String> {
     let id = format!("m-{}", uuid::Uuid::new_v4().simple());
-    let body = v.to_string();
-    let row = store::mission_row(id.clone(), &m, now_ms(), body.len());
+    row.id = id.clone();
     let owner = owner.to_string();
     state
         .db(move |st| st.insert_mission(&owner, &row, &body))
         .await?;
-    Ok((id, m))
+    Ok(id)
 }
 
 /// Store a mission: a JSON body, or a multipart form with a `file` field.
@@ -238,9 +295,58 @@ pub(super) async fn post_mission(
     req: Request,
 ) -> ApiResult<(StatusCode, Json<MissionSummary>)> {
     let bytes = mission_body(req, &state).await?;
-    let v = parse_json(&bytes)?;
-    let (id, m) = store_mission(&state, &owner, &v, true).await?;
-    Ok((StatusCode::CREATED, Json(mission_summary(&id, &m))))
+    // The mission is held while its row and summary are made, then
+    // dropped before the text is compacted and stored.
+    let m = match typed_upload(&bytes, &state.config) {
+        Some(read) => read?,
+        None => {
+            // The text is not a mission read straight into typed data: the
+            // JSON tree's reading names what is wrong, as it always has.
+            let v = parse_json(&bytes)?;
+            check_mission(&v, &state.config, true)?
+        }
+    };
+    let summary = mission_summary("", &m);
+    let mut row = store::mission_row(String::new(), &m, now_ms(), 0);
+    drop(m);
+    let body = nvector_core::format::compact_json(String::from_utf8(bytes).unwrap_or_default());
+    row.bytes = body.len() as i64;
+    let id = insert_row(&state, &owner, row, body).await?;
+    Ok((StatusCode::CREATED, Json(MissionSummary { id, ..summary })))
+}
+
+/// An uploaded mission read straight from its text into typed data
+/// (`Mission::from_doc` of core's `MissionDoc`): no JSON tree is built,
+/// so a large upload costs its body and its typed data, not the tree's
+/// several times the body. `None` when the text is not valid JSON, repeats
+/// a key, declares another format or does not read as a mission document:
+/// the caller then reads it through a JSON tree ([`parse_json`],
+/// [`check_mission`]), whose errors name the problem and its path (one
+/// message for each kind of error, whichever path a body takes). The
+/// service's limits on steps and detections are checked before the model
+/// is built, as [`check_mission`] does.
+fn typed_upload(bytes: &[u8], config: &Config) -> Option<ApiResult<Mission>> {
+    let text = std::str::from_utf8(bytes).ok()?;
+    serde_json::from_str::<serde::de::IgnoredAny>(text).ok()?;
+    if nvector_core::format::duplicate_key(text).is_some() {
+        return None;
+    }
+    let doc: MissionDoc = nvector_core::format::from_str(text).ok()?;
+    let declared = doc.format.as_ref().and_then(Value::as_str);
+    if super::formats::other_format(declared, "nvector-mission/1").is_some() {
+        return None;
+    }
+    if let Some(Integer::Value(n)) = doc.steps {
+        if n > config.max_steps as u64 {
+            return Some(Err(too_many_steps(n, config)));
+        }
+    }
+    if let Some(List(d)) = &doc.detections {
+        if d.len() > config.max_detections {
+            return Some(Err(too_many_detections(d.len(), config)));
+        }
+    }
+    Some(Mission::from_doc(doc).map_err(|e| AppError::bad("invalid_mission", e)))
 }
 
 /// The page of `GET /missions`.
