@@ -26,7 +26,9 @@ root=$PWD
 
 ids=() descs=() files=() olds=() news=() tests=()
 # mutant ID FILE DESCRIPTION OLD NEW TARGETS...: a target is `lib:FILTER`
-# (core's unit tests whose path contains FILTER) or NAME (core/tests/NAME.rs).
+# (core's unit tests whose path contains FILTER) or PATH (core/tests/PATH.rs:
+# interval_props, its own executable, or a module of `integration`, e.g.
+# shapes/props, run as the filter `shapes::props::`).
 mutant() {
   ids+=("$1") files+=("$2") descs+=("$3") olds+=("$4") news+=("$5")
   shift 5
@@ -36,23 +38,23 @@ mutant() {
 # --- Seven that once survived the tests (each now has a test that kills it)
 mutant a core/src/shapes/shape.rs "tangent shapes called disjoint (< to <= in Shape::disjoint)" \
   '(r1 + r2).hi() < dd.lo()' '(r1 + r2).hi() <= dd.lo()' \
-  lib:shapes::shape shapes_props
+  lib:shapes::shape shapes/props
 mutant b core/src/contractors/motion_chain.rs "outward rounding dropped in the forward sweep step" \
   '(pred(q.lo() + d.lo()), succ(q.hi() + d.hi()))' '(q.lo() + d.lo(), q.hi() + d.hi())' \
-  slam_contractors
-mutant c core/src/slam/robust/mod.rs "outward rounding dropped in the robust evidence sums (add_lo)" \
+  slam/contractors
+mutant c core/src/slam/robust/passes.rs "outward rounding dropped in the robust evidence sums (add_lo)" \
   'let s = pred(a + b);' 'let s = a + b;' \
-  lib:slam::outliers outliers outliers_boundary
+  lib:slam::robust slam/robust/planted slam/robust/boundary
 mutant d core/src/contractors/distance.rs "the distance contractor loses the true range (r cut by one axis)" \
   '*r = r.intersect(sum.sqrt());' '*r = r.intersect(s[0].sqrt());' \
-  lib:slam::distance slam_contractors
+  lib:contractors::distance slam/contractors
 mutant e core/src/shapes/registration.rs "the registration's injectivity filter removed" \
   'if (0..g).any(|h| assign[h] == i && distinct(g, h)) {' \
   'if false && (0..g).any(|h| assign[h] == i && distinct(g, h)) {' \
-  lib:shapes::registration registration_props
+  lib:shapes::registration shapes/registration_props
 mutant f core/src/slam/diagnose.rs "diagnose silently drops a consistent detection" \
   'kept.extend_from_slice(&rest[..lo]);' 'kept.extend_from_slice(&rest[lo.min(1)..lo]);' \
-  lib:slam::diagnose diagnose
+  lib:slam::diagnose slam/diagnose
 mutant g core/src/interval.rs "Interval::add not tightest (an exact sum moved one ulp down)" \
   'if s.is_finite() && two_sum_err(a, b, s) >= 0.0 {' 'if s.is_finite() && two_sum_err(a, b, s) > 0.0 {' \
   lib:interval interval_props
@@ -66,39 +68,39 @@ mutant i core/src/interval.rs "sqrt: the upper bound rounded to nearest" \
   lib:interval interval_props
 mutant j core/src/contractors/bearing.rs "bearing in 3-D: the slant range taken for the horizontal one" \
   'let rho = if p.len() >= 3 {' 'let rho = if p.len() >= 4 {' \
-  lib:slam::bearing slam_contractors
+  lib:contractors::bearing slam/contractors
 mutant k core/src/contractors/motion_chain.rs "unicycle displacement: the motion error dropped on y" \
   '[v * heading.cos() + e, v * heading.sin() + e]' '[v * heading.cos() + e, v * heading.sin()]' \
-  lib:slam::motion_chain slam_contractors
+  lib:contractors::motion_chain slam/contractors
 mutant l core/src/nvector/nvalue.rs "atmost_nvalue: touching intervals counted as two values" \
   'if !placed || l > p_image || l == p_image && domains[i].lo() > p {' \
   'if !placed || l > p_image || l == p_image && domains[i].lo() >= p {' \
-  lib:nvector nvector_props nvector_examples
+  lib:nvector nvector/props nvector/examples
 mutant m core/src/nvector/independent.rs "independent: touching boxes taken as disjoint witnesses" \
   'if !placed || boxes[i as usize][seed_axis].lo() > p {' \
   'if !placed || boxes[i as usize][seed_axis].lo() >= p {' \
-  lib:nvector nvector_props nvector_examples
+  lib:nvector nvector/props nvector/examples
 mutant n core/src/nvector/hitting_set.rs "exact: a value feasible with n - 1 more points refused" \
   'if self.min_cover(all & !m)? < n {' 'if self.min_cover(all & !m)? + 1 < n {' \
-  lib:nvector nvector_props nvector_examples
+  lib:nvector nvector/props nvector/examples
 mutant o core/src/shapes/shape.rs "Shape::disjoint: the hole test uses the nearest centres" \
   '(dd + r1).hi() < r2.lo()' '(r1.hi() + dd.lo()) < r2.lo()' \
-  lib:shapes::shape shapes_props
+  lib:shapes::shape shapes/props
 mutant p core/src/shapes/branch.rs "branch: only the first box of a region tried" \
   'for b in r.boxes() {' 'for b in r.boxes().iter().take(1) {' \
-  lib:shapes::branch shapes_props
+  lib:shapes::branch shapes/props
 mutant q core/src/shapes/chain_sums.rs "chain sums: p(t) - p(s) for s > t without its sign" \
   '*o = if s < t { forward } else { -forward };' '*o = forward;' \
-  lib:shapes::chain_sums frames_planted shapes_props
+  lib:shapes::chain_sums shapes/frames_planted shapes/props
 mutant r core/src/shapes/frames.rs "frames: a piece translated the wrong way" \
   'axes[i] = x[i] + delta[i];' 'axes[i] = x[i] - delta[i];' \
-  lib:shapes::frames frames_planted shapes_props
+  lib:shapes::frames shapes/frames_planted shapes/props
 mutant s core/src/shapes/witnesses.rs "witnesses: an item disjoint from one chosen (not all) added" \
   'if chosen.iter().all(|&c| disjoint(c, i)) {' 'if chosen.iter().any(|&c| disjoint(c, i)) {' \
-  lib:shapes::witnesses shapes_props
+  lib:shapes::witnesses shapes/props
 mutant t core/src/slam/robust/mod.rs "outliers: the q-th instead of the (q+1)-th evidence bound" \
-  '                budget + 1,' '                budget,' \
-  lib:slam::outliers outliers outliers_boundary
+  'votes, budget + 1)' 'votes, budget)' \
+  lib:slam::robust slam/robust/planted slam/robust/boundary
 
 if [ "${1:-}" = --list ]; then
   for x in "${!ids[@]}"; do
@@ -129,7 +131,7 @@ git ls-files -z --cached --others --exclude-standard |
 # left in the target directory by an earlier run, so cargo rebuilds them)
 cd "$copy"
 
-# The test executable of core/tests/NAME.rs: interval_props alone, every
+# The test executable of core/tests/PATH.rs: interval_props alone, every
 # other file a module of `integration` (core/tests/main.rs).
 test_exe() {
   if [ "$1" = interval_props ]; then echo interval_props; else echo integration; fi
@@ -141,7 +143,7 @@ build_args() {
   local out=() t
   for t in $1; do
     case $t in
-      lib:*) out+=(--lib) ;;
+  lib:*) out+=(--lib) ;;
       *) [ -f "core/tests/$t.rs" ] && out+=(--test "$(test_exe "$t")") ;;
     esac
   done
@@ -154,12 +156,12 @@ run_targets() {
   local t
   for t in $1; do
     case $t in
-      lib:*) cargo test -q -p nvector-core --lib -- "${t#lib:}" || return $? ;;
+  lib:*) cargo test -q -p nvector-core --lib -- "${t#lib:}" || return $? ;;
       *) [ -f "core/tests/$t.rs" ] || continue
          if [ "$t" = interval_props ]; then
            cargo test -q -p nvector-core --test interval_props || return $?
          else
-           cargo test -q -p nvector-core --test integration -- "$t::" || return $?
+           cargo test -q -p nvector-core --test integration -- "${t//\//::}::" || return $?
          fi ;;
     esac
   done
