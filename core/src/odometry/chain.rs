@@ -433,7 +433,8 @@ impl OdometryChain {
     /// `tol` (as [`crate::contractors::motion_chain::sweep_forward`] does: what
     /// lies beyond would only move by that much; stopping early is sound,
     /// it only contracts less). `Sweep::Done(steps visited)` or
-    /// `Sweep::Empty(state)`.
+    /// `Sweep::Empty(state)`. The positions as points: the same sweep as
+    /// [`OdometryChain::sweep_forward_flat`] (one implementation).
     pub fn sweep_forward(
         &self,
         pos: &mut [[Interval; 2]],
@@ -442,23 +443,12 @@ impl OdometryChain {
         tol: f64,
     ) -> Sweep {
         self.check_len(pos, heading);
-        let n = self.steps();
-        for i in from..n {
-            let old = (pos[i + 1], heading[i + 1]);
-            match self.forward_step(pos, heading, i) {
-                Err(e) => return Sweep::Empty(e.step),
-                Ok(changed) => {
-                    if !changed || Self::moved(old, &pos[i + 1], heading[i + 1]) <= tol {
-                        return Sweep::Done(i + 1 - from);
-                    }
-                }
-            }
-        }
-        Sweep::Done(n.saturating_sub(from))
+        self.sweep_forward_flat(pos.as_flattened_mut(), heading, from, self.steps(), tol)
     }
 
     /// Backward sweep from state `from` (at most N): steps from-1 down to
-    /// 0, stopping like [`OdometryChain::sweep_forward`].
+    /// 0, stopping like [`OdometryChain::sweep_forward`]; the same sweep as
+    /// [`OdometryChain::sweep_backward_flat`].
     pub fn sweep_backward(
         &self,
         pos: &mut [[Interval; 2]],
@@ -467,19 +457,7 @@ impl OdometryChain {
         tol: f64,
     ) -> Sweep {
         self.check_len(pos, heading);
-        let from = from.min(self.steps());
-        for i in (0..from).rev() {
-            let old = (pos[i], heading[i]);
-            match self.backward_step(pos, heading, i) {
-                Err(e) => return Sweep::Empty(e.step),
-                Ok(changed) => {
-                    if !changed || Self::moved(old, &pos[i], heading[i]) <= tol {
-                        return Sweep::Done(from - i);
-                    }
-                }
-            }
-        }
-        Sweep::Done(from)
+        self.sweep_backward_flat(pos.as_flattened_mut(), heading, from, 0, tol)
     }
 
     /// A forward sweep over the whole chain, then a backward one.
