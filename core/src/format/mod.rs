@@ -43,6 +43,7 @@ mod leaf_schema;
 pub mod mission_doc;
 #[cfg(feature = "openapi")]
 pub mod openapi;
+pub mod result;
 pub mod tdoa;
 mod tracked;
 
