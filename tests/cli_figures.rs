@@ -222,15 +222,22 @@ fn plaza_ids_hidden_shows_the_truth_path_with_axes_and_legend() {
 /// draw: a figure all the same (never a panic), the undrawn boxes counted.
 #[test]
 fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
+    // Every field a result must have (plot reads it through core's types).
+    let options = serde_json::json!({"contractor": "best", "max_rounds": 10, "tolerance": 0});
+    let metrics = |diameter: serde_json::Value| {
+        serde_json::json!({"contractions": 0, "elapsed_ms": 0, "matched_detections": 0,
+            "max_detection_diameter": 0, "max_trajectory_diameter": diameter,
+            "mean_trajectory_diameter": diameter, "rounds": 0})
+    };
     let result = serde_json::json!({
         "format": "nvector-result/1", "mission": "u", "status": "consistent",
-        "options": {"contractor": "best"},
+        "options": options,
         "trajectory": [[["-inf", "inf"], ["-inf", "inf"]], [[-1e308, 1e308], [0, 1]],
                        [[1e300, 1.7e308], [-1.7e308, -1e300]], "empty"],
         "detections": [[[-1e308, 1e308], [5, 6]]],
         "landmarks": [[[0, 0], [0, 0]]],
         "matching": [[0]],
-        "metrics": {"max_trajectory_diameter": "inf", "mean_trajectory_diameter": "inf"}
+        "metrics": metrics("inf".into())
     });
     // A valid mission of 3 steps (plot reads its mission as `run` does),
     // its truth moved to the extremes.
@@ -254,8 +261,9 @@ fn huge_unbounded_and_empty_results_are_drawn_without_failing() {
     // The least result: one empty box, nothing matched.
     let empty = serde_json::json!({
         "format": "nvector-result/1", "mission": "u", "status": "infeasible",
+        "reason": "step 0: empty", "options": options,
         "trajectory": ["empty"], "detections": [], "landmarks": [], "matching": [],
-        "metrics": {}
+        "metrics": metrics(0.into())
     });
     let mut huge_svg = None;
     for (name, r, m) in [("huge", &result, &mission), ("empty", &empty, &mission)] {
@@ -434,7 +442,8 @@ fn odometry2d_figures_draw_the_headings_and_unicycle2d_ones_do_not() {
     // Each wedge's arc, where core's description puts it, is drawn in the
     // headings' colour within 2 pixels; the wedge's apex is the centre of
     // that step's position box (read from the result, not the figure).
-    let fig = nvector_core::figure::describe(&result, Some(&mission));
+    let doc = nvector_core::format::result::read_value(&result).unwrap();
+    let fig = nvector_core::figure::describe(&doc, Some(&mission));
     let wedges = fig
         .layers
         .iter()

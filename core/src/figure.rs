@@ -48,6 +48,7 @@
 //! allocation is sized by a number read from the input (only by the input's
 //! own length or the constants here).
 
+use crate::format::result::{BoxOut, IntervalOut, ResultDoc};
 use serde::Serialize;
 use serde_json::Value;
 
@@ -136,16 +137,13 @@ pub const TRUTH: &str = "#000000";
 pub const HEADINGS: &str = "#e67e22";
 
 /// A box's first two axes `[x0, x1, y0, y1]`, when bounded and non-empty.
-fn rect(b: &Value) -> Option<[f64; 4]> {
-    let a = b.as_array()?;
-    let axis = |v: Option<&Value>| -> Option<(f64, f64)> {
-        let iv = v?.as_array()?;
-        let lo = iv.first()?.as_f64()?;
-        let hi = iv.get(1)?.as_f64()?;
-        (lo.is_finite() && hi.is_finite() && lo <= hi).then_some((lo, hi))
+fn rect(b: &BoxOut) -> Option<[f64; 4]> {
+    let a = b.axes()?;
+    let axis = |x: &crate::interval::Interval| {
+        (x.lo().is_finite() && x.hi().is_finite()).then_some((x.lo(), x.hi()))
     };
-    let (x0, x1) = axis(a.first())?;
-    let (y0, y1) = axis(a.get(1))?;
+    let (x0, x1) = axis(a.first()?)?;
+    let (y0, y1) = axis(a.get(1)?)?;
     Some([x0, x1, y0, y1])
 }
 
@@ -199,12 +197,10 @@ struct Drawable {
 }
 
 impl Drawable {
-    fn read(result: &Value, mission: &Value) -> Drawable {
-        let trajectory: Vec<[f64; 4]> = list(&result["trajectory"])
-            .iter()
-            .filter_map(rect)
-            .collect();
-        let undrawn = match list(&result["trajectory"]).len() - trajectory.len() {
+    fn read(result: &ResultDoc, mission: &Value) -> Drawable {
+        let boxes = &result.trajectory.0;
+        let trajectory: Vec<[f64; 4]> = boxes.iter().filter_map(rect).collect();
+        let undrawn = match boxes.len() - trajectory.len() {
             0 => String::new(),
             1 => " (1 more unbounded or empty, not drawn)".to_string(),
             u => format!(" ({u} more unbounded or empty, not drawn)"),
@@ -212,11 +208,8 @@ impl Drawable {
         Drawable {
             trajectory,
             undrawn,
-            detections: list(&result["detections"])
-                .iter()
-                .filter_map(rect)
-                .collect(),
-            group_boxes: list(&result["landmarks"]).iter().map(rect).collect(),
+            detections: result.detections.0.iter().filter_map(rect).collect(),
+            group_boxes: result.landmarks.0.iter().map(rect).collect(),
             truth_path: list(&mission["truth"]["positions"])
                 .iter()
                 .filter_map(point)
@@ -225,10 +218,12 @@ impl Drawable {
                 .iter()
                 .filter_map(point)
                 .collect(),
-            steps: list(&result["headings"])
+            steps: result
+                .headings
                 .iter()
+                .flat_map(|h| &h.0)
                 .enumerate()
-                .map(|(i, h)| (result["trajectory"].get(i).and_then(rect), heading(h)))
+                .map(|(i, h)| (boxes.get(i).and_then(rect), heading(h)))
                 .collect(),
             truth_poses: list(&mission["truth"]["headings"])
                 .iter()
@@ -288,19 +283,10 @@ impl Drawable {
     }
 }
 
-/// A heading interval `[lo, hi]` (a bound may be `"inf"` or `"-inf"`),
-/// when not empty.
-fn heading(v: &Value) -> Option<[f64; 2]> {
-    let a = v.as_array()?;
-    let bound = |v: Option<&Value>| -> Option<f64> {
-        match v? {
-            Value::String(s) if s == "inf" || s == "+inf" => Some(f64::INFINITY),
-            Value::String(s) if s == "-inf" => Some(f64::NEG_INFINITY),
-            v => v.as_f64().filter(|x| !x.is_nan()),
-        }
-    };
-    let (lo, hi) = (bound(a.first())?, bound(a.get(1))?);
-    (lo <= hi).then_some([lo, hi])
+/// A heading interval `[lo, hi]` (a bound may be infinite), when not
+/// empty.
+fn heading(h: &IntervalOut) -> Option<[f64; 2]> {
+    (!h.0.is_empty()).then_some([h.0.lo(), h.0.hi()])
 }
 
 /// The outline of a heading wedge: the centre `c`, then the arc of radius
@@ -495,17 +481,17 @@ fn trajectory_layer(d: &Drawable, view: [f64; 4]) -> Option<Layer> {
 
 /// Layers 3 and 4: the proved groups (the tightest outlined) and the
 /// landmark regions of those drawn.
-fn group_layers(d: &Drawable, result: &Value, mission: &Value, layers: &mut Vec<Layer>) {
+fn group_layers(d: &Drawable, result: &ResultDoc, mission: &Value, layers: &mut Vec<Layer>) {
     let groups = d.group_boxes.len();
     if groups == 0 {
         return;
     }
     let drawn = tightest(&d.group_boxes);
-    let regions = list(&result["landmark_regions"]);
+    let regions = result.landmark_regions.as_ref().map_or(&[][..], |r| &r.0);
     let region_rects: Vec<[f64; 4]> = drawn
         .iter()
         .filter_map(|&g| regions.get(g))
-        .flat_map(|paving| list(paving).iter().filter_map(rect))
+        .flat_map(|paving| paving.0.iter().filter_map(rect))
         .collect();
     if !region_rects.is_empty() {
         layers.push(rects_layer(
@@ -574,21 +560,16 @@ fn truth_layers(d: &Drawable, layers: &mut Vec<Layer>) {
 
 /// The title (mission, contractor, status) and the subtitle (diameters,
 /// whether the truth is inside).
-fn titles(result: &Value) -> (String, String) {
-    let name = result["mission"].as_str().unwrap_or("result");
-    let contractor = result["options"]["contractor"].as_str().unwrap_or("?");
-    let status = result["status"].as_str().unwrap_or("?");
-    let metrics = &result["metrics"];
-    let diameter = |key: &str| match &metrics[key] {
-        Value::String(s) if s == "inf" => Some(f64::INFINITY),
-        v => v.as_f64(),
-    };
+fn titles(result: &ResultDoc) -> (String, String) {
+    let (name, contractor) = (&result.mission, &result.options.contractor);
+    let status = result.status.name();
+    let metrics = &result.metrics;
     let mut subtitle = format!(
         "max trajectory diameter {}, mean {}",
-        metres(diameter("max_trajectory_diameter")),
-        metres(diameter("mean_trajectory_diameter"))
+        metres(Some(metrics.max_trajectory_diameter.0)),
+        metres(Some(metrics.mean_trajectory_diameter.0))
     );
-    if let Some(inside) = result["score"]["truth_inside"].as_bool() {
+    if let Some(inside) = result.score.as_ref().map(|s| s.truth_inside) {
         subtitle.push_str(if inside {
             ", truth inside"
         } else {
@@ -598,10 +579,12 @@ fn titles(result: &Value) -> (String, String) {
     (format!("{name}: {contractor}, {status}"), subtitle)
 }
 
-/// Describes the figure of `result` (`nvector-result/1`), with the truth of
-/// `mission` (`nvector-mission/1`) when given. Values it cannot draw
-/// (unbounded or empty boxes, non-numbers) are left out, never an error.
-pub fn describe(result: &Value, mission: Option<&Value>) -> Figure {
+/// Describes the figure of `result` (`nvector-result/1`, read through its
+/// types: [`crate::format::result::read`]), with the truth of `mission`
+/// (`nvector-mission/1`) when given. Values it cannot draw (unbounded or
+/// empty boxes; in the mission, non-numbers) are left out, never an
+/// error.
+pub fn describe(result: &ResultDoc, mission: Option<&Value>) -> Figure {
     let null = Value::Null;
     let mission = mission.unwrap_or(&null);
     let d = Drawable::read(result, mission);
@@ -741,6 +724,30 @@ mod tests {
     use super::*;
     use serde_json::json;
 
+    /// A result: `fields` over a whole one with no boxes (status
+    /// consistent); `metrics` entries are set one by one.
+    fn doc(fields: Value) -> ResultDoc {
+        let mut v = json!({
+            "detections": [], "format": "nvector-result/1", "landmarks": [],
+            "matching": [], "mission": "m", "status": "consistent",
+            "metrics": {"contractions": 0, "elapsed_ms": 0.0, "matched_detections": 0,
+                "max_detection_diameter": 0.0, "max_trajectory_diameter": 0.0,
+                "mean_trajectory_diameter": 0.0, "rounds": 0},
+            "options": {"contractor": "best", "max_rounds": 10, "tolerance": 0.0},
+        });
+        for (k, x) in fields.as_object().expect("an object") {
+            match x.as_object() {
+                Some(o) if k == "metrics" => {
+                    for (m, y) in o {
+                        v[k][m] = y.clone();
+                    }
+                }
+                _ => v[k] = x.clone(),
+            }
+        }
+        crate::format::result::read_value(&v).unwrap_or_else(|e| panic!("{e}"))
+    }
+
     fn covered(rects: &[[f64; 4]], x: f64, y: f64) -> bool {
         rects
             .iter()
@@ -757,7 +764,7 @@ mod tests {
                 json!([[c - 1.0, c + 1.0], [c - 1.0, c + 1.0]])
             })
             .collect();
-        let f = describe(&json!({"trajectory": traj}), None);
+        let f = describe(&doc(json!({"trajectory": traj})), None);
         let layer = &f.layers[0];
         assert_eq!(layer.name, "trajectory");
         assert!(layer.label.contains("envelope of the 1000"));
@@ -778,13 +785,13 @@ mod tests {
 
     #[test]
     fn tightest_groups_and_label() {
-        let result = json!({
-            "mission": "m", "status": "consistent", "options": {"contractor": "best"},
+        let result = doc(json!({
             "metrics": {"max_trajectory_diameter": 73.02259, "mean_trajectory_diameter": 0.004},
             "trajectory": [[[0, 1], [0, 1]]],
-            "landmarks": [[[0, 10], [0, 10]], [[1, 2], [1, 2]], [[5, 30], [5, 30]], ["-inf", 1]],
+            "detections": ["empty", "empty", "empty", "empty", "empty", "empty", "empty", "empty"],
+            "landmarks": [[[0, 10], [0, 10]], [[1, 2], [1, 2]], [[5, 30], [5, 30]], [["-inf", 1], [0, 1]]],
             "matching": [[0, 1], [2, 3], [4, 5], [6, 7]],
-        });
+        }));
         let f = describe(&result, Some(&json!({"landmark_count": 4})));
         let groups = f.layers.iter().find(|l| l.name == "groups").unwrap();
         assert_eq!(
@@ -811,13 +818,14 @@ mod tests {
             })
             .collect();
         let f = describe(
-            &json!({"trajectory": traj, "metrics": {"max_trajectory_diameter": "inf"}}),
+            &doc(json!({"trajectory": traj, "metrics": {"max_trajectory_diameter": "inf"}})),
             None,
         );
         let layer = &f.layers[0];
         assert!(layer.rects.len() <= MAX_TRAJECTORY_BOXES + 1);
         assert!(f.subtitle.contains("unbounded"));
-        assert!(describe(&json!(null), Some(&json!(7))).layers.is_empty());
+        let nothing = doc(json!({"trajectory": ["empty"]}));
+        assert!(describe(&nothing, Some(&json!(7))).layers.is_empty());
     }
 
     /// An odometry2d-like result: `n` + 1 steps along x, heading interval
@@ -851,7 +859,7 @@ mod tests {
     #[test]
     fn headings_are_wedges_from_the_box_centres_over_their_intervals() {
         let (result, mission) = odometry_result(400);
-        let f = describe(&result, Some(&mission));
+        let f = describe(&doc(result), Some(&mission));
         let names: Vec<&str> = f.layers.iter().map(|l| l.name).collect();
         assert_eq!(
             names,
@@ -937,17 +945,17 @@ mod tests {
         // A unicycle2d result has no `headings`.
         let (mut result, mission) = odometry_result(20);
         result.as_object_mut().unwrap().remove("headings");
-        let f = describe(&result, Some(&mission));
+        let f = describe(&doc(result), Some(&mission));
         assert!(f
             .layers
             .iter()
             .all(|l| l.name != "headings" && l.name != "truth_headings"));
         assert!(f.layers.iter().all(|l| !l.label.contains("heading")));
-        // Unbounded, huge, empty and non-number headings; an unbounded box.
-        let result = json!({
+        // Unbounded, huge and empty headings; an unbounded box.
+        let result = doc(json!({
             "trajectory": [[[0, 1], [0, 1]], [[0, 1], [0, 1]], [[0, 1], [0, 1]], [["-inf", "inf"], [0, 1]], [[1, 2], [1, 2]], [[1, 2], [1, 2]]],
-            "headings": [["-inf", "inf"], [-1e308, 1e308], [1e300, 1e300], [0, 1], "empty", [2, 1]],
-        });
+            "headings": [["-inf", "inf"], [-1e308, 1e308], [1e300, 1e300], [0, 1], "empty", "empty"],
+        }));
         let f = describe(&result, None);
         let h = f.layers.iter().find(|l| l.name == "headings").unwrap();
         let u = f
@@ -965,7 +973,8 @@ mod tests {
             .flatten()
             .all(|p| p[0].is_finite() && p[1].is_finite()));
         // A view too wide for a finite radius: no wedges, no panic.
-        let wide = json!({"trajectory": [[[-1.7e308, 1.7e308], [0, 1]]], "headings": [[0, 1]]});
+        let wide =
+            doc(json!({"trajectory": [[[-1.7e308, 1.7e308], [0, 1]]], "headings": [[0, 1]]}));
         assert!(describe(&wide, None)
             .layers
             .iter()

@@ -10,6 +10,8 @@ the service, so the same bits), a client of an nvector service, and figures:
 - :func:`import_dataset`, :func:`import_csv`: a mission from a bundled data
   set's directory or from sensor log CSVs, as ``nvector import`` makes it;
 - :class:`Client`: missions and jobs on a running ``nvector serve``;
+- :func:`read_result`: a result (dict or file) read through the core's
+  types of ``nvector-result/1``, each fault named by its JSON path;
 - :func:`plot`: a result drawn with matplotlib, the picture of the CLI's
   figures (:func:`figure`: its description, shared with the CLI).
 
@@ -42,7 +44,7 @@ from . import _nvector
 from ._errors import InputError, JobError, ServiceError
 from ._progress import ProgressBar
 from ._client import Client
-from ._plot import figure, plot
+from ._plot import figure, plot, read_result
 
 __all__ = [
     "contract",
@@ -58,6 +60,7 @@ __all__ = [
     "Client",
     "plot",
     "figure",
+    "read_result",
     "ContractResult",
     "MinDistinct",
     "InputError",

@@ -75,6 +75,10 @@ def import_csv(
 def dumps(obj: Any) -> str:
     """Python objects as compact JSON text, as the nvector binary writes it."""
 
+def read_result(result: Any) -> dict[str, Any]:
+    """A nvector-result/1 result (JSON text or objects) read through core's
+    types, as written; InputError names the path of its first fault."""
+
 def figure(result: Any, mission: Any = None) -> str:
     """The picture of a nvector-result/1 result (with the truth of the
     mission, when given), as JSON text: title, subtitle, axis labels, view

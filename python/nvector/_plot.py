@@ -23,6 +23,7 @@ import textwrap
 from typing import Any, Union
 
 from . import _nvector
+from ._errors import InputError
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -37,6 +38,29 @@ def _read(obj: Any) -> Any:
     return obj
 
 
+def read_result(result: dict[str, Any] | PathLike) -> dict[str, Any]:
+    """A result (``nvector-result/1``: a dict, or the path of a file) read
+    through the compiled core's types, as ``nvector plot`` reads it: the
+    result as a dict, as written (bounds ``"inf"`` / ``"-inf"``, empty
+    boxes ``"empty"``). Raises :class:`InputError` naming the JSON path of
+    the first fault (unknown or missing field, bad interval, a box of
+    another dimension, a group naming no detection, ...) and the file, for
+    a path."""
+    file = None
+    source: Any = result
+    if isinstance(result, (str, os.PathLike)):
+        file = os.fspath(result)
+        with open(file, encoding="utf-8") as f:
+            source = f.read()
+    try:
+        out: dict[str, Any] = _nvector.read_result(source)
+    except InputError as e:
+        if file is None:
+            raise
+        raise InputError(e.path, e.message, file=file) from None
+    return out
+
+
 def figure(result: dict[str, Any] | PathLike, mission: dict[str, Any] | PathLike | None = None) -> dict[str, Any]:
     """The description of a result's picture (a dict), as the CLI draws it:
     ``title``, ``subtitle``, ``x_label``, ``y_label``, ``view`` ([x0, x1,
@@ -45,7 +69,7 @@ def figure(result: dict[str, Any] | PathLike, mission: dict[str, Any] | PathLike
     ``points`` or ``polygons``), ``colour``, ``fill_alpha``, ``line_width``
     (pixels), ``rects`` ([x0, x1, y0, y1]), ``points`` ([x, y]) and
     ``polygons`` (lists of [x, y]; closed; two points make a segment)."""
-    res = _read(result)
+    res = read_result(result)
     mis = _read(mission) if mission is not None else None
     out: dict[str, Any] = json.loads(_nvector.figure(res, mis))
     return out

@@ -440,6 +440,25 @@ fn dumps(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<String> {
     Ok(value.to_string())
 }
 
+/// A result (`nvector-result/1`, JSON text or Python objects) read
+/// through core's types (`nvector_core::format::result`, as `nvector plot`
+/// reads it) and given back as Python objects, as written (bounds
+/// `"inf"` / `"-inf"`, empty boxes `"empty"`); `InputError` names the
+/// JSON path of the first fault.
+#[pyfunction]
+fn read_result<'py>(py: Python<'py>, result: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    use nvector_core::format::result::{read, read_value};
+    let doc = if let Ok(text) = result.cast::<PyString>() {
+        let text = text.to_str()?.to_owned();
+        py.detach(|| read(&text))
+    } else {
+        read_value(&to_value(result, "", 0).map_err(|e| input_error(py, &e))?)
+    }
+    .map_err(|e| input_error(py, &e))?;
+    let v = serde_json::to_value(&doc).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    to_py(py, &v)
+}
+
 /// The picture of a result (`nvector_core::figure::describe`, what the
 /// CLI's figures draw) as JSON text: layers, thinning, colours, legend
 /// labels, title and view. `mission` (or None) adds its truth.
@@ -451,6 +470,8 @@ fn figure(
     mission: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let result = to_value(result, "result", 0).map_err(|e| input_error(py, &e))?;
+    let result =
+        nvector_core::format::result::read_value(&result).map_err(|e| input_error(py, &e))?;
     let mission = match mission {
         Some(m) if !m.is_none() => {
             Some(to_value(m, "mission", 0).map_err(|e| input_error(py, &e))?)
@@ -634,6 +655,7 @@ fn _nvector(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tdoa, m)?)?;
     m.add_function(wrap_pyfunction!(dumps, m)?)?;
     m.add_function(wrap_pyfunction!(figure, m)?)?;
+    m.add_function(wrap_pyfunction!(read_result, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(import_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(import_csv, m)?)?;

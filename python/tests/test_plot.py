@@ -153,33 +153,59 @@ def test_plot_from_files_without_truth(solved: tuple[dict, dict], tmp_path: Path
     plt.close(ax.figure)
 
 
-def test_plot_skips_unbounded_and_empty_boxes() -> None:
-    result = {
-        "trajectory": [[[0, 1], [0, 1]], [["-inf", 1], [0, 1]], "empty"],
+def whole(fields: dict[str, Any]) -> dict[str, Any]:
+    """A result (``nvector-result/1``, all its required fields): ``fields``
+    over one with no boxes; ``metrics`` entries set one by one."""
+    result: dict[str, Any] = {
+        "format": "nvector-result/1",
+        "mission": "m",
+        "status": "consistent",
+        "options": {"contractor": "best", "max_rounds": 10, "tolerance": 0.0},
+        "metrics": {
+            "contractions": 0,
+            "elapsed_ms": 0.0,
+            "matched_detections": 0,
+            "max_detection_diameter": 0.0,
+            "max_trajectory_diameter": 0.0,
+            "mean_trajectory_diameter": 0.0,
+            "rounds": 0,
+        },
         "detections": [],
         "landmarks": [],
         "matching": [],
     }
+    for k, v in fields.items():
+        if k == "metrics":
+            result["metrics"].update(v)
+        else:
+            result[k] = v
+    return result
+
+
+def test_plot_skips_unbounded_and_empty_boxes() -> None:
+    result = whole({"trajectory": [[[0, 1], [0, 1]], [["-inf", 1], [0, 1]], "empty"]})
     ax = nvector.plot(result)
     assert len(ax.collections[0].get_paths()) == 1
     plt.close(ax.figure)
 
 
 def test_plot_huge_values_and_nothing_to_draw(tmp_path: Path) -> None:
-    result = {
-        "mission": "u",
-        "trajectory": [[["-inf", "inf"], ["-inf", "inf"]], [[-1e308, 1e308], [0, 1]], [[1e300, 1.7e308], [-1.7e308, -1e300]]],
-        "detections": [[[-1e308, 1e308], [5, 6]]],
-        "landmarks": [[[0, 0], [0, 0]]],
-        "matching": [[0]],
-        "metrics": {"max_trajectory_diameter": "inf", "mean_trajectory_diameter": "inf"},
-    }
+    result = whole(
+        {
+            "mission": "u",
+            "trajectory": [[["-inf", "inf"], ["-inf", "inf"]], [[-1e308, 1e308], [0, 1]], [[1e300, 1.7e308], [-1.7e308, -1e300]]],
+            "detections": [[[-1e308, 1e308], [5, 6]]],
+            "landmarks": [[[0, 0], [0, 0]]],
+            "matching": [[0]],
+            "metrics": {"max_trajectory_diameter": "inf", "mean_trajectory_diameter": "inf"},
+        }
+    )
     mission = {"truth": {"positions": [[0, 0], [1e308, -1e308], [-1.7e308, 1.7e308]], "landmarks": [[0, 0]]}}
     ax = nvector.plot(result, mission)
     assert "unbounded" in ax.get_title()
     ax.figure.savefig(tmp_path / "huge.png")
     plt.close(ax.figure)
-    ax = nvector.plot({"trajectory": [], "detections": [], "landmarks": [], "matching": []})
+    ax = nvector.plot(whole({"trajectory": ["empty"]}))
     ax.figure.savefig(tmp_path / "empty.png")
     assert ax.get_legend() is None
     plt.close(ax.figure)

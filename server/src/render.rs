@@ -15,6 +15,7 @@
 
 use crate::CliError;
 use nvector_core::figure::{describe, Figure, Kind, Layer};
+use nvector_core::format::result::ResultDoc;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -381,10 +382,15 @@ fn legend<DB: DrawingBackend>(
     Ok(())
 }
 
-/// The figure as SVG text (the service's `?format=svg`): a drawing that
-/// fails (it does not, on a string) gives an SVG stating why.
+/// The figure as SVG text (the service's `?format=svg`): the result read
+/// through its types (`nvector_core::format::result`); a result that does
+/// not read, or a drawing that fails (it does not, on a string), gives an
+/// SVG stating why.
 pub fn render_svg(result: &Value, mission: &Value) -> String {
-    try_render_svg(result, mission).unwrap_or_else(|CliError(e)| {
+    nvector_core::format::result::read_value(result)
+        .map_err(|e| CliError(format!("result: {e}")))
+        .and_then(|result| try_render_svg(&result, mission))
+        .unwrap_or_else(|CliError(e)| {
         format!(
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"600\" height=\"40\"><text x=\"8\" y=\"24\">{}</text></svg>\n",
             e.replace('&', "&amp;").replace('<', "&lt;")
@@ -393,7 +399,7 @@ pub fn render_svg(result: &Value, mission: &Value) -> String {
 }
 
 /// The figure as SVG text.
-pub fn try_render_svg(result: &Value, mission: &Value) -> Result<String, CliError> {
+pub fn try_render_svg(result: &ResultDoc, mission: &Value) -> Result<String, CliError> {
     font_ready()?;
     let fig = describe(result, Some(mission));
     let lay = layout(&fig);
@@ -406,7 +412,7 @@ pub fn try_render_svg(result: &Value, mission: &Value) -> Result<String, CliErro
 }
 
 /// The figure as a PNG image.
-pub fn render_png(result: &Value, mission: &Value) -> Result<Vec<u8>, CliError> {
+pub fn render_png(result: &ResultDoc, mission: &Value) -> Result<Vec<u8>, CliError> {
     font_ready()?;
     let fig = describe(result, Some(mission));
     let lay = layout(&fig);

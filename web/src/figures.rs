@@ -159,7 +159,15 @@ pub fn describe_json(result: &str, mission: &str) -> Result<String, InputError> 
         serde_json::from_str::<serde_json::Value>(text)
             .map_err(|e| InputError::new(what.to_string(), format!("invalid JSON: {e}")))
     };
-    let result = read("result", result)?;
+    // The result through its types, each fault named `result.PATH`.
+    let result =
+        nvector_core::format::result::read_value(&read("result", result)?).map_err(|e| match e
+            .path
+            .as_str()
+        {
+            "" => InputError::new("result", e.message),
+            path => InputError::new(format!("result.{path}"), e.message),
+        })?;
     let mission = if mission.trim().is_empty() {
         None
     } else {
@@ -233,15 +241,20 @@ mod tests {
 
     #[test]
     fn the_figure_is_cores_description() {
-        let result = r#"{"mission": "m", "status": "consistent", "options": {"contractor": "best"},
+        let result = r#"{"format": "nvector-result/1", "mission": "m", "status": "consistent",
+            "options": {"contractor": "best", "max_rounds": 10, "tolerance": 0},
+            "metrics": {"contractions": 0, "elapsed_ms": 0, "matched_detections": 2,
+                "max_detection_diameter": 1, "max_trajectory_diameter": 1,
+                "mean_trajectory_diameter": 1, "rounds": 1},
             "trajectory": [[[0, 1], [0, 1]], [[1, 2], [0, 1]]],
+            "detections": [[[5, 6], [5, 6]], [[5, 6], [5, 6]]],
             "landmarks": [[[5, 6], [5, 6]]], "matching": [[0, 1]],
             "landmark_regions": [[[[5, 5.1], [5, 6]]]]}"#;
         let mission = r#"{"landmark_count": 4, "truth": {"positions": [[0.5, 0.5], [1.5, 0.5]]}}"#;
         let fig: serde_json::Value =
             serde_json::from_str(&describe_json(result, mission).unwrap()).unwrap();
         let want = serde_json::to_value(describe(
-            &serde_json::from_str(result).unwrap(),
+            &nvector_core::format::result::read(result).unwrap(),
             Some(&serde_json::from_str(mission).unwrap()),
         ))
         .unwrap();
@@ -253,11 +266,25 @@ mod tests {
             .iter()
             .map(|l| l["name"].as_str().unwrap())
             .collect();
-        assert_eq!(names, ["trajectory", "regions", "groups", "truth_path"]);
+        assert_eq!(
+            names,
+            [
+                "trajectory",
+                "detections",
+                "regions",
+                "groups",
+                "truth_path"
+            ]
+        );
         let e = describe_json("[1,", "").unwrap_err();
         assert!(e.to_string().contains("result"), "{e}");
-        let e = describe_json("{}", "{").unwrap_err();
+        let e = describe_json(result, "{").unwrap_err();
         assert!(e.to_string().contains("mission"), "{e}");
+        let e = describe_json(&result.replace("[[0, 1]]", "[[0, 7]]"), "").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "result.matching[0][1]: expected a detection index below 2, found 7"
+        );
     }
 
     #[test]

@@ -225,36 +225,42 @@ impl<'de> Visitor<'de> for IntervalVisitor {
             Err(E::invalid_type(Unexpected::Str(v), &self))
         }
     }
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<IntervalIn, A::Error> {
-        let lo = seq.next_element::<Bound>()?;
-        let hi = match lo {
-            Some(_) => seq.next_element::<Bound>()?,
-            None => None,
-        };
-        let mut count = usize::from(lo.is_some()) + usize::from(hi.is_some());
-        if hi.is_some() {
-            while seq.next_element::<IgnoredAny>()?.is_some() {
-                count += 1;
-            }
-        }
-        let (Some(Bound(lo)), Some(Bound(hi)), 2) = (lo, hi, count) else {
-            return Err(de::Error::custom(format!(
-                "an interval is [lo, hi]: expected 2 bounds, found {count}"
-            )));
-        };
-        if lo > hi {
-            return Err(de::Error::custom(format!(
-                "lower bound {} is above upper bound {}",
-                fmt_bound(lo),
-                fmt_bound(hi)
-            )));
-        }
-        let x = Interval::new(lo, hi);
-        if x.is_empty() {
-            return Err(de::Error::custom("an interval must hold a real number"));
-        }
-        Ok(IntervalIn(x))
+    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<IntervalIn, A::Error> {
+        bounds_pair(seq).map(IntervalIn)
     }
+}
+
+/// The elements of `[lo, hi]`: two bounds, lo <= hi, holding a real
+/// number (the input intervals' and the result's).
+pub(super) fn bounds_pair<'de, A: SeqAccess<'de>>(mut seq: A) -> Result<Interval, A::Error> {
+    let lo = seq.next_element::<Bound>()?;
+    let hi = match lo {
+        Some(_) => seq.next_element::<Bound>()?,
+        None => None,
+    };
+    let mut count = usize::from(lo.is_some()) + usize::from(hi.is_some());
+    if hi.is_some() {
+        while seq.next_element::<IgnoredAny>()?.is_some() {
+            count += 1;
+        }
+    }
+    let (Some(Bound(lo)), Some(Bound(hi)), 2) = (lo, hi, count) else {
+        return Err(de::Error::custom(format!(
+            "an interval is [lo, hi]: expected 2 bounds, found {count}"
+        )));
+    };
+    if lo > hi {
+        return Err(de::Error::custom(format!(
+            "lower bound {} is above upper bound {}",
+            fmt_bound(lo),
+            fmt_bound(hi)
+        )));
+    }
+    let x = Interval::new(lo, hi);
+    if x.is_empty() {
+        return Err(de::Error::custom("an interval must hold a real number"));
+    }
+    Ok(x)
 }
 
 impl<'de> Deserialize<'de> for IntervalIn {
@@ -340,6 +346,12 @@ impl<'de, T: Deserialize<'de>> Visitor<'de> for ListVisitor<T> {
 impl<'de, T: Deserialize<'de>> Deserialize<'de> for List<T> {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<List<T>, D::Error> {
         d.deserialize_seq(ListVisitor(PhantomData))
+    }
+}
+
+impl<T: serde::Serialize> serde::Serialize for List<T> {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(ser)
     }
 }
 

@@ -94,9 +94,9 @@ pub struct MissionDoc {
     /// constrains nothing), `error` >= 0.
     #[cfg_attr(
         feature = "openapi",
-        schema(value_type = Option<Vec<HeadingDriftDoc>>, max_items = 1000)
+        schema(value_type = Option<Vec<DriftWindowDoc>>, max_items = 1000)
     )]
-    pub heading_drift: Option<List<HeadingDriftDoc>>,
+    pub heading_drift: Option<List<DriftWindowDoc>>,
     /// odometry2d: bounds on the position drift over windows of k steps
     /// (optional): for every window and every i with i + k <= N, the
     /// Euclidean norm `|p(i+k) - p(i) - sum_{j=i}^{i+k-1} dt speed(j)
@@ -104,9 +104,9 @@ pub struct MissionDoc {
     /// >= 1 (a window longer than N constrains nothing), `error` >= 0.
     #[cfg_attr(
         feature = "openapi",
-        schema(value_type = Option<Vec<MotionDriftDoc>>, max_items = 1000)
+        schema(value_type = Option<Vec<DriftWindowDoc>>, max_items = 1000)
     )]
-    pub motion_drift: Option<List<MotionDriftDoc>>,
+    pub motion_drift: Option<List<DriftWindowDoc>>,
     /// Where the sensor sits in the body frame, `[forward, left]` metres
     /// (default `[0, 0]`). Rule: 2-D models only.
     #[cfg_attr(
@@ -289,16 +289,20 @@ pub struct DetectionDoc {
     pub scan: Option<Integer>,
 }
 
-/// One motion drift window of an odometry2d mission: over any `steps`
-/// consecutive steps the position's residual against the odometry's
-/// displacement (speed and true heading, no per-step error) has a
-/// Euclidean norm of at most `error` (metres), plus the `motion_error` ×
-/// √2 of each step above `exempt_above` when given.
+/// One drift window of an odometry2d mission (`heading_drift`,
+/// `motion_drift`): over any `steps` consecutive steps the residual
+/// against the odometry is at most `error`, plus the per-step error of
+/// each step above `exempt_above` when given. For `heading_drift` the
+/// residual is the heading's against the integrated turn rate (radians;
+/// an exempt step adds its `heading_error`); for `motion_drift` it is the
+/// Euclidean norm of the position's against the displacement of speed
+/// and true heading, no per-step error (metres; an exempt step adds its
+/// `motion_error` × √2).
 #[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
-#[cfg_attr(feature = "openapi", schema(as = MotionDriftWindow))]
+#[cfg_attr(feature = "openapi", schema(as = DriftWindow))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
-pub struct MotionDriftDoc {
+pub struct DriftWindowDoc {
     /// k, the window's length in steps. Rule: >= 1.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(
@@ -306,49 +310,18 @@ pub struct MotionDriftDoc {
         schema(value_type = u64, minimum = 1, maximum = 18446744073709551615u64, required = true)
     )]
     pub steps: Option<Integer>,
-    /// c, the bound on the residual's norm over the window (metres). Rule:
-    /// >= 0.
+    /// The bound on the residual over the window (radians for
+    /// `heading_drift`, metres for `motion_drift`). Rule: >= 0.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(
         feature = "openapi",
         schema(value_type = f64, minimum = 0, required = true)
     )]
     pub error: Option<Finite>,
-    /// The steps whose `motion_error` is above this are exempt: each adds
-    /// its own `motion_error` × √2 to c instead of counting in it
-    /// (default: none exempt). Rules: >= 0; at most 8 distinct values over
-    /// the windows.
-    #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
-    pub exempt_above: Option<Finite>,
-}
-
-/// One heading drift window of an odometry2d mission: over any `steps`
-/// consecutive steps the heading's residual against the integrated turn
-/// rate is at most `error` (radians), plus the `heading_error` of each
-/// step above `exempt_above` when given.
-#[derive(Debug, Default, Deserialize)]
-#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
-#[cfg_attr(feature = "openapi", schema(as = HeadingDriftWindow))]
-#[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
-pub struct HeadingDriftDoc {
-    /// k, the window's length in steps. Rule: >= 1.
-    #[serde(default, deserialize_with = "present")]
-    #[cfg_attr(
-        feature = "openapi",
-        schema(value_type = u64, minimum = 1, maximum = 18446744073709551615u64, required = true)
-    )]
-    pub steps: Option<Integer>,
-    /// b, the bound on the residual over the window (radians). Rule: >= 0.
-    #[serde(default, deserialize_with = "present")]
-    #[cfg_attr(
-        feature = "openapi",
-        schema(value_type = f64, minimum = 0, required = true)
-    )]
-    pub error: Option<Finite>,
-    /// The steps whose `heading_error` is above this are exempt: each adds
-    /// its own `heading_error` to b instead of counting in it (default:
-    /// none exempt). Rules: >= 0; at most 8 distinct values over the
-    /// windows.
+    /// The steps whose per-step error (`heading_error`, `motion_error`) is
+    /// above this are exempt: each adds its own (`motion_error` × √2 for
+    /// `motion_drift`) to `error` instead of counting in it (default: none
+    /// exempt). Rules: >= 0; at most 8 distinct values over the windows.
     #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
     pub exempt_above: Option<Finite>,
 }
@@ -410,6 +383,5 @@ object_only!(MissionDoc);
 object_only!(InputsDoc);
 object_only!(ChannelDoc);
 object_only!(DetectionDoc);
-object_only!(HeadingDriftDoc);
-object_only!(MotionDriftDoc);
+object_only!(DriftWindowDoc);
 object_only!(TruthDoc);

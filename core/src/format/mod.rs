@@ -5,6 +5,9 @@
 //! [`from_value`]). Validation into the domain types (a mission's steps,
 //! dimensions, ids) is a separate step, in the modules that own those
 //! types (`slam::mission`): these types only say what the JSON looks like.
+//! The exception is a result ([`result`]): it is read back for drawing,
+//! into no domain type, so its few rules between fields are checked
+//! beside its types (`ResultDoc::check`).
 //!
 //! Messages: serde's own wording is rewritten to the project's ("expected
 //! an object, found an array", "unknown field `x` (expected one of: a,
@@ -43,6 +46,7 @@ mod leaf_schema;
 pub mod mission_doc;
 #[cfg(feature = "openapi")]
 pub mod openapi;
+pub mod result;
 pub mod tdoa;
 mod tracked;
 

@@ -5,8 +5,8 @@ use super::mission::Mission;
 use super::robust::relaxed_intersection;
 use super::types::SolveOptions;
 pub use super::types::{Solution, SolveStatus};
+use crate::format::result::{BoxView, Diameter, IntervalOut, Metrics, Options, Score};
 use crate::ibox::IntervalBox;
-use crate::interval::Interval;
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 use serde_json::Value;
@@ -155,69 +155,6 @@ impl<'a> ResultView<'a> {
     }
 }
 
-/// A bound: a number, or `"inf"` / `"-inf"` ([`crate::json::bound_to_json`]).
-struct Bound(f64);
-
-impl Serialize for Bound {
-    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-        if self.0.is_finite() {
-            // One zero, as in `bound_to_json`.
-            ser.serialize_f64(self.0 + 0.0)
-        } else if self.0 > 0.0 {
-            ser.serialize_str("inf")
-        } else {
-            ser.serialize_str("-inf")
-        }
-    }
-}
-
-/// A box: an array of `[lo, hi]`, or `"empty"` ([`crate::json::box_to_json`]).
-struct BoxView<'a>(&'a [Interval]);
-
-impl Serialize for BoxView<'_> {
-    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-        if self.0.iter().any(|x| x.is_empty()) {
-            return ser.serialize_str("empty");
-        }
-        ser.collect_seq(self.0.iter().map(|x| [Bound(x.lo()), Bound(x.hi())]))
-    }
-}
-
-/// An interval: `[lo, hi]`, or `"empty"`.
-struct IntervalView(Interval);
-
-impl Serialize for IntervalView {
-    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-        if self.0.is_empty() {
-            return ser.serialize_str("empty");
-        }
-        [Bound(self.0.lo()), Bound(self.0.hi())].serialize(ser)
-    }
-}
-
-/// A diameter: a number, or `"inf"` when unbounded.
-struct Diameter(f64);
-
-#[cfg(feature = "openapi")]
-impl utoipa::PartialSchema for Diameter {
-    fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
-        crate::format::openapi::output::diameter()
-    }
-}
-
-#[cfg(feature = "openapi")]
-impl utoipa::ToSchema for Diameter {}
-
-impl Serialize for Diameter {
-    fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-        if self.0.is_finite() {
-            ser.serialize_f64(self.0)
-        } else {
-            ser.serialize_str("inf")
-        }
-    }
-}
-
 impl ResultView<'_> {
     /// One paving per entry of `landmarks`: the group's landmark region
     /// when the shapes contractor built one (each box cut to the
@@ -270,7 +207,7 @@ impl Serialize for ResultView<'_> {
         o.serialize_entry("detections", &Seq(m.det.iter().map(|b| BoxView(b.axes()))))?;
         o.serialize_entry("format", "nvector-result/1")?;
         if !m.heading.is_empty() {
-            o.serialize_entry("headings", &Seq(m.heading.iter().map(|&h| IntervalView(h))))?;
+            o.serialize_entry("headings", &Seq(m.heading.iter().map(|&h| IntervalOut(h))))?;
         }
         let landmarks = s.landmarks();
         if !m.landmark_regions.is_empty() {
@@ -291,7 +228,7 @@ impl Serialize for ResultView<'_> {
         o.serialize_entry(
             "options",
             &Options {
-                contractor: self.options.association.name(),
+                contractor: self.options.association.name().to_string(),
                 max_rounds: self.options.max_rounds,
                 tolerance: self.options.tolerance,
             },
@@ -330,77 +267,6 @@ impl<I: Iterator<Item = T> + Clone, T: Serialize> Serialize for Seq<I> {
     fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
         ser.collect_seq(self.0.clone())
     }
-}
-
-/// Figures of a SLAM result.
-// `metrics`, fields in sorted order.
-#[derive(Serialize)]
-#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
-#[cfg_attr(feature = "openapi", schema(as = SlamMetrics))]
-struct Metrics {
-    /// Contractor calls.
-    contractions: u64,
-    /// Wall time (ms).
-    elapsed_ms: f64,
-    /// With `max_outliers` > 0: the detections proved false (their boxes
-    /// are empty).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "openapi", schema(value_type = Option<u64>, nullable = false))]
-    false_detections: Option<usize>,
-    /// Detections in a proved group.
-    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
-    matched_detections: usize,
-    /// Largest detection box diameter.
-    max_detection_diameter: Diameter,
-    /// odometry2d only: the widest heading interval.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    max_heading_width: Option<Diameter>,
-    /// Largest trajectory box diameter.
-    max_trajectory_diameter: Diameter,
-    /// Mean trajectory box diameter.
-    mean_trajectory_diameter: Diameter,
-    /// With `max_outliers` > 0: the drops of `max_outliers` that nothing
-    /// proved accounts for (neither detections proved false nor sets of
-    /// which every reading drops one). While above 0, every detection is
-    /// dropped by some reading, so `matching` is empty.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "openapi", schema(value_type = Option<u64>, nullable = false))]
-    open_outliers: Option<usize>,
-    /// Propagation rounds.
-    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
-    rounds: u32,
-}
-
-/// The options a SLAM job ran with.
-// `options`, fields in sorted order.
-#[derive(Serialize)]
-#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
-#[cfg_attr(feature = "openapi", schema(as = SlamOptions))]
-struct Options {
-    /// The association mode.
-    #[cfg_attr(feature = "openapi", schema(value_type = String))]
-    contractor: &'static str,
-    /// The round cap.
-    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
-    max_rounds: u32,
-    /// The change below which a bound counts as fixed.
-    tolerance: f64,
-}
-
-/// A result against the mission's truth.
-// `score`, fields in sorted order.
-#[derive(Serialize)]
-#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
-#[cfg_attr(feature = "openapi", schema(as = SlamScore))]
-struct Score {
-    /// Pairs grouped that truth says differ.
-    #[cfg_attr(feature = "openapi", schema(value_type = u64))]
-    matching_errors: usize,
-    /// The fraction of detections in a group of size >= 2.
-    matching_recall: f64,
-    /// Every true position and landmark lies in its box.
-    truth_inside: bool,
 }
 
 /// The result of a SLAM job (`nvector-result/1`) as the OpenAPI document
@@ -534,6 +400,7 @@ impl utoipa::ToSchema for ResultView<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::interval::Interval;
     use crate::json::box_to_json;
     use crate::slam::mission::Mission;
     use crate::slam::model::Model;
@@ -720,7 +587,9 @@ mod tests {
                     want["metrics"]["elapsed_ms"] = json!(12.5);
                     let mut got = Vec::new();
                     write_result(&mut got, &m, &options, &s, 12.5).unwrap();
-                    assert_eq!(String::from_utf8(got).unwrap(), want.to_string());
+                    let got = String::from_utf8(got).unwrap();
+                    assert_eq!(got, want.to_string());
+                    read_back(&got);
                     want["metrics"]["elapsed_ms"] = json!(0.0);
                     assert_eq!(result_json(&m, &options, &s), want);
                 }
@@ -736,10 +605,19 @@ mod tests {
         let options = SolveOptions::default();
         let mut got = Vec::new();
         write_result(&mut got, &m, &options, &s, 0.0).unwrap();
-        assert_eq!(
-            String::from_utf8(got).unwrap(),
-            reference_result_json(&m, &options, &s).to_string()
-        );
+        let got = String::from_utf8(got).unwrap();
+        assert_eq!(got, reference_result_json(&m, &options, &s).to_string());
+        read_back(&got);
+    }
+
+    /// A result written is read by the format's types
+    /// ([`crate::format::result`]) and written by them again to the same
+    /// bytes, from the text and from its parsed value.
+    fn read_back(text: &str) {
+        let doc = crate::format::result::read(text).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(serde_json::to_string(&doc).unwrap(), text);
+        let v: Value = serde_json::from_str(text).unwrap();
+        assert_eq!(crate::format::result::read_value(&v).unwrap(), doc);
     }
 
     /// Three detections of one landmark at (2, 2) by truth, the third a

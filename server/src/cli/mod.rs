@@ -10,7 +10,6 @@ pub mod contract;
 pub mod import;
 pub mod measure;
 pub mod plot;
-mod result_check;
 pub mod run;
 pub mod serve;
 pub mod simulate;

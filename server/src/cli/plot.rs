@@ -3,6 +3,7 @@
 
 use crate::render::{render_png, try_render_svg};
 use crate::CliError;
+use nvector_core::format::result::ResultDoc;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -20,7 +21,7 @@ pub struct Args {
 }
 
 /// Writes the figure to `path` (.svg or .png).
-pub fn write_plot(path: &Path, result: &Value, mission: &Value) -> Result<(), CliError> {
+pub fn write_plot(path: &Path, result: &ResultDoc, mission: &Value) -> Result<(), CliError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -39,26 +40,29 @@ pub fn write_plot(path: &Path, result: &Value, mission: &Value) -> Result<(), Cl
     std::fs::write(path, bytes).map_err(|e| CliError(format!("writing {}: {e}", path.display())))
 }
 
-fn read_json(path: &PathBuf) -> Result<Value, CliError> {
+/// The result file read through the format's types
+/// (`nvector_core::format::result`): the first fault named by its JSON
+/// path (a result edited by hand or cut short is refused, not drawn).
+fn read_result(path: &PathBuf) -> Result<ResultDoc, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError(format!("reading {}: {e}", path.display())))?;
-    serde_json::from_str(&text)
-        .map_err(|e| CliError(format!("{}: invalid JSON: {e}", path.display())))
+    nvector_core::format::result::read(&text)
+        .map_err(|e| CliError(format!("{}: {e}", path.display())))
 }
 
 /// Why `result` does not look computed from `mission`, if it does not: the
 /// names differ, or the trajectory or detections do not count as the
 /// mission's steps and detections.
-pub fn mismatch(result: &Value, mission: &Value) -> Option<String> {
+pub fn mismatch(result: &ResultDoc, mission: &Value) -> Option<String> {
     let mut why = Vec::new();
-    if let (Some(r), Some(m)) = (result["mission"].as_str(), mission["name"].as_str()) {
+    if let (r, Some(m)) = (&result.mission, mission["name"].as_str()) {
         if r != m {
             why.push(format!(
                 "the result is of mission \"{r}\", the mission is \"{m}\""
             ));
         }
     }
-    if let (Some(t), Some(steps)) = (result["trajectory"].as_array(), mission["steps"].as_u64()) {
+    if let (t, Some(steps)) = (&result.trajectory.0, mission["steps"].as_u64()) {
         if t.len() as u64 != steps.saturating_add(1) {
             why.push(format!(
                 "the result has {} trajectory boxes, the mission {} steps (expected {})",
@@ -68,10 +72,7 @@ pub fn mismatch(result: &Value, mission: &Value) -> Option<String> {
             ));
         }
     }
-    if let (Some(d), Some(md)) = (
-        result["detections"].as_array(),
-        mission["detections"].as_array(),
-    ) {
+    if let (d, Some(md)) = (&result.detections.0, mission["detections"].as_array()) {
         if d.len() != md.len() {
             why.push(format!(
                 "the result has {} detections, the mission {}",
@@ -85,9 +86,7 @@ pub fn mismatch(result: &Value, mission: &Value) -> Option<String> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<(), CliError> {
-    let result = read_json(&a.result)?;
-    super::result_check::check_result(&result)
-        .map_err(|e| CliError(format!("{}: {e}", a.result.display())))?;
+    let result = read_result(&a.result)?;
     // The mission as `run` reads it (unknown fields, bad bounds, a step
     // count its file cannot hold are refused, named); the figure reads
     // the value.

@@ -101,6 +101,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if let Some(path) = &a.plot {
         let mut result = result_json(&mission, &options, &solution);
         result["metrics"]["elapsed_ms"] = serde_json::json!(elapsed_ms);
+        let result = nvector_core::format::result::read_value(&result)
+            .map_err(|e| CliError(format!("the result read back: {e}")))?;
         super::plot::write_plot(path, &result, &mission.to_value())?;
     }
     // The result goes out as it is serialized: a 10^6-step trajectory never

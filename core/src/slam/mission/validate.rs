@@ -6,9 +6,7 @@
 use super::{Detection, Mission, Model, Points, Truth, FORMAT, MAX_STEPS};
 use crate::error::InputError;
 use crate::format::leaf::{wrong_count, Finite, Integer, List, PointsIn};
-use crate::format::mission_doc::{
-    ChannelDoc, DetectionDoc, HeadingDriftDoc, MissionDoc, MotionDriftDoc, TruthDoc,
-};
+use crate::format::mission_doc::{ChannelDoc, DetectionDoc, DriftWindowDoc, MissionDoc, TruthDoc};
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::json;
@@ -242,7 +240,7 @@ fn drift_windows(
     Ok(out)
 }
 
-fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<DriftWindow>, InputError> {
+fn heading_drift(list: List<DriftWindowDoc>) -> Result<Vec<DriftWindow>, InputError> {
     let fields = list
         .0
         .into_iter()
@@ -250,7 +248,7 @@ fn heading_drift(list: List<HeadingDriftDoc>) -> Result<Vec<DriftWindow>, InputE
     drift_windows("heading_drift", fields)
 }
 
-fn motion_drift(list: List<MotionDriftDoc>) -> Result<Vec<MotionWindow>, InputError> {
+fn motion_drift(list: List<DriftWindowDoc>) -> Result<Vec<MotionWindow>, InputError> {
     let fields = list
         .0
         .into_iter()
