@@ -83,6 +83,7 @@ fn world(seed: u64, n: usize, b: Planted, lms: &[(u64, [f64; 2])]) -> Run {
                     bearing: Some(dy.atan2(dx) - th[i] + rng.sym(b.bearing)),
                     scan: Some(i as u64),
                     landmark: Some(id),
+                    line: 0,
                 });
             }
         }
@@ -100,12 +101,14 @@ fn world(seed: u64, n: usize, b: Planted, lms: &[(u64, [f64; 2])]) -> Run {
             has_heading: true,
         }),
         landmarks: Some(lms.to_vec()),
+        paths: Default::default(),
     }
 }
 
 fn options() -> Options {
     Options {
         relative_margin: 0.1,
+        bound_margins: Vec::new(),
         sensor_offset: [0.0, 0.0],
         assume_heading: None,
         source: "planted".into(),

@@ -32,15 +32,36 @@ pub fn upper_line(points: &[(f64, f64)], slope_lo: f64, slope_hi: f64) -> (f64, 
     if points.is_empty() {
         return (f64::NEG_INFINITY, 0.0);
     }
-    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len() as f64;
-    let a_of = |b: f64| {
-        points
-            .iter()
-            .map(|&(x, y)| y - b * x)
-            .fold(f64::NEG_INFINITY, f64::max)
+    upper_line_skipping(points, slope_lo, slope_hi, 0)
+}
+
+/// [`upper_line`] over every point but the `skip` highest above the line
+/// (the bands of an outlier share): for a slope b the least a is the
+/// (skip + 1)-th largest `y - b·x`. With `skip` > 0 the mean need not be
+/// convex in b and the search finds a local optimum; the points left above
+/// are counted afterwards on the final bands. An empty set gives
+/// `(-inf, b)`.
+pub fn upper_line_skipping(
+    points: &[(f64, f64)],
+    slope_lo: f64,
+    slope_hi: f64,
+    skip: usize,
+) -> (f64, f64) {
+    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len().max(1) as f64;
+    let skip = skip.min(points.len().saturating_sub(1));
+    let mut buf = vec![0.0; points.len()];
+    let mut a_of = |b: f64| {
+        if points.is_empty() {
+            return f64::NEG_INFINITY;
+        }
+        for (x, &(px, py)) in buf.iter_mut().zip(points) {
+            *x = py - b * px;
+        }
+        let k = buf.len() - 1 - skip;
+        *buf.select_nth_unstable_by(k, f64::total_cmp).1
     };
     let (mut lo, mut hi) = (slope_lo, slope_hi);
-    for _ in 0..100 {
+    for _ in 0..200 {
         let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
         if a_of(m1) + m1 * mean_x <= a_of(m2) + m2 * mean_x {
             hi = m2;
@@ -49,7 +70,8 @@ pub fn upper_line(points: &[(f64, f64)], slope_lo: f64, slope_hi: f64) -> (f64, 
         }
     }
     let b = (lo + hi) / 2.0;
-    // The largest y - b x at the final b: every point is on or below.
+    // The (skip + 1)-th largest y - b x at the final b: every other point
+    // is on or below.
     (a_of(b), b)
 }
 
