@@ -9,7 +9,7 @@
 //! heading 0.
 
 use crate::calibrate::data::{Model, Run};
-use crate::calibrate::residuals::speed_interval;
+use crate::calibrate::residuals::{speed_interval, step_turn};
 use crate::sensor_model::SensorModel;
 use crate::ImportError;
 use serde_json::{json, Value};
@@ -144,13 +144,11 @@ fn motion_fields(
     ex: &mut Extrapolated,
 ) {
     let me = &model.motion_error;
-    m["motion_error"] = run
-        .speed
-        .iter()
-        .map(|v| {
-            let x = (v * run.dt).abs();
+    m["motion_error"] = (0..run.steps())
+        .map(|i| {
+            let x = (run.speed[i] * run.dt).abs();
             ex.motion += usize::from(beyond(me.fit.span, x));
-            json!(me.at(x))
+            json!(me.at_step(x, step_turn(run, i)))
         })
         .collect();
     if run.model != Model::Odometry2d {

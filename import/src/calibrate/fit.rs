@@ -104,6 +104,7 @@ pub fn affine_bound(
     Bound {
         constant: a,
         slope: b,
+        turn_slope: 0.0,
         of,
         fit: Fit {
             method: method.into(),
@@ -120,6 +121,54 @@ pub fn affine_bound(
             },
         },
     }
+}
+
+/// A bound over `(distance, turn, |residual|)` points: the narrowest
+/// plane `a + b·distance + c·turn` (b, c in [0, 4]) over every point, the
+/// smallest mean over the points, times 1 + F, plus `margin`. The mean is
+/// convex in (b, c) (a maximum of linear functions plus a linear one), so
+/// its least value over b is convex in c: a ternary search over c of
+/// [`upper_line`]'s search over b finds it. Without any turn (every point
+/// at turn 0) it is [`affine_bound`]'s line, `turn_slope` 0.
+pub fn plane_bound(
+    points: &[(f64, f64, f64)],
+    relative_margin: f64,
+    margin: f64,
+    method: &str,
+) -> Bound {
+    let line =
+        |c: f64| -> Vec<(f64, f64)> { points.iter().map(|p| (p.0, p.2 - c * p.1)).collect() };
+    let n = points.len().max(1) as f64;
+    let (mean_d, mean_t) = points
+        .iter()
+        .fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
+    let cost = |c: f64| {
+        let (a, b) = upper_line(&line(c), 0.0, 4.0);
+        a + b * mean_d + c * mean_t
+    };
+    let c = if points.iter().all(|p| p.1 == 0.0) {
+        0.0
+    } else {
+        let (mut lo, mut hi) = (0.0f64, 4.0f64);
+        for _ in 0..40 {
+            let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+            if cost(m1) <= cost(m2) {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        (lo + hi) / 2.0
+    };
+    let mut bound = affine_bound(&line(c), Measure::Distance, relative_margin, margin, method);
+    bound.turn_slope = c * (1.0 + relative_margin);
+    bound.fit.largest_residual = points.iter().map(|p| p.2).fold(0.0, f64::max);
+    let inside = points
+        .iter()
+        .filter(|p| p.2 <= bound.at_step(p.0, p.1))
+        .count();
+    bound.fit.coverage = inside as f64 / n;
+    bound
 }
 
 /// A residual band over `(x, residual)` points: the narrowest lines above

@@ -245,7 +245,7 @@ fn speed(run: &Run, o: &Options) -> SpeedBound {
     }
 }
 
-/// The per-step motion error, affine in the step's distance.
+/// The per-step motion error, affine in the step's distance and turn.
 fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<Bound> {
     let f = o.margin("motion_error");
     let min = fit::min_samples(f);
@@ -254,11 +254,12 @@ fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<Bound> {
         Model::Odometry2d => 0.0,
     };
     let pts = res::motion_steps(run, &|x| s.error.at(x), s.sign_unknown_below, eh);
-    let r: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    let r: Vec<f64> = pts.iter().map(|p| p.2).collect();
     if pts.len() >= min && r.iter().all(|&x| x <= margins::ZERO) {
         // Inside the model's intervals everywhere: no error to bound.
+        let line: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.2)).collect();
         return Ok(fit::affine_bound(
-            &pts,
+            &line,
             Measure::Distance,
             f,
             margins::MOTION,
@@ -271,8 +272,8 @@ fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<Bound> {
         min,
         "steps with a true position at both ends",
     )?;
-    Ok(fit::affine_bound(&pts, Measure::Distance, f, margins::MOTION,
-        "per axis, the distance from the true step to the hull of dt s (cos h, sin h) over the step's speed and heading intervals (odometry2d: the true heading), over the steps with a true position at both ends, bounded by the narrowest line in the step's distance |speed| dt (slope >= 0), x (1 + F) + margin"))
+    Ok(fit::plane_bound(&pts, f, margins::MOTION,
+        "per axis, the distance from the true step to the hull of dt s (cos h, sin h) over the step's speed and heading intervals (odometry2d: the true heading), over the steps with a true position at both ends, bounded by the narrowest plane in the step's distance |speed| dt and turn (odometry2d |turn_rate| dt, unicycle2d the measured heading's change; slopes >= 0), x (1 + F) + margin"))
 }
 
 /// A window's bound from its residuals, or why not.
@@ -311,11 +312,14 @@ fn windows(
     m: &Bound,
     refused: &mut Vec<Refusal>,
 ) -> (Vec<Window>, Vec<Window>) {
-    let mean =
-        |b: &Bound, xs: &[f64]| xs.iter().map(|&x| b.at(x)).sum::<f64>() / xs.len().max(1) as f64;
-    let turns: Vec<f64> = run.rotation.iter().map(|w| (w * run.dt).abs()).collect();
-    let dists: Vec<f64> = run.speed.iter().map(|v| (v * run.dt).abs()).collect();
-    let (per_h, per_m) = (mean(h, &turns), mean(m, &dists) * std::f64::consts::SQRT_2);
+    let n = run.steps().max(1) as f64;
+    let turns: Vec<f64> = (0..run.steps()).map(|i| res::step_turn(run, i)).collect();
+    let per_h = turns.iter().map(|&x| h.at(x)).sum::<f64>() / n;
+    let per_m = (0..run.steps())
+        .map(|i| m.at_step((run.speed[i] * run.dt).abs(), turns[i]))
+        .sum::<f64>()
+        / n
+        * std::f64::consts::SQRT_2;
     let turn = res::prefix_turn(run);
     let mut hw = Vec::new();
     for k in heading_windows().filter(|&k| k <= run.steps()) {
@@ -534,7 +538,7 @@ pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
     let m = &model.motion_error;
     out.push(count(
         "motion_error".into(),
-        pts.iter().map(|p| p.1 - m.at(p.0)),
+        pts.iter().map(|p| p.2 - m.at_step(p.0, p.1)),
     ));
     let turn = res::prefix_turn(run);
     for w in &model.heading_drift {
