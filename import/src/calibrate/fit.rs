@@ -47,12 +47,30 @@ pub fn upper_line_skipping(
     slope_hi: f64,
     skip: usize,
 ) -> (f64, f64) {
+    line_search(points, slope_lo, slope_hi, skip, 200)
+}
+
+/// The search of [`upper_line_skipping`] with `iterations` steps of the
+/// ternary search (each keeps 2/3 of the slope's interval).
+fn line_search(
+    points: &[(f64, f64)],
+    slope_lo: f64,
+    slope_hi: f64,
+    skip: usize,
+    iterations: usize,
+) -> (f64, f64) {
     let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len().max(1) as f64;
     let skip = skip.min(points.len().saturating_sub(1));
     let mut buf = vec![0.0; points.len()];
     let mut a_of = |b: f64| {
         if points.is_empty() {
             return f64::NEG_INFINITY;
+        }
+        if skip == 0 {
+            return points
+                .iter()
+                .map(|&(x, y)| y - b * x)
+                .fold(f64::NEG_INFINITY, f64::max);
         }
         for (x, &(px, py)) in buf.iter_mut().zip(points) {
             *x = py - b * px;
@@ -61,7 +79,7 @@ pub fn upper_line_skipping(
         *buf.select_nth_unstable_by(k, f64::total_cmp).1
     };
     let (mut lo, mut hi) = (slope_lo, slope_hi);
-    for _ in 0..200 {
+    for _ in 0..iterations {
         let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
         if a_of(m1) + m1 * mean_x <= a_of(m2) + m2 * mean_x {
             hi = m2;
@@ -142,15 +160,18 @@ pub fn plane_bound(
     let (mean_d, mean_t) = points
         .iter()
         .fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
+    // 100 steps on the slope (4 (2/3)^100 < 1e-17), 30 on the turn's
+    // (4 (2/3)^30 < 1e-5): any slopes give a bound holding every point,
+    // the search only makes it narrower.
     let cost = |c: f64| {
-        let (a, b) = upper_line(&line(c), 0.0, 4.0);
+        let (a, b) = line_search(&line(c), 0.0, 4.0, 0, 100);
         a + b * mean_d + c * mean_t
     };
     let c = if points.iter().all(|p| p.1 == 0.0) {
         0.0
     } else {
         let (mut lo, mut hi) = (0.0f64, 4.0f64);
-        for _ in 0..40 {
+        for _ in 0..30 {
             let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
             if cost(m1) <= cost(m2) {
                 hi = m2;
@@ -267,6 +288,61 @@ mod tests {
         let c = affine_bound(&pts, Measure::None, 0.1, 0.005, "m");
         assert_eq!((c.constant, c.slope), (0.3 * 1.1 + 0.005, 0.0));
         assert_eq!(c.fit.span, [0.0, 0.0]);
+    }
+
+    /// The plane holds every point (zero, tiny and huge values); points
+    /// planted on a known plane give that plane back; without turns it is
+    /// the line.
+    #[test]
+    fn the_plane_bound_holds_every_point() {
+        let mut rng = Rng::new(11);
+        for scale in [0.0, 1e-300, 1e-9, 1.0, 1e6, 1e100] {
+            let pts: Vec<(f64, f64, f64)> = (0..300)
+                .map(|_| {
+                    (
+                        rng.range(0.0, 0.05) * scale,
+                        rng.range(0.0, 0.05) * scale,
+                        rng.range(0.0, 1.0) * scale,
+                    )
+                })
+                .collect();
+            let b = plane_bound(&pts, 0.1, 0.0, "p");
+            assert!(b.slope >= 0.0 && b.turn_slope >= 0.0 && b.constant >= 0.0);
+            for &(d, t, y) in &pts {
+                let v = b.at_step(d, t);
+                assert!(v >= y * (1.0 - 1e-12), "scale {scale}: {v} < {y}");
+            }
+            assert_eq!(b.fit.coverage, 1.0, "scale {scale}");
+        }
+        // On the plane 0.01 + 0.5 d + 2 t: that plane.
+        let on: Vec<(f64, f64, f64)> = (0..=10)
+            .flat_map(|i| (0..=10).map(move |j| (i as f64 * 0.01, j as f64 * 0.01, 0.0)))
+            .map(|(d, t, _)| (d, t, 0.01 + 0.5 * d + 2.0 * t))
+            .collect();
+        let b = plane_bound(&on, 0.0, 0.0, "p");
+        assert!(
+            (b.constant - 0.01).abs() < 1e-6
+                && (b.slope - 0.5).abs() < 1e-4
+                && (b.turn_slope - 2.0).abs() < 1e-4,
+            "{} {} {}",
+            b.constant,
+            b.slope,
+            b.turn_slope
+        );
+        // No turn: the line of affine_bound, turn_slope 0.
+        let flat = [(0.0, 0.0, 0.1), (1.0, 0.0, 0.3), (2.0, 0.0, 0.2)];
+        let p = plane_bound(&flat, 0.1, 0.005, "m");
+        let l = affine_bound(
+            &[(0.0, 0.1), (1.0, 0.3), (2.0, 0.2)],
+            Measure::Distance,
+            0.1,
+            0.005,
+            "m",
+        );
+        assert_eq!(
+            (p.constant, p.slope, p.turn_slope),
+            (l.constant, l.slope, 0.0)
+        );
     }
 
     #[test]
