@@ -905,18 +905,17 @@ pub fn calibration_csvs(dir: &Path, span: Span) -> Result<Csvs, ImportError> {
         truth: "t,x,y,heading\n".into(),
         landmarks: "id,x,y\n".into(),
     };
-    for i in a..end {
-        let _ = writeln!(out.log, "{},{},{}", t[i], log.v[i], log.om[i]);
+    for ((ti, v), om) in t[a..end].iter().zip(&log.v[a..end]).zip(&log.om[a..end]) {
+        let _ = writeln!(out.log, "{ti},{v},{om}");
     }
-    for i in a..=end {
-        let p = log.position[i];
+    let truth = log.position[a..=end].iter().zip(&log.heading[a..=end]);
+    for (ti, (p, h)) in t[a..=end].iter().zip(truth) {
         let _ = writeln!(
             out.truth,
-            "{},{},{},{}",
-            t[i],
+            "{ti},{},{},{}",
             convert::cell(p.map(|p| p[0])),
             convert::cell(p.map(|p| p[1])),
-            convert::cell(log.heading[i])
+            convert::cell(*h)
         );
     }
     for d in dets.iter().filter(|d| (a..=end).contains(&d.step)) {
