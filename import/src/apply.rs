@@ -9,9 +9,9 @@
 //! heading 0.
 
 use crate::calibrate::data::{Model, Run};
-use crate::calibrate::residuals::speed_interval;
+use crate::calibrate::residuals::{speed_interval, step_turn};
 use crate::sensor_model::SensorModel;
-use crate::Error;
+use crate::ImportError;
 use serde_json::{json, Value};
 
 /// Half-width of the initial position box around the truth's first
@@ -52,13 +52,16 @@ struct Extrapolated {
 }
 
 /// The mission of `run` under `model`.
-pub fn mission(run: &Run, model: &SensorModel, o: &Options) -> Result<Value, Error> {
+pub fn mission(run: &Run, model: &SensorModel, o: &Options) -> Result<Value, ImportError> {
     if model.model != run.model.name() {
-        return Err(Error(format!(
-            "the sensor model is for {}, the log is read as {}",
-            model.model,
-            run.model.name()
-        )));
+        return Err(ImportError::setting(
+            "sensor_model",
+            format!(
+                "the sensor model is for {}, the log is read as {}",
+                model.model,
+                run.model.name()
+            ),
+        ));
     }
     let mut ex = Extrapolated::default();
     let mut m = json!({
@@ -141,13 +144,11 @@ fn motion_fields(
     ex: &mut Extrapolated,
 ) {
     let me = &model.motion_error;
-    m["motion_error"] = run
-        .speed
-        .iter()
-        .map(|v| {
-            let x = (v * run.dt).abs();
+    m["motion_error"] = (0..run.steps())
+        .map(|i| {
+            let x = (run.speed[i] * run.dt).abs();
             ex.motion += usize::from(beyond(me.fit.span, x));
-            json!(me.at(x))
+            json!(me.at_step(x, step_turn(run, i)))
         })
         .collect();
     if run.model != Model::Odometry2d {
@@ -187,7 +188,7 @@ fn detections(
     model: &SensorModel,
     o: &Options,
     ex: &mut Extrapolated,
-) -> Result<Vec<Value>, Error> {
+) -> Result<Vec<Value>, ImportError> {
     let mut out = Vec::with_capacity(run.detections.len());
     for (j, d) in run.detections.iter().enumerate() {
         let (range, outside) = model.range.interval(d.range, d.range);
@@ -200,15 +201,15 @@ fn detections(
                 v["bearing"] = json!(bearing);
             }
             (None, Some(_)) | (Some(_), None) => {
-                return Err(Error(format!(
-                    "detection {j} (step {}): {}",
-                    d.step,
+                return Err(at_detection(
+                    run,
+                    j,
                     if model.bearing.is_some() {
                         "no bearing, but the sensor model has a bearing band (every detection needs one)"
                     } else {
                         "a bearing, but the sensor model has no bearing band (calibrate on a run with bearings)"
-                    }
-                )))
+                    },
+                ))
             }
             (None, None) => {}
         }
@@ -225,22 +226,31 @@ fn detections(
 
 /// A detection's operator id: its landmark's index among the sorted ids of
 /// the landmarks file, or the id itself without one.
-fn operator_id(run: &Run, j: usize) -> Result<u64, Error> {
+fn operator_id(run: &Run, j: usize) -> Result<u64, ImportError> {
     let d = &run.detections[j];
-    let id = d.landmark.ok_or_else(|| {
-        Error(format!(
-            "--operator: detection {j} (step {}) has no landmark id",
-            d.step
-        ))
-    })?;
+    let id = d
+        .landmark
+        .ok_or_else(|| at_detection(run, j, "--operator: no landmark id"))?;
     match &run.landmarks {
         None => Ok(id),
         Some(_) => run.landmark_index(id).map(|i| i as u64).ok_or_else(|| {
-            Error(format!(
-                "--operator: detection {j} (step {}) names landmark {id}, which the landmarks file does not hold",
-                d.step
-            ))
+            at_detection(
+                run,
+                j,
+                &format!("--operator: landmark {id} is not in the landmarks file"),
+            )
         }),
+    }
+}
+
+/// An error at detection j: its file and line when it was read from one.
+fn at_detection(run: &Run, j: usize, what: &str) -> ImportError {
+    let d = &run.detections[j];
+    let message = format!("detection {j} (step {}): {what}", d.step);
+    if d.line > 0 {
+        ImportError::line(&run.paths.detections, d.line, message)
+    } else {
+        ImportError::setting("detections", message)
     }
 }
 

@@ -1,8 +1,10 @@
-//! The CSV reader of the importers: numbers with file, line and column in
-//! every error.
+//! The CSV reader of the importers and of the calibration: numbers with
+//! file, line and column in every error. One reader for every file: the
+//! data sets' logs, the generic import's CSVs and the calibration's four
+//! files, whose empty cells are the truth's gaps ([`read_cells`]).
 
 use crate::ImportError;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A parsed CSV: header and numeric rows, with file/line/column in errors.
 pub struct Csv {
@@ -12,9 +14,71 @@ pub struct Csv {
     pub rows: Vec<Vec<f64>>,
 }
 
-/// Reads a CSV with a header row (comma or whitespace separated).
+/// A CSV with a header whose cells may be empty (`None`), each row with
+/// its line number (1-based, as an editor counts).
+pub struct Table {
+    /// The file, named in errors.
+    pub path: PathBuf,
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows, with their line numbers.
+    pub rows: Vec<(usize, Vec<Option<f64>>)>,
+}
+
+impl Table {
+    /// The index of column `name`, or an error naming the file.
+    pub fn column(&self, name: &str) -> Result<usize, ImportError> {
+        self.optional(name).ok_or_else(|| {
+            ImportError::file(&self.path, format!("missing column '{name}' in the header"))
+        })
+    }
+
+    /// The index of column `name`, when the header has it.
+    pub fn optional(&self, name: &str) -> Option<usize> {
+        self.header.iter().position(|h| h == name)
+    }
+
+    /// The number in a row's column, or an error naming file, line and
+    /// column when the cell is empty.
+    pub fn number(&self, row: usize, col: usize) -> Result<f64, ImportError> {
+        let (line, cells) = &self.rows[row];
+        cells[col].ok_or_else(|| {
+            ImportError::line(
+                &self.path,
+                *line,
+                format!("column {} ({}) is empty", col + 1, self.header[col]),
+            )
+        })
+    }
+
+    /// The columns `names`, every cell required.
+    pub fn numbers(&self, names: &[&str]) -> Result<Vec<Vec<f64>>, ImportError> {
+        let idx: Vec<usize> = names
+            .iter()
+            .map(|n| self.column(n))
+            .collect::<Result<_, _>>()?;
+        let mut out = vec![Vec::with_capacity(self.rows.len()); names.len()];
+        for r in 0..self.rows.len() {
+            for (o, &c) in out.iter_mut().zip(&idx) {
+                o.push(self.number(r, c)?);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Reads a CSV with a header row (comma or whitespace separated), every
+/// cell a finite number.
 pub fn read_csv(path: &Path, header: bool) -> Result<Csv, ImportError> {
-    read_csv_with(path, header, 0)
+    let t = read_rows(path, header, 0, false)?;
+    Ok(Csv {
+        header: t.header,
+        rows: t
+            .rows
+            .into_iter()
+            .map(|(_, r)| r.into_iter().flatten().collect())
+            .collect(),
+    })
 }
 
 /// The rows of a CSV without a header whose rows have at least `columns`
@@ -22,10 +86,26 @@ pub fn read_csv(path: &Path, header: bool) -> Result<Csv, ImportError> {
 /// example, is an error naming its file and line, not an index out of
 /// bounds later.
 pub fn read_table(path: &Path, columns: usize) -> Result<Vec<Vec<f64>>, ImportError> {
-    Ok(read_csv_with(path, false, columns)?.rows)
+    let t = read_rows(path, false, columns, false)?;
+    Ok(t.rows
+        .into_iter()
+        .map(|(_, r)| r.into_iter().flatten().collect())
+        .collect())
 }
 
-fn read_csv_with(path: &Path, header: bool, min_columns: usize) -> Result<Csv, ImportError> {
+/// Reads a CSV with a header row whose empty cells are `None` (the
+/// calibration's files: the truth's gaps); any other cell must be a
+/// finite number.
+pub fn read_cells(path: &Path) -> Result<Table, ImportError> {
+    read_rows(path, true, 0, true)
+}
+
+fn read_rows(
+    path: &Path,
+    header: bool,
+    min_columns: usize,
+    empty_ok: bool,
+) -> Result<Table, ImportError> {
     let text = std::fs::read_to_string(path).map_err(|e| ImportError::read(path, e))?;
     let mut lines = text
         .lines()
@@ -46,6 +126,20 @@ fn read_csv_with(path: &Path, header: bool, min_columns: usize) -> Result<Csv, I
     } else {
         Vec::new()
     };
+    if let Some((i, h)) = head
+        .iter()
+        .enumerate()
+        .find(|(i, h)| head[..*i].contains(h))
+    {
+        return Err(ImportError::file(
+            path,
+            format!(
+                "column '{h}' appears twice in the header (columns {} and {})",
+                head.iter().position(|x| x == h).unwrap_or(0) + 1,
+                i + 1
+            ),
+        ));
+    }
     let mut rows = Vec::new();
     for (i, l) in lines {
         let cells = split(l);
@@ -72,6 +166,10 @@ fn read_csv_with(path: &Path, header: bool, min_columns: usize) -> Result<Csv, I
         }
         let mut row = Vec::with_capacity(cells.len());
         for (c, cell) in cells.iter().enumerate() {
+            if empty_ok && cell.is_empty() {
+                row.push(None);
+                continue;
+            }
             let x: f64 = cell
                 .parse()
                 .ok()
@@ -83,11 +181,15 @@ fn read_csv_with(path: &Path, header: bool, min_columns: usize) -> Result<Csv, I
                     name: head.get(c).cloned().unwrap_or_default(),
                     text: cell.clone(),
                 })?;
-            row.push(x);
+            row.push(Some(x));
         }
-        rows.push(row);
+        rows.push((i + 1, row));
     }
-    Ok(Csv { header: head, rows })
+    Ok(Table {
+        path: path.to_path_buf(),
+        header: head,
+        rows,
+    })
 }
 
 /// The columns of a CSV by name, or an error naming the file and column.

@@ -195,16 +195,3 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) -> Resul
 
 #[cfg(test)]
 mod tests;
-
-/// An error of the import crate: a message naming what is wrong and where
-/// (file, line, column, flag).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Error(pub String);
-
-impl std::fmt::Display for Error {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Error {}

@@ -3,6 +3,7 @@
 //! docs/cmu-plaza1.md derives every bound from the data; `meta` records
 //! the figures.
 
+use crate::calibrate::convert::{self, Csvs, Span};
 use crate::csv::read_table;
 use crate::ImportError;
 use serde_json::{json, Value};
@@ -156,6 +157,23 @@ struct CmuRanges {
     landmarks: Vec<[f64; 2]>,
 }
 
+/// The pose (row of the truth) nearest in time to `t`; the earlier one
+/// on a tie.
+fn nearest_pose(times: &[f64], t: f64) -> usize {
+    match times.binary_search_by(|x| x.total_cmp(&t)) {
+        Ok(i) => i,
+        Err(0) => 0,
+        Err(i) if i >= times.len() => times.len() - 1,
+        Err(i) => {
+            if t - times[i - 1] < times[i] - t {
+                i - 1
+            } else {
+                i
+            }
+        }
+    }
+}
+
 fn cmu_ranges(td: &[Vec<f64>], tl: &[Vec<f64>], gt: &[Vec<f64>]) -> Result<CmuRanges, ImportError> {
     let times: Vec<f64> = gt.iter().map(|r| r[0]).collect();
     let mut ids: Vec<i64> = tl.iter().map(|r| r[0] as i64).collect();
@@ -168,18 +186,7 @@ fn cmu_ranges(td: &[Vec<f64>], tl: &[Vec<f64>], gt: &[Vec<f64>]) -> Result<CmuRa
     };
     for r in td {
         let (t, id, range) = (r[0], r[2] as i64, r[3]);
-        let step = match times.binary_search_by(|x| x.total_cmp(&t)) {
-            Ok(i) => i,
-            Err(0) => 0,
-            Err(i) if i >= times.len() => times.len() - 1,
-            Err(i) => {
-                if t - times[i - 1] < times[i] - t {
-                    i - 1
-                } else {
-                    i
-                }
-            }
-        };
+        let step = nearest_pose(&times, t);
         let (Ok(li), Some([bx, by])) = (ids.binary_search(&id), beacon(id)) else {
             return Err(ImportError::file(
                 "Plaza1_TD.txt",
@@ -270,14 +277,18 @@ impl RangeBand {
     }
 }
 
-/// The CMU Plaza 1 dataset as a mission (beacon ids hidden unless
-/// `operator`), with the ground truth. `outlier_share` P: the range band
-/// holds the central (1 - P) share of the residuals, and `max_outliers` is
-/// the count left outside (0: every range inside, no `max_outliers`).
-pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, ImportError> {
-    crate::check_outlier_share(outlier_share)?;
-    // The columns read below: DR time, distance, heading change; GT time,
-    // x, y, heading; TD time, (unused), beacon id, range; TL id, x, y.
+/// The four files of Plaza 1, each row with at least the columns read:
+/// DR time, distance, heading change; GT time, x, y, heading; TD time,
+/// (unused), beacon id, range; TL id, x, y.
+struct PlazaFiles {
+    dr: Vec<Vec<f64>>,
+    gt: Vec<Vec<f64>>,
+    td: Vec<Vec<f64>>,
+    tl: Vec<Vec<f64>>,
+}
+
+/// Reads the files of Plaza 1 and checks their row counts.
+fn plaza_files(dir: &Path) -> Result<PlazaFiles, ImportError> {
     let dr = read_table(&dir.join("Plaza1_DR.txt"), 3)?;
     let gt = read_table(&dir.join("Plaza1_GT.csv"), 4)?;
     let td = read_table(&dir.join("Plaza1_TD.txt"), 4)?;
@@ -304,6 +315,16 @@ pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value
             ),
         ));
     }
+    Ok(PlazaFiles { dr, gt, td, tl })
+}
+
+/// The CMU Plaza 1 dataset as a mission (beacon ids hidden unless
+/// `operator`), with the ground truth. `outlier_share` P: the range band
+/// holds the central (1 - P) share of the residuals, and `max_outliers` is
+/// the count left outside (0: every range inside, no `max_outliers`).
+pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, ImportError> {
+    crate::check_outlier_share(outlier_share)?;
+    let PlazaFiles { dr, gt, td, tl } = plaza_files(dir)?;
     let inputs = cmu_inputs(&dr, &gt);
     let motion = cmu_motion(&dr, &cmu_residuals(&gt, &inputs));
     let ranges = cmu_ranges(&td, &tl, &gt)?;
@@ -378,7 +399,51 @@ fn cmu_document(
             "stationary_steps": motion.stationary_steps,
             "anomalous_steps": motion.anomalous_steps,
             "dt_note": "one step per odometry row; speed is metres per step",
+            "calibration": {
+                "source": "CMU Plaza 1, this run",
+                "same_run": true,
+                "method": "oracle: every bound fitted on this run's own truth (docs/cmu-plaza1.md): the anomalous steps found by the truth get their own motion error, the range band spans every residual; the heading error is stated (0.02 rad), the truth's heading being the integrated odometry; `nvector calibrate` fits the per-robot bounds that transfer to other runs (docs/calibration.md)",
+            },
         },
         "truth": {"positions": positions},
     })
+}
+
+/// Plaza 1 in `dir` over `span` (of the poses' times) as the
+/// calibration's four CSVs (docs/calibration.md), read as [`cmu_plaza`]
+/// reads it: the log `t,speed,heading` (unicycle2d), one row per odometry
+/// row at the time of the pose it starts from, the speed its distance over
+/// the span's mean time step (so that dt × speed is the distance), the
+/// heading integrated from the truth's first heading ([`cmu_inputs`]); the
+/// detections `t,range,landmark` at the time of the nearest pose; the
+/// truth `t,x,y,heading` as the data set gives it; the beacons `id,x,y`.
+pub fn calibration_csvs(dir: &Path, span: Span) -> Result<Csvs, ImportError> {
+    use std::fmt::Write as _;
+    let PlazaFiles { dr, gt, td, tl } = plaza_files(dir)?;
+    let times: Vec<f64> = gt.iter().map(|r| r[0]).collect();
+    let (a, b) = convert::rows(&times[..dr.len()], span, &dir.join("Plaza1_GT.csv"))?;
+    let dt = (times[b - 1] - times[a]) / (b - 1 - a) as f64;
+    let heading = cmu_inputs(&dr, &gt).heading;
+    let mut out = Csvs {
+        log: "t,speed,heading\n".into(),
+        detections: "t,range,landmark\n".into(),
+        truth: "t,x,y,heading\n".into(),
+        landmarks: "id,x,y\n".into(),
+    };
+    for i in a..b {
+        let _ = writeln!(out.log, "{},{},{}", times[i], dr[i][1] / dt, heading[i]);
+    }
+    for r in &gt[a..=b] {
+        let _ = writeln!(out.truth, "{},{},{},{}", r[0], r[1], r[2], r[3]);
+    }
+    for r in &td {
+        let step = nearest_pose(&times, r[0]);
+        if (a..=b).contains(&step) {
+            let _ = writeln!(out.detections, "{},{},{}", times[step], r[3], r[2]);
+        }
+    }
+    for r in &tl {
+        let _ = writeln!(out.landmarks, "{},{},{}", r[0], r[1], r[2]);
+    }
+    Ok(out)
 }

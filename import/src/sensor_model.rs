@@ -128,14 +128,24 @@ pub struct Bound {
     pub slope: f64,
     /// What x is.
     pub of: Measure,
+    /// `motion_error`: its growth per radian of the step's turn as the log
+    /// reports it (odometry2d |turn_rate|·dt, unicycle2d the measured
+    /// heading's change to the next step), >= 0; 0 for the other bounds.
+    #[serde(default)]
+    pub turn_slope: f64,
     /// How it was fitted.
     pub fit: Fit,
 }
 
 impl Bound {
-    /// The bound at x.
+    /// The bound at x (a step without turn).
     pub fn at(&self, x: f64) -> f64 {
         self.constant + self.slope * x
+    }
+
+    /// The bound of a step at x that turns by `turn` (rad).
+    pub fn at_step(&self, x: f64, turn: f64) -> f64 {
+        self.at(x) + self.turn_slope * turn
     }
 }
 
@@ -276,12 +286,12 @@ impl SensorModel {
     /// the bound).
     pub fn check_numbers(&self) -> Result<(), String> {
         let bound = |name: &str, b: &Bound| {
-            if b.constant.is_finite() && b.constant >= 0.0 && b.slope.is_finite() && b.slope >= 0.0
-            {
+            let ok = |x: f64| x.is_finite() && x >= 0.0;
+            if ok(b.constant) && ok(b.slope) && ok(b.turn_slope) {
                 Ok(())
             } else {
                 Err(format!(
-                    "{name}: constant and slope must be finite numbers >= 0"
+                    "{name}: constant, slope and turn_slope must be finite numbers >= 0"
                 ))
             }
         };
@@ -381,6 +391,7 @@ mod tests {
         let b = Bound {
             constant: f64::INFINITY,
             slope: 0.0,
+            turn_slope: 0.0,
             of: Measure::None,
             fit: fit([0.0, 0.0]),
         };

@@ -42,6 +42,10 @@ fn plaza_planting_keeps_the_real_detections_and_plants_false_ones() {
     )
     .unwrap();
     let planted = import_dataset(DataSet::CmuPlaza, &data("cmu-plaza1"), &o).unwrap();
+    // The oracle, labelled: every bound fitted on the run's own truth.
+    let c = &plain["meta"]["calibration"];
+    assert_eq!(c["same_run"], true);
+    assert!(c["method"].as_str().unwrap().starts_with("oracle"), "{c}");
     let real = plain["detections"].as_array().unwrap();
     let dets = planted["detections"].as_array().unwrap();
     let matching = planted["truth"]["matching"].as_array().unwrap();
@@ -97,6 +101,7 @@ fn woods_and_locards_name_their_data_in_this_repository() {
     )
     .unwrap();
     let source = woods["meta"]["source"].as_str().unwrap();
+    assert_eq!(woods["meta"]["calibration"]["same_run"], true);
     assert!(
         source.contains("data/utias-lost-in-the-woods") && !source.contains(".."),
         "{source}"
@@ -244,4 +249,65 @@ fn csv_errors_name_the_file_the_line_and_the_setting() {
     let a = small_csv(&dir, "t,range_lo,range_hi,landmark\n1.0,4.0,4.5,3\n");
     let e = import_csv(&a).unwrap_err();
     assert!(matches!(e, ImportError::InvalidMission(_)), "{e}");
+}
+
+/// The converter writes what the importer reads: Plaza 1 as the
+/// calibration's CSVs, read back by the calibration's reader, has the
+/// mission's steps, detections (step by step) and true positions.
+#[test]
+fn plaza_converts_to_the_calibration_csvs_its_mission_is_made_of() {
+    use crate::calibrate::convert::Span;
+    use crate::calibrate::data::{read_run, Files, Model};
+    let dir = data("cmu-plaza1");
+    let mission = import_dataset(DataSet::CmuPlaza, &dir, &DataSetImport::default()).unwrap();
+    let out = temp_dir("plaza-csvs");
+    crate::plaza::calibration_csvs(&dir, Span::ALL)
+        .unwrap()
+        .write(&out)
+        .unwrap();
+    let files = Files {
+        log: &out.join("log.csv"),
+        detections: &out.join("detections.csv"),
+        truth: Some(&out.join("truth.csv")),
+        landmarks: Some(&out.join("landmarks.csv")),
+    };
+    let run = read_run(Model::Unicycle2d, &files).unwrap();
+    assert_eq!(run.steps() as u64, mission["steps"].as_u64().unwrap());
+    let steps: Vec<u64> = mission["detections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["step"].as_u64().unwrap())
+        .collect();
+    let read: Vec<u64> = run.detections.iter().map(|d| d.step as u64).collect();
+    assert_eq!(read, steps);
+    let truth = run.truth.as_ref().unwrap();
+    for (k, p) in mission["truth"]["positions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        let q = truth.positions[k].unwrap();
+        assert_eq!(
+            [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()],
+            q,
+            "pose {k}"
+        );
+    }
+    // A span without 2 rows is refused, naming the file.
+    let e = crate::plaza::calibration_csvs(
+        &dir,
+        Span {
+            from: 1e12,
+            to: 2e12,
+        },
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(
+        e.contains("Plaza1_GT.csv") && e.contains("fewer than 2 rows"),
+        "{e}"
+    );
 }

@@ -30,6 +30,7 @@
 //! - `landmark_min_separation`: the smallest true distance between two
 //!   tubes less a margin; `scan`: detections at the same time.
 
+use crate::calibrate::convert::{self, Csvs, Span};
 use crate::csv::{columns, read_csv, Csv};
 use crate::ImportError;
 use serde_json::{json, Value};
@@ -124,39 +125,11 @@ fn flagged_bounds(residual: &[f64], flag: f64, margin: f64) -> (Vec<f64>, f64, u
     (per_step, ordinary, flagged)
 }
 
-/// The line `y <= a + b·x` over every point `(x, y)` but the `skip`
-/// highest above it, with the smallest mean `a + b·mean(x)` (the bound's
-/// mean over the points): for a slope b the least a is the (skip + 1)-th
-/// largest `y - b·x`, and with `skip` = 0 the mean is convex in b (a
-/// maximum of linear functions plus a linear one), so a ternary search
-/// over b in [-2, 2] finds it (with `skip` > 0 it finds a local optimum;
-/// the points left above are counted afterwards on the final bands).
-/// Returns `(a, b)`.
+/// The line of a band over every point but the `skip` highest above it,
+/// slope in [-2, 2]: the calibration's fit
+/// ([`crate::calibrate::fit::upper_line_skipping`]).
 fn fit_upper_line(points: &[(f64, f64)], skip: usize) -> (f64, f64) {
-    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len().max(1) as f64;
-    let skip = skip.min(points.len().saturating_sub(1));
-    let mut buf = vec![0.0; points.len()];
-    let mut a_of = |b: f64| {
-        if points.is_empty() {
-            return f64::NEG_INFINITY;
-        }
-        for (x, &(px, py)) in buf.iter_mut().zip(points) {
-            *x = py - b * px;
-        }
-        let k = buf.len() - 1 - skip;
-        *buf.select_nth_unstable_by(k, f64::total_cmp).1
-    };
-    let (mut lo, mut hi) = (-2.0f64, 2.0f64);
-    for _ in 0..200 {
-        let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
-        if a_of(m1) + m1 * mean_x <= a_of(m2) + m2 * mean_x {
-            hi = m2;
-        } else {
-            lo = m1;
-        }
-    }
-    let b = (lo + hi) / 2.0;
-    (a_of(b), b)
+    crate::calibrate::fit::upper_line_skipping(points, -2.0, 2.0, skip)
 }
 
 /// The CSV files of the data set, with the columns the import reads.
@@ -868,6 +841,11 @@ fn woods_document(
             "initial_position_error": e0,
             "initial_heading_error": eh,
             "headings": "the truth's theta unwrapped: a real heading, not taken modulo 2 pi",
+            "calibration": {
+                "source": "UTIAS Lost in the Woods, this run",
+                "same_run": true,
+                "method": "oracle: every bound fitted on this run's own truth (docs/utias-woods.md): per-step bounds with the flagged steps found by the truth, drift windows and bands over the whole run; `nvector calibrate` fits the per-robot bounds that transfer to other runs (docs/calibration.md)",
+            },
         },
         "truth": {
             "positions": log.position.iter().map(|p| p.map_or(Value::Null, |p| json!(p))).collect::<Vec<_>>(),
@@ -901,4 +879,54 @@ fn woods_meta(meta: &mut Value, dets: &[WoodsDetection], bands: &WoodsBands, sep
     if let (Some(meta), Value::Object(fields)) = (meta.as_object_mut(), fields) {
         meta.extend(fields);
     }
+}
+
+/// The data set in `dir` over `span` as the calibration's four CSVs
+/// (docs/calibration.md), read as [`utias_woods`] reads it: the log
+/// `t,speed,turn_rate` (odometry2d), one row per step; the detections
+/// `t,range,bearing,scan,landmark` (scan: the step, the detections of one
+/// time); the truth `t,x,y,heading` at the span's steps and the end pose,
+/// the heading unwrapped into a real number, the rows the motion capture
+/// marks invalid left empty; the tubes `id,x,y`.
+pub fn calibration_csvs(dir: &Path, span: Span) -> Result<Csvs, ImportError> {
+    use std::fmt::Write as _;
+    let files = woods_files(dir)?;
+    let log = woods_log(&files)?;
+    let (landmarks, _) = woods_landmarks(&files)?;
+    let dets = woods_detections(&files, &log, &landmarks)?;
+    let t: Vec<f64> = (0..=log.n)
+        .map(|k| files.odo.1.rows[k][files.odo.2[0]])
+        .collect();
+    let (a, b) = convert::rows(&t, span, &files.odo.0)?;
+    let end = b.min(log.n);
+    let mut out = Csvs {
+        log: "t,speed,turn_rate\n".into(),
+        detections: "t,range,bearing,scan,landmark\n".into(),
+        truth: "t,x,y,heading\n".into(),
+        landmarks: "id,x,y\n".into(),
+    };
+    for ((ti, v), om) in t[a..end].iter().zip(&log.v[a..end]).zip(&log.om[a..end]) {
+        let _ = writeln!(out.log, "{ti},{v},{om}");
+    }
+    let truth = log.position[a..=end].iter().zip(&log.heading[a..=end]);
+    for (ti, (p, h)) in t[a..=end].iter().zip(truth) {
+        let _ = writeln!(
+            out.truth,
+            "{ti},{},{},{}",
+            convert::cell(p.map(|p| p[0])),
+            convert::cell(p.map(|p| p[1])),
+            convert::cell(*h)
+        );
+    }
+    for d in dets.iter().filter(|d| (a..=end).contains(&d.step)) {
+        let _ = writeln!(
+            out.detections,
+            "{},{},{},{},{}",
+            t[d.step], d.range, d.bearing, d.step, d.id
+        );
+    }
+    for (id, l) in landmarks.iter().enumerate() {
+        let _ = writeln!(out.landmarks, "{id},{},{}", l[0], l[1]);
+    }
+    Ok(out)
 }

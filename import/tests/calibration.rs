@@ -17,6 +17,7 @@
 use nvector_core::slam::simulate::Rng;
 use nvector_import::calibrate::data::{Detection, Model, Run, Truth};
 use nvector_import::calibrate::{calibrate, fit, verify, Options};
+use nvector_import::sensor_model::Measure;
 
 /// The planted bounds.
 #[derive(Clone, Copy)]
@@ -83,6 +84,7 @@ fn world(seed: u64, n: usize, b: Planted, lms: &[(u64, [f64; 2])]) -> Run {
                     bearing: Some(dy.atan2(dx) - th[i] + rng.sym(b.bearing)),
                     scan: Some(i as u64),
                     landmark: Some(id),
+                    line: 0,
                 });
             }
         }
@@ -100,12 +102,14 @@ fn world(seed: u64, n: usize, b: Planted, lms: &[(u64, [f64; 2])]) -> Run {
             has_heading: true,
         }),
         landmarks: Some(lms.to_vec()),
+        paths: Default::default(),
     }
 }
 
 fn options() -> Options {
     Options {
         relative_margin: 0.1,
+        bound_margins: Vec::new(),
         sensor_offset: [0.0, 0.0],
         assume_heading: None,
         source: "planted".into(),
@@ -152,6 +156,65 @@ fn a_model_fitted_on_enough_samples_covers_a_second_world_drawn_from_the_same_bo
         windows.1,
         windows.0
     );
+}
+
+/// The rule itself, on draws uniform on [-B, B] (its premise): the
+/// largest |draw| of n = `min_samples(F)` times 1 + F reaches B in all but
+/// at most (1 + F)^-n <= 1/1000 of the calibrations (2,000 per F: at most
+/// 2 expected, 8 allowed), while a quarter of those samples falls short
+/// far more often ((1 + F)^-(n/4), about 18 %): the count of samples is
+/// what the rule rests on.
+#[test]
+fn the_sample_rule_holds_on_draws_at_the_planted_bound() {
+    let b = 0.3;
+    for f in [0.1, 0.5, 1.0] {
+        let n = fit::min_samples(f);
+        let mut rng = Rng::new(17);
+        let mut short = |count: usize| {
+            (0..2000)
+                .filter(|_| {
+                    let pts: Vec<(f64, f64)> =
+                        (0..count).map(|_| (0.0, rng.sym(b).abs())).collect();
+                    let bound = fit::affine_bound(&pts, Measure::None, f, 0.0, "rule");
+                    bound.at(0.0) < b
+                })
+                .count()
+        };
+        let (enough, quarter) = (short(n), short(n / 4));
+        assert!(enough <= 8, "F = {f}, n = {n}: {enough} of 2000 short of B");
+        assert!(
+            quarter >= 200,
+            "F = {f}, n / 4 = {}: only {quarter} of 2000 short of B",
+            n / 4
+        );
+    }
+}
+
+/// A margin given to one bound (`--margin NAME=F`) widens that bound
+/// alone; an unknown bound or a margin <= 0 is refused naming it.
+#[test]
+fn a_bound_margin_widens_that_bound_alone() {
+    let run = circling(8, 2000, B);
+    let base = calibrate(&run, &options()).expect("calibration");
+    let mut o = options();
+    o.bound_margins = vec![("heading".into(), 1.0)];
+    let m = calibrate(&run, &o).expect("calibration");
+    assert_eq!(m.heading.fit.relative_margin, 1.0);
+    let fitted = |x: f64, f: f64| (x - nvector_import::calibrate::margins::HEADING) / (1.0 + f);
+    assert!((fitted(m.heading.constant, 1.0) - fitted(base.heading.constant, 0.1)).abs() < 1e-12);
+    assert!(m.heading.constant > base.heading.constant);
+    assert_eq!(m.motion_error, base.motion_error);
+    assert_eq!(m.range, base.range);
+    assert_eq!(m.calibration.relative_margin, 0.1);
+    for (name, f, what) in [
+        ("speed", 1.0, "no bound 'speed'"),
+        ("range", -1.0, "F must be a number > 0"),
+    ] {
+        let mut o = options();
+        o.bound_margins = vec![(name.into(), f)];
+        let e = calibrate(&run, &o).unwrap_err().to_string();
+        assert!(e.contains(what) && e.contains(name), "{e}");
+    }
 }
 
 #[test]

@@ -7,8 +7,9 @@
 //! log does not drift away from its detections), within dt / 2; `dt` is
 //! the log's mean spacing.
 
-use crate::Error;
-use std::path::Path;
+use crate::csv::read_cells;
+use crate::ImportError;
+use std::path::{Path, PathBuf};
 
 /// The motion models a sensor model covers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,13 +22,16 @@ pub enum Model {
 
 impl Model {
     /// The model named `name`.
-    pub fn parse(name: &str) -> Result<Model, Error> {
+    pub fn parse(name: &str) -> Result<Model, ImportError> {
         match name {
             "odometry2d" => Ok(Model::Odometry2d),
             "unicycle2d" => Ok(Model::Unicycle2d),
-            _ => Err(Error(format!(
-                "--model: '{name}' has no sensor model (expected odometry2d or unicycle2d)"
-            ))),
+            _ => Err(ImportError::setting(
+                "model",
+                format!(
+                    "--model: '{name}' has no sensor model (expected odometry2d or unicycle2d)"
+                ),
+            )),
         }
     }
 
@@ -62,6 +66,8 @@ pub struct Detection {
     /// The landmark's id (the truth's in a calibration, the operator's
     /// otherwise).
     pub landmark: Option<u64>,
+    /// Its line in the detections file (0 when it was not read from one).
+    pub line: usize,
 }
 
 /// The truth of a run: a pose per step (N + 1), `None` in its gaps.
@@ -96,6 +102,17 @@ pub struct Run {
     pub truth: Option<Truth>,
     /// Landmarks by id, sorted by id.
     pub landmarks: Option<Vec<(u64, [f64; 2])>>,
+    /// The files the run was read from (errors name them).
+    pub paths: Paths,
+}
+
+/// The files of a run, as read (empty when built in memory).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Paths {
+    /// The log.
+    pub log: PathBuf,
+    /// The detections.
+    pub detections: PathBuf,
 }
 
 impl Run {
@@ -125,100 +142,6 @@ impl Run {
     }
 }
 
-/// A CSV with a header; a cell is `None` when empty.
-pub struct Table {
-    /// Column names.
-    pub header: Vec<String>,
-    /// Rows, with their line numbers.
-    pub rows: Vec<(usize, Vec<Option<f64>>)>,
-}
-
-impl Table {
-    /// The index of column `name`, or an error naming the file.
-    pub fn column(&self, name: &str, path: &Path) -> Result<usize, Error> {
-        self.header.iter().position(|h| h == name).ok_or_else(|| {
-            Error(format!(
-                "{}: missing column '{name}' in the header",
-                path.display()
-            ))
-        })
-    }
-
-    /// The number in a row's column, or an error naming file, line and
-    /// column when the cell is empty.
-    pub fn number(&self, row: usize, col: usize, path: &Path) -> Result<f64, Error> {
-        let (line, cells) = &self.rows[row];
-        cells[col].ok_or_else(|| {
-            Error(format!(
-                "{}:{line}: column {} ({}) is empty",
-                path.display(),
-                col + 1,
-                self.header[col]
-            ))
-        })
-    }
-}
-
-/// Reads a comma-separated file with a header row; an empty cell is
-/// `None`, any other cell must be a finite number. Errors name the file,
-/// line and column; a column named twice is refused.
-pub fn read_table(path: &Path) -> Result<Table, Error> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error(format!("reading {}: {e}", path.display())))?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let (_, head) = lines
-        .next()
-        .ok_or_else(|| Error(format!("{}: empty file", path.display())))?;
-    let header: Vec<String> = head.split(',').map(|s| s.trim().to_string()).collect();
-    for (i, h) in header.iter().enumerate() {
-        if header[..i].contains(h) {
-            return Err(Error(format!(
-                "{}: column '{h}' appears twice in the header",
-                path.display()
-            )));
-        }
-    }
-    let mut rows = Vec::new();
-    for (i, l) in lines {
-        let cells: Vec<&str> = l.split(',').map(str::trim).collect();
-        if cells.len() != header.len() {
-            return Err(Error(format!(
-                "{}:{}: expected {} columns like the header, found {}",
-                path.display(),
-                i + 1,
-                header.len(),
-                cells.len()
-            )));
-        }
-        let mut row = Vec::with_capacity(cells.len());
-        for (c, cell) in cells.iter().enumerate() {
-            if cell.is_empty() {
-                row.push(None);
-                continue;
-            }
-            let x = cell
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| {
-                    Error(format!(
-                        "{}:{}: column {} ({}): '{cell}' is not a finite number",
-                        path.display(),
-                        i + 1,
-                        c + 1,
-                        header[c]
-                    ))
-                })?;
-            row.push(Some(x));
-        }
-        rows.push((i + 1, row));
-    }
-    Ok(Table { header, rows })
-}
-
 /// The files of a run.
 pub struct Files<'a> {
     /// The log: `t` and the model's channels.
@@ -232,7 +155,7 @@ pub struct Files<'a> {
 }
 
 /// Reads a run from its files.
-pub fn read_run(model: Model, files: &Files) -> Result<Run, Error> {
+pub fn read_run(model: Model, files: &Files) -> Result<Run, ImportError> {
     let (t, speed, rotation) = read_log(model, files.log)?;
     let n = t.len();
     let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
@@ -252,39 +175,38 @@ pub fn read_run(model: Model, files: &Files) -> Result<Run, Error> {
         detections,
         truth,
         landmarks,
+        paths: Paths {
+            log: files.log.to_path_buf(),
+            detections: files.detections.to_path_buf(),
+        },
     })
 }
 
 type Log = (Vec<f64>, Vec<f64>, Vec<f64>);
 
-fn read_log(model: Model, path: &Path) -> Result<Log, Error> {
-    let log = read_table(path)?;
+fn read_log(model: Model, path: &Path) -> Result<Log, ImportError> {
+    let log = read_cells(path)?;
     let cols = [
-        log.column("t", path)?,
-        log.column("speed", path)?,
-        log.column(model.rotation(), path)?,
+        log.column("t")?,
+        log.column("speed")?,
+        log.column(model.rotation())?,
     ];
     if log.rows.len() < 2 {
-        return Err(Error(format!(
-            "{}: at least 2 rows are needed",
-            path.display()
-        )));
+        return Err(ImportError::file(path, "at least 2 rows are needed"));
     }
     let mut out: [Vec<f64>; 3] = Default::default();
     for r in 0..log.rows.len() {
         for (v, &c) in out.iter_mut().zip(&cols) {
-            v.push(log.number(r, c, path)?);
+            v.push(log.number(r, c)?);
         }
     }
     for (k, w) in out[0].windows(2).enumerate() {
         if w[1] <= w[0] {
-            return Err(Error(format!(
-                "{}:{}: times must increase ({} after {})",
-                path.display(),
+            return Err(ImportError::line(
+                path,
                 log.rows[k + 1].0,
-                w[1],
-                w[0]
-            )));
+                format!("times must increase ({} after {})", w[1], w[0]),
+            ));
         }
     }
     let [t, speed, rotation] = out;
@@ -318,38 +240,44 @@ impl Grid<'_> {
 }
 
 /// A non-negative integer cell.
-fn integer(x: f64, path: &Path, line: usize, name: &str) -> Result<u64, Error> {
+fn integer(x: f64, path: &Path, line: usize, name: &str) -> Result<u64, ImportError> {
     if x >= 0.0 && x.fract() == 0.0 && x <= 9_007_199_254_740_992.0 {
         Ok(x as u64)
     } else {
-        Err(Error(format!(
-            "{}:{line}: {name} must be a non-negative integer, found {x}",
-            path.display()
-        )))
+        Err(ImportError::line(
+            path,
+            line,
+            format!("{name} must be a non-negative integer, found {x}"),
+        ))
     }
 }
 
-fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, Error> {
-    let det = read_table(path)?;
-    let (tc, rc) = (det.column("t", path)?, det.column("range", path)?);
-    let opt = |name: &str| det.header.iter().position(|h| h == name);
-    let (bc, sc, lc) = (opt("bearing"), opt("scan"), opt("landmark"));
+fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, ImportError> {
+    let det = read_cells(path)?;
+    let (tc, rc) = (det.column("t")?, det.column("range")?);
+    let (bc, sc, lc) = (
+        det.optional("bearing"),
+        det.optional("scan"),
+        det.optional("landmark"),
+    );
     let mut out = Vec::with_capacity(det.rows.len());
     for r in 0..det.rows.len() {
         let line = det.rows[r].0;
-        let t = det.number(r, tc, path)?;
+        let t = det.number(r, tc)?;
         let step = grid.step(t).ok_or_else(|| {
-            Error(format!(
-                "{}:{line}: time {t} is not within dt/2 of a step of the log",
-                path.display()
-            ))
+            ImportError::line(
+                path,
+                line,
+                format!("time {t} is not within dt/2 of a step of the log"),
+            )
         })?;
-        let range = det.number(r, rc, path)?;
+        let range = det.number(r, rc)?;
         if range < 0.0 {
-            return Err(Error(format!(
-                "{}:{line}: range {range} is negative",
-                path.display()
-            )));
+            return Err(ImportError::line(
+                path,
+                line,
+                format!("range {range} is negative"),
+            ));
         }
         let cell = |c: Option<usize>| c.and_then(|c| det.rows[r].1[c]);
         out.push(Detection {
@@ -362,19 +290,16 @@ fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, Error> {
             landmark: cell(lc)
                 .map(|x| integer(x, path, line, "landmark"))
                 .transpose()?,
+            line,
         });
     }
     Ok(out)
 }
 
-fn read_truth(path: &Path, grid: &Grid, model: Model) -> Result<Truth, Error> {
-    let tab = read_table(path)?;
-    let [tc, xc, yc] = [
-        tab.column("t", path)?,
-        tab.column("x", path)?,
-        tab.column("y", path)?,
-    ];
-    let hc = tab.header.iter().position(|h| h == "heading");
+fn read_truth(path: &Path, grid: &Grid, model: Model) -> Result<Truth, ImportError> {
+    let tab = read_cells(path)?;
+    let [tc, xc, yc] = [tab.column("t")?, tab.column("x")?, tab.column("y")?];
+    let hc = tab.optional("heading");
     let rows = grid.t.len() + 1;
     let mut truth = Truth {
         positions: vec![None; rows],
@@ -383,12 +308,13 @@ fn read_truth(path: &Path, grid: &Grid, model: Model) -> Result<Truth, Error> {
     };
     for r in 0..tab.rows.len() {
         let (line, cells) = &tab.rows[r];
-        let t = tab.number(r, tc, path)?;
+        let t = tab.number(r, tc)?;
         let Some(step) = grid.step(t) else {
-            return Err(Error(format!(
-                "{}:{line}: time {t} is not within dt/2 of a step of the log",
-                path.display()
-            )));
+            return Err(ImportError::line(
+                path,
+                *line,
+                format!("time {t} is not within dt/2 of a step of the log"),
+            ));
         };
         if let (Some(x), Some(y)) = (cells[xc], cells[yc]) {
             truth.positions[step] = Some([x, y]);
@@ -416,29 +342,24 @@ fn unwrap_headings(h: &mut [Option<f64>]) {
     }
 }
 
-fn read_landmarks(path: &Path) -> Result<Vec<(u64, [f64; 2])>, Error> {
-    let tab = read_table(path)?;
-    let [ic, xc, yc] = [
-        tab.column("id", path)?,
-        tab.column("x", path)?,
-        tab.column("y", path)?,
-    ];
+fn read_landmarks(path: &Path) -> Result<Vec<(u64, [f64; 2])>, ImportError> {
+    let tab = read_cells(path)?;
+    let [ic, xc, yc] = [tab.column("id")?, tab.column("x")?, tab.column("y")?];
     let mut out = Vec::with_capacity(tab.rows.len());
     for r in 0..tab.rows.len() {
         let line = tab.rows[r].0;
-        let id = integer(tab.number(r, ic, path)?, path, line, "id")?;
-        out.push((id, [tab.number(r, xc, path)?, tab.number(r, yc, path)?]));
+        let id = integer(tab.number(r, ic)?, path, line, "id")?;
+        out.push((id, [tab.number(r, xc)?, tab.number(r, yc)?]));
     }
     out.sort_by_key(|l| l.0);
     if let Some(w) = out.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(Error(format!(
-            "{}: landmark {} appears twice",
-            path.display(),
-            w[0].0
-        )));
+        return Err(ImportError::file(
+            path,
+            format!("landmark {} appears twice", w[0].0),
+        ));
     }
     if out.is_empty() {
-        return Err(Error(format!("{}: no landmark", path.display())));
+        return Err(ImportError::file(path, "no landmark"));
     }
     Ok(out)
 }
@@ -502,12 +423,12 @@ mod tests {
             detections: &det2,
             ..f
         };
-        let e = read_run(Model::Odometry2d, &f2).unwrap_err().0;
+        let e = read_run(Model::Odometry2d, &f2).unwrap_err().to_string();
         assert!(e.contains("det2.csv:2: time 0.9 is not within dt/2"), "{e}");
         let bad = write(&dir, "bad.csv", "t,speed,turn_rate\n0,1,0\n0.1,1\n");
         let e = read_run(Model::Odometry2d, &Files { log: &bad, ..f })
             .unwrap_err()
-            .0;
+            .to_string();
         assert!(e.contains("bad.csv:3: expected 3 columns"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }

@@ -16,7 +16,7 @@ pub mod residuals;
 use crate::sensor_model::{
     BandOf, Bound, Calibration, Fit, Measure, Refusal, SensorModel, SpeedBound, Window, FORMAT,
 };
-use crate::Error;
+use crate::ImportError;
 use data::{Model, Run};
 use residuals as res;
 
@@ -56,8 +56,13 @@ pub fn motion_windows() -> impl Iterator<Item = usize> {
 /// What the user gives a calibration besides the data.
 #[derive(Clone, Debug)]
 pub struct Options {
-    /// The relative margin F (>= 0).
+    /// The relative margin F (> 0) of every bound [`Options::bound_margins`]
+    /// does not name.
     pub relative_margin: f64,
+    /// A relative margin per bound, `(name, F)`, the names of
+    /// [`BOUND_NAMES`]: raise the margin of the bounds a check on a second
+    /// run finds broken, and only theirs (docs/calibration.md, step 3).
+    pub bound_margins: Vec<(String, f64)>,
     /// Where the sensor sits in the body frame (m).
     pub sensor_offset: [f64; 2],
     /// A heading bound the user states instead of fitting it (rad), for a
@@ -65,6 +70,60 @@ pub struct Options {
     pub assume_heading: Option<f64>,
     /// What the run is, for the model's `calibration.source`.
     pub source: String,
+}
+
+/// The bounds a relative margin may be given for (`--margin NAME=F`).
+pub const BOUND_NAMES: [&str; 6] = [
+    "heading",
+    "motion_error",
+    "heading_drift",
+    "motion_drift",
+    "range",
+    "bearing",
+];
+
+impl Options {
+    /// The relative margin F of `bound` (one of [`BOUND_NAMES`]).
+    pub fn margin(&self, bound: &str) -> f64 {
+        self.bound_margins
+            .iter()
+            .rev()
+            .find(|(n, _)| n == bound)
+            .map_or(self.relative_margin, |m| m.1)
+    }
+
+    /// Every margin a number > 0, every named bound one of
+    /// [`BOUND_NAMES`].
+    fn check(&self) -> Result<(), ImportError> {
+        let positive = |f: f64| f.is_finite() && f > 0.0;
+        if !positive(self.relative_margin) {
+            return Err(ImportError::setting(
+                "margin",
+                format!(
+                    "--margin must be a number > 0, found {}",
+                    self.relative_margin
+                ),
+            ));
+        }
+        for (name, f) in &self.bound_margins {
+            if !BOUND_NAMES.contains(&name.as_str()) {
+                return Err(ImportError::setting(
+                    "margin",
+                    format!(
+                        "--margin {name}={f}: no bound '{name}' (expected one of {})",
+                        BOUND_NAMES.join(", ")
+                    ),
+                ));
+            }
+            if !positive(*f) {
+                return Err(ImportError::setting(
+                    "margin",
+                    format!("--margin {name}={f}: F must be a number > 0"),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// A bound refused, or fitted.
@@ -103,7 +162,7 @@ fn enough(bound: &str, samples: &[f64], min: usize, what: &str) -> Fitted<()> {
 
 /// The heading bound: `unicycle2d` the heading channel (constant),
 /// `odometry2d` the per-step integration error (affine in the turn).
-fn heading(run: &Run, o: &Options, min: usize) -> Fitted<Bound> {
+fn heading(run: &Run, o: &Options) -> Fitted<Bound> {
     if let Some(e) = o.assume_heading {
         if !(e.is_finite() && e >= 0.0) {
             return refuse(
@@ -127,7 +186,8 @@ fn heading(run: &Run, o: &Options, min: usize) -> Fitted<Bound> {
             "the truth has no heading column: the heading's bound needs true headings (or --assume heading=E)".into(),
         );
     }
-    let f = o.relative_margin;
+    let f = o.margin("heading");
+    let min = fit::min_samples(f);
     let hint = "; state one with --assume heading=E";
     match run.model {
         Model::Unicycle2d => {
@@ -185,20 +245,23 @@ fn speed(run: &Run, o: &Options) -> SpeedBound {
     }
 }
 
-/// The per-step motion error, affine in the step's distance.
-fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound, min: usize) -> Fitted<Bound> {
+/// The per-step motion error, affine in the step's distance and turn.
+fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<Bound> {
+    let f = o.margin("motion_error");
+    let min = fit::min_samples(f);
     let eh = match run.model {
         Model::Unicycle2d => h.constant,
         Model::Odometry2d => 0.0,
     };
     let pts = res::motion_steps(run, &|x| s.error.at(x), s.sign_unknown_below, eh);
-    let r: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    let r: Vec<f64> = pts.iter().map(|p| p.2).collect();
     if pts.len() >= min && r.iter().all(|&x| x <= margins::ZERO) {
         // Inside the model's intervals everywhere: no error to bound.
+        let line: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.2)).collect();
         return Ok(fit::affine_bound(
-            &pts,
+            &line,
             Measure::Distance,
-            o.relative_margin,
+            f,
             margins::MOTION,
             "the true steps all lie inside the model's intervals: the margin alone",
         ));
@@ -209,20 +272,13 @@ fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound, min: usize) -> Fitt
         min,
         "steps with a true position at both ends",
     )?;
-    Ok(fit::affine_bound(&pts, Measure::Distance, o.relative_margin, margins::MOTION,
-        "per axis, the distance from the true step to the hull of dt s (cos h, sin h) over the step's speed and heading intervals (odometry2d: the true heading), over the steps with a true position at both ends, bounded by the narrowest line in the step's distance |speed| dt (slope >= 0), x (1 + F) + margin"))
+    Ok(fit::plane_bound(&pts, f, margins::MOTION,
+        "per axis, the distance from the true step to the hull of dt s (cos h, sin h) over the step's speed and heading intervals (odometry2d: the true heading), over the steps with a true position at both ends, bounded by the narrowest plane in the step's distance |speed| dt and turn (odometry2d |turn_rate| dt, unicycle2d the measured heading's change; slopes >= 0), x (1 + F) + margin"))
 }
 
 /// A window's bound from its residuals, or why not.
-fn window(
-    name: &str,
-    k: usize,
-    r: &[f64],
-    o: &Options,
-    min: usize,
-    margin: f64,
-    method: &str,
-) -> Fitted<Window> {
+fn window(name: &str, k: usize, r: &[f64], f: f64, margin: f64, method: &str) -> Fitted<Window> {
+    let min = fit::min_samples(f);
     let independent = r.len() / k;
     if independent < min {
         return refuse(
@@ -231,13 +287,13 @@ fn window(
         );
     }
     let largest = r.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    let error = largest * (1.0 + o.relative_margin) + margin;
+    let error = largest * (1.0 + f) + margin;
     Ok(Window {
         steps: k,
         error,
         fit: Fit {
             method: method.into(),
-            relative_margin: o.relative_margin,
+            relative_margin: f,
             margin,
             samples: r.len(),
             independent,
@@ -254,18 +310,20 @@ fn windows(
     o: &Options,
     h: &Bound,
     m: &Bound,
-    min: usize,
     refused: &mut Vec<Refusal>,
 ) -> (Vec<Window>, Vec<Window>) {
-    let mean =
-        |b: &Bound, xs: &[f64]| xs.iter().map(|&x| b.at(x)).sum::<f64>() / xs.len().max(1) as f64;
-    let turns: Vec<f64> = run.rotation.iter().map(|w| (w * run.dt).abs()).collect();
-    let dists: Vec<f64> = run.speed.iter().map(|v| (v * run.dt).abs()).collect();
-    let (per_h, per_m) = (mean(h, &turns), mean(m, &dists) * std::f64::consts::SQRT_2);
+    let n = run.steps().max(1) as f64;
+    let turns: Vec<f64> = (0..run.steps()).map(|i| res::step_turn(run, i)).collect();
+    let per_h = turns.iter().map(|&x| h.at(x)).sum::<f64>() / n;
+    let per_m = (0..run.steps())
+        .map(|i| m.at_step((run.speed[i] * run.dt).abs(), turns[i]))
+        .sum::<f64>()
+        / n
+        * std::f64::consts::SQRT_2;
     let turn = res::prefix_turn(run);
     let mut hw = Vec::new();
     for k in heading_windows().filter(|&k| k <= run.steps()) {
-        match window("heading_drift", k, &res::heading_window(run, &turn, k), o, min, margins::HEADING_WINDOW,
+        match window("heading_drift", k, &res::heading_window(run, &turn, k), o.margin("heading_drift"), margins::HEADING_WINDOW,
             "the largest |th(i+k) - th(i) - sum dt turn_rate| of the truth over the pairs with both headings true, x (1 + F) + margin") {
             Ok(w) if w.error < k as f64 * per_h => hw.push(w),
             Ok(_) => {}
@@ -275,7 +333,7 @@ fn windows(
     let prefix = res::prefix_motion(run);
     let mut mw = Vec::new();
     for k in motion_windows().filter(|&k| k <= run.steps()) {
-        match window("motion_drift", k, &res::motion_window(run, &prefix, k), o, min, margins::MOTION_WINDOW,
+        match window("motion_drift", k, &res::motion_window(run, &prefix, k), o.margin("motion_drift"), margins::MOTION_WINDOW,
             "the largest Euclidean |p(i+k) - p(i) - sum dt v (cos th, sin th)| of the truth over the windows with true positions at the ends and true headings inside, x (1 + F) + margin") {
             Ok(w) if w.error < k as f64 * per_m => mw.push(w),
             Ok(_) => {}
@@ -296,17 +354,16 @@ fn detection_residuals(run: &Run, offset: [f64; 2]) -> Vec<(f64, f64, Option<f64
 fn bands(
     run: &Run,
     o: &Options,
-    min: usize,
 ) -> Fitted<(crate::sensor_model::Band, Option<crate::sensor_model::Band>)> {
     let d = detection_residuals(run, o.sensor_offset);
     let r: Vec<f64> = d.iter().map(|x| x.1).collect();
+    let f = o.margin("range");
     enough(
         "range",
         &r,
-        min,
+        fit::min_samples(f),
         "detections of a known landmark at a step with a true pose",
     )?;
-    let f = o.relative_margin;
     let pts: Vec<(f64, f64)> = d.iter().map(|x| (x.0, x.1)).collect();
     let range = fit::band(&pts, BandOf::Range, 0.0, f, margins::RANGE,
         "measured - true range over the detections of a known landmark at a step with a true pose, between the narrowest lines in the measured range r above and below every residual, within the smallest and largest residual; each side widened by F x the half-width + margin");
@@ -319,10 +376,11 @@ fn bands(
         return Ok((range, None));
     }
     let b: Vec<f64> = bpts.iter().map(|p| p.1).collect();
+    let f = o.margin("bearing");
     enough(
         "bearing",
         &b,
-        min,
+        fit::min_samples(f),
         "detections with a bearing of a known landmark at a step with a true pose",
     )?;
     let bearing = fit::band(&bpts, BandOf::InverseRange, min_r, f, margins::BEARING,
@@ -330,32 +388,43 @@ fn bands(
     Ok((range, Some(bearing)))
 }
 
+/// A calibration that gives no model: the error names the run's log
+/// (the data cannot support a bound), or the setting when the run was
+/// built in memory.
+fn no_model(run: &Run, why: String) -> ImportError {
+    let message = format!("no sensor model: {why}");
+    if run.paths.log.as_os_str().is_empty() {
+        ImportError::setting("sensor_model", message)
+    } else {
+        ImportError::file(&run.paths.log, message)
+    }
+}
+
 /// Fits a sensor model on a run with truth and landmarks. An error lists
 /// every bound refused (too few samples, a residual identically 0, no
 /// true heading); drift windows the data cannot support are left out and
 /// listed in `refused`.
-pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, Error> {
-    if !(o.relative_margin.is_finite() && o.relative_margin > 0.0) {
-        return Err(Error(format!(
-            "--margin must be a number > 0, found {}",
-            o.relative_margin
-        )));
-    }
+pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, ImportError> {
+    o.check()?;
     let Some(truth) = run.truth.as_ref() else {
-        return Err(Error("a calibration needs the truth (--truth)".into()));
+        return Err(ImportError::setting(
+            "truth",
+            "a calibration needs the truth (--truth)",
+        ));
     };
     if run.landmarks.is_none() {
-        return Err(Error(
-            "a calibration needs the landmarks (--landmarks)".into(),
+        return Err(ImportError::setting(
+            "landmarks",
+            "a calibration needs the landmarks (--landmarks)",
         ));
     }
     let min = fit::min_samples(o.relative_margin);
     let mut refused = Vec::new();
-    let h = heading(run, o, min);
+    let h = heading(run, o);
     let s = speed(run, o);
     let placeholder = fit::affine_bound(&[], Measure::None, 0.0, 0.0, "");
-    let m = motion(run, o, &s, h.as_ref().unwrap_or(&placeholder), min);
-    let b = bands(run, o, min);
+    let m = motion(run, o, &s, h.as_ref().unwrap_or(&placeholder));
+    let b = bands(run, o);
     let fatal: Vec<Refusal> = [h.as_ref().err(), m.as_ref().err(), b.as_ref().err()]
         .into_iter()
         .flatten()
@@ -366,10 +435,10 @@ pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, Error> {
             .iter()
             .map(|r| format!("{}: {}", r.bound, r.reason))
             .collect();
-        return Err(Error(format!("no sensor model: {}", why.join("; "))));
+        return Err(no_model(run, why.join("; ")));
     };
     let (heading_drift, motion_drift) = match run.model {
-        Model::Odometry2d => windows(run, o, &h, &m, min, &mut refused),
+        Model::Odometry2d => windows(run, o, &h, &m, &mut refused),
         Model::Unicycle2d => (Vec::new(), Vec::new()),
     };
     let gaps = (0..run.steps())
@@ -404,11 +473,9 @@ pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, Error> {
         refused,
     };
     // Readings so large that a fit overflows give no bound.
-    model.check_numbers().map_err(|e| {
-        Error(format!(
-            "no sensor model: {e} (readings too large for a bound?)"
-        ))
-    })?;
+    model
+        .check_numbers()
+        .map_err(|e| no_model(run, format!("{e} (readings too large for a bound?)")))?;
     Ok(model)
 }
 
@@ -471,7 +538,7 @@ pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
     let m = &model.motion_error;
     out.push(count(
         "motion_error".into(),
-        pts.iter().map(|p| p.1 - m.at(p.0)),
+        pts.iter().map(|p| p.2 - m.at_step(p.0, p.1)),
     ));
     let turn = res::prefix_turn(run);
     for w in &model.heading_drift {

@@ -102,7 +102,21 @@ pub fn speed_interval(v: f64, e: f64, sign_unknown_below: Option<f64>) -> [f64; 
     }
 }
 
-/// (|speed|·dt, per-axis residual) of each step whose ends have a true
+/// The turn the log reports for step i: odometry2d `|turn_rate|·dt`;
+/// unicycle2d the measured heading's change to the next step, wrapped
+/// (0 at the last step).
+pub fn step_turn(run: &Run, i: usize) -> f64 {
+    match run.model {
+        Model::Odometry2d => (run.rotation[i] * run.dt).abs(),
+        Model::Unicycle2d => run
+            .rotation
+            .get(i + 1)
+            .map_or(0.0, |&next| wrap(next - run.rotation[i]).abs()),
+    }
+}
+
+/// (|speed|·dt, the step's turn ([`step_turn`]), per-axis residual) of
+/// each step whose ends have a true
 /// position (and a heading): the distance, per axis, from the true
 /// displacement to the hull of `dt·s·(cos h, sin h)` over the step's
 /// speed interval and heading interval (unicycle2d: the measured heading
@@ -112,7 +126,7 @@ pub fn motion_steps(
     speed_error: &dyn Fn(f64) -> f64,
     sign_unknown_below: Option<f64>,
     heading_error: f64,
-) -> Vec<(f64, f64)> {
+) -> Vec<(f64, f64, f64)> {
     let t = truth(run);
     (0..run.steps())
         .filter_map(|i| {
@@ -129,7 +143,7 @@ pub fn motion_steps(
             let r = (0..2)
                 .map(|k| (box_[k][0] - d[k]).max(d[k] - box_[k][1]).max(0.0))
                 .fold(0.0, f64::max);
-            Some((dist, r))
+            Some((dist, step_turn(run, i), r))
         })
         .collect()
 }

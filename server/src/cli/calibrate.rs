@@ -7,6 +7,7 @@ use crate::CliError;
 use nvector_import::apply;
 use nvector_import::calibrate::{self, convert, data};
 use nvector_import::sensor_model::SensorModel;
+use nvector_import::{plaza, woods};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `nvector calibrate`.
@@ -33,9 +34,11 @@ pub struct Args {
     sensor_offset: Option<String>,
     /// The relative margin F: every fitted bound is multiplied by 1 + F
     /// (the fewest samples a bound needs grows as F shrinks:
-    /// docs/calibration.md).
-    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
-    margin: f64,
+    /// docs/calibration.md); NAME=F gives one bound its own (heading,
+    /// motion_error, heading_drift, motion_drift, range, bearing). Repeat
+    /// the flag for several.
+    #[arg(long, value_name = "F|NAME=F", allow_negative_numbers = true)]
+    margin: Vec<String>,
     /// A bound stated instead of fitted, NAME=E (only `heading`: for a
     /// truth whose heading cannot calibrate it).
     #[arg(long, value_name = "NAME=E")]
@@ -112,8 +115,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         }
     }
+    let (relative_margin, bound_margins) = margins(&a.margin)?;
     let options = calibrate::Options {
-        relative_margin: a.margin,
+        relative_margin,
+        bound_margins,
         sensor_offset: a
             .sensor_offset
             .as_deref()
@@ -135,6 +140,24 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let text = serde_json::to_string_pretty(&sensor)?;
     write_text(&text, a.out.as_deref())
+}
+
+/// The `--margin` flags: the default F (0.1 unless a bare F is given) and
+/// the bounds' own.
+fn margins(flags: &[String]) -> Result<(f64, Vec<(String, f64)>), CliError> {
+    let number = |s: &str, flag: &str| {
+        s.trim()
+            .parse::<f64>()
+            .map_err(|_| CliError(format!("--margin {flag}: F must be a number")))
+    };
+    let (mut default, mut named) = (0.1, Vec::new());
+    for m in flags {
+        match m.split_once('=') {
+            Some((name, f)) => named.push((name.trim().to_string(), number(f, m)?)),
+            None => default = number(m, m)?,
+        }
+    }
+    Ok((default, named))
 }
 
 fn write_text(text: &str, out: Option<&Path>) -> Result<(), CliError> {
@@ -180,8 +203,8 @@ fn run_convert(kind: &str, a: &Args) -> Result<(), CliError> {
         to: a.to.unwrap_or(f64::INFINITY),
     };
     let csvs = match kind {
-        "woods" => convert::woods(dir, span)?,
-        _ => convert::plaza(dir, span)?,
+        "woods" => woods::calibration_csvs(dir, span)?,
+        _ => plaza::calibration_csvs(dir, span)?,
     };
     Ok(csvs.write(out)?)
 }
