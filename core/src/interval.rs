@@ -224,9 +224,20 @@ impl Interval {
     }
 
     /// Intersection. Tightness: exact.
+    ///
+    /// Only `lo <= hi` is checked: with both operands intervals (or empty),
+    /// the other tests of [`Interval::new`] follow from it (a `+inf` lower
+    /// bound or a `-inf` upper one comes from an empty operand, whose other
+    /// bound then fails `lo <= hi`; max and min of non-NaN bounds are not
+    /// NaN), so the result is the same.
     #[inline]
     pub fn intersect(self, other: Interval) -> Interval {
-        Interval::new(self.lo.max(other.lo), self.hi.min(other.hi))
+        let (lo, hi) = (self.lo.max(other.lo), self.hi.min(other.hi));
+        if lo <= hi {
+            Interval::new_unchecked(lo, hi)
+        } else {
+            Interval::EMPTY
+        }
     }
 
     /// Interval hull of the union. Tightness: exact.
@@ -323,21 +334,28 @@ impl Interval {
 
     /// Sum. Tightness: tightest (a bound moves one ulp out only when the
     /// rounded sum is inexact on the wrong side, detected by TwoSum).
+    ///
+    /// The bounds need no check: of two intervals, the lower bounds are
+    /// below `+inf` and the upper ones above `-inf`, so no sum is NaN;
+    /// `add_down` rounds an exact sum down (an overflow to `+inf` down to
+    /// `f64::MAX`) and `add_up` up, so `lo <= hi`, `lo < +inf` and
+    /// `hi > -inf` hold.
     #[inline]
     pub fn add(self, other: Interval) -> Interval {
         if self.is_empty() || other.is_empty() {
             return Interval::EMPTY;
         }
-        Interval::new(add_down(self.lo, other.lo), add_up(self.hi, other.hi))
+        Interval::new_unchecked(add_down(self.lo, other.lo), add_up(self.hi, other.hi))
     }
 
-    /// Difference. Tightness: tightest (see [`Interval::add`]).
+    /// Difference. Tightness: tightest (see [`Interval::add`]; `-other`
+    /// is an interval, so the bounds need no check either).
     #[inline]
     pub fn sub(self, other: Interval) -> Interval {
         if self.is_empty() || other.is_empty() {
             return Interval::EMPTY;
         }
-        Interval::new(add_down(self.lo, -other.hi), add_up(self.hi, -other.lo))
+        Interval::new_unchecked(add_down(self.lo, -other.hi), add_up(self.hi, -other.lo))
     }
 
     /// Sum widened unconditionally by one ulp per bound: an enclosure like

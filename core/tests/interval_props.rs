@@ -159,6 +159,27 @@ proptest! {
         prop_assert!(z.hi() == f64::INFINITY || rat(a) <= rat(z.hi()) * rat(z.hi()), "sqrt {:?} = {:?}", x, z);
     }
 
+    /// `add`, `sub` and `intersect` build their results without the
+    /// checks of `Interval::new`: the results are the ones it builds
+    /// (empty operands included), and they keep the invariant.
+    #[test]
+    fn add_sub_intersect_need_no_check((x, _a) in any_interval_and_point(), (y, _b) in any_interval_and_point(), empty in 0u8..4) {
+        let (x, y) = match empty {
+            0 => (Interval::EMPTY, y),
+            1 => (x, Interval::EMPTY),
+            _ => (x, y),
+        };
+        let i = x.intersect(y);
+        let want = Interval::new(x.lo().max(y.lo()), x.hi().min(y.hi()));
+        prop_assert!(i.lo().to_bits() == want.lo().to_bits() && i.hi().to_bits() == want.hi().to_bits(), "{:?} & {:?} = {:?}", x, y, i);
+        for z in [x + y, x - y, i] {
+            let valid = z.lo() <= z.hi() && z.lo() < f64::INFINITY && z.hi() > f64::NEG_INFINITY;
+            let empty = z.lo() == f64::INFINITY && z.hi() == f64::NEG_INFINITY;
+            prop_assert!(valid || empty, "{:?} {:?}: {:?}", x, y, z);
+            prop_assert!(Interval::new(z.lo(), z.hi()) == z || empty);
+        }
+    }
+
     #[test]
     fn neg_abs_hull_intersect((x, a) in any_interval_and_point(), (y, b) in any_interval_and_point()) {
         prop_assert!(holds(x.neg(), &-rat(a)));

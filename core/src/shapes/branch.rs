@@ -75,11 +75,24 @@ pub fn branch_pieces<S: DetectionShape>(
     let mut surviving = Vec::new();
     for (i, r) in regions.iter().enumerate() {
         let h = r.hull_ref();
-        if h.is_empty() || !shape.meets_box(h.axes()) {
+        if h.is_empty() {
             continue;
         }
+        // The piece of the region's hull holds the piece of every box.
+        let Some(outer) = shape.contract_piece(h.axes()) else {
+            continue;
+        };
         let mut hit = false;
         for b in r.boxes() {
+            // Once the region survives, a box whose piece the hull holds
+            // changes nothing (the same bits).
+            if hit
+                && hull
+                    .as_ref()
+                    .is_some_and(|acc| shape.absorbs(acc, &outer, b.axes()))
+            {
+                continue;
+            }
             if let Some(piece) = shape.contract_piece(b.axes()) {
                 hit = true;
                 hull = Some(match hull {
@@ -99,6 +112,157 @@ pub fn branch_pieces<S: DetectionShape>(
 mod tests {
     use super::*;
     use crate::interval::Interval;
+    use crate::rng::Rng;
+    use crate::shapes::shape::Piece;
+
+    /// [`branch_pieces`] contracting every box (no absorbed box skipped).
+    fn every_box(shape: &Shape, regions: &[&Paving]) -> (Option<Piece>, Vec<usize>) {
+        let mut hull: Option<Piece> = None;
+        let mut surviving = Vec::new();
+        for (i, r) in regions.iter().enumerate() {
+            let h = r.hull_ref();
+            if h.is_empty() || !shape.meets_box(h.axes()) {
+                continue;
+            }
+            let mut hit = false;
+            for b in r.boxes() {
+                if let Some(piece) = shape.contract_piece(b.axes()) {
+                    hit = true;
+                    hull = Some(hull.map_or(piece, |acc| Shape::hull_pieces(&acc, &piece)));
+                }
+            }
+            if hit {
+                surviving.push(i);
+            }
+        }
+        (hull, surviving)
+    }
+
+    fn bits(p: &Option<Piece>) -> Vec<u64> {
+        p.iter()
+            .flat_map(|p| p.p.iter().chain(&p.d))
+            .flat_map(|x| [x.lo().to_bits(), x.hi().to_bits()])
+            .collect()
+    }
+
+    /// A bound drawn among the awkward values (zeros of both signs,
+    /// huge, infinite) or an ordinary one.
+    fn bound(rng: &mut Rng, scale: f64) -> f64 {
+        match rng.next_u64() % 10 {
+            0 => 0.0,
+            1 => -0.0,
+            2 => f64::MAX * rng.sym(1.0),
+            3 => f64::INFINITY,
+            _ => rng.sym(scale),
+        }
+    }
+
+    fn interval(rng: &mut Rng, scale: f64) -> Interval {
+        let (a, b) = (bound(rng, scale), bound(rng, scale));
+        let (a, b) = if rng.next_u64() % 2 == 0 {
+            (a, b)
+        } else {
+            (-a, -b)
+        };
+        let i = Interval::new(a.min(b), a.max(b));
+        if i.is_empty() {
+            Interval::new(-scale, scale)
+        } else {
+            i
+        }
+    }
+
+    /// Skipping the boxes whose piece the hull already holds gives the
+    /// same bits as contracting them all: shapes with and without a
+    /// bearing, 2-D and 3-D, regions of bisected boxes (so that many lie
+    /// inside the hull), bounds of zero, huge and infinite values.
+    #[test]
+    fn absorbed_boxes_change_no_bit() {
+        let mut rng = Rng::new(38);
+        let mut skipped = 0usize;
+        for case in 0..3000 {
+            let dim = 2 + (case % 5 == 0) as usize;
+            let scale = [1.0, 10.0, 1e6][case % 3];
+            let axes = |rng: &mut Rng, w: f64| -> IntervalBox {
+                let v: Vec<Interval> = (0..dim)
+                    .map(|_| {
+                        let c = rng.sym(scale);
+                        Interval::new(c - w * rng.unit(), c + w * rng.unit())
+                    })
+                    .collect();
+                IntervalBox::new(&v)
+            };
+            let centre = if case % 7 == 0 {
+                IntervalBox::new(
+                    &(0..dim)
+                        .map(|_| interval(&mut rng, scale))
+                        .collect::<Vec<_>>(),
+                )
+            } else {
+                let w = scale * rng.unit();
+                axes(&mut rng, w)
+            };
+            let range = if case % 11 == 0 {
+                interval(&mut rng, scale)
+            } else {
+                let r = scale * rng.unit();
+                Interval::new(r, r + scale * 0.2 * rng.unit())
+            };
+            let bearing = (case % 2 == 0).then(|| {
+                let b = rng.sym(3.2);
+                (Interval::new(-0.1, 0.1), Interval::new(b, b + rng.unit()))
+            });
+            let cut = if case % 3 == 0 {
+                IntervalBox::entire(dim)
+            } else {
+                axes(&mut rng, 3.0 * scale)
+            };
+            // Regions on the annulus around the centre box's middle, or
+            // anywhere.
+            let on_ring: Vec<f64> = centre
+                .axes()
+                .iter()
+                .map(|x| x.mid().clamp(-scale, scale) + range.hi().min(scale) * rng.sym(1.0))
+                .collect();
+            let shape = Shape::new(centre, range, bearing, cut);
+            let regions: Vec<Paving> = (0..1 + case % 3)
+                .map(|_| {
+                    let w = scale * (0.1 + rng.unit());
+                    let mut start = axes(&mut rng, w);
+                    if rng.next_u64() % 4 != 0 {
+                        let w = scale * 0.3 * rng.unit();
+                        let v: Vec<Interval> = on_ring
+                            .iter()
+                            .map(|&c| Interval::new(c - w, c + w))
+                            .collect();
+                        start = IntervalBox::new(&v);
+                    }
+                    let mut p = Paving::from_box(&start);
+                    let boxes = 8 + (rng.next_u64() % 60) as usize;
+                    p.refine::<Shape>(&[], 0.0, boxes);
+                    p
+                })
+                .collect();
+            let refs: Vec<&Paving> = regions.iter().collect();
+            let (hull, surviving) = branch_pieces(&shape, &refs);
+            let (want, want_surviving) = every_box(&shape, &refs);
+            assert_eq!(surviving, want_surviving, "case {case}");
+            assert_eq!(bits(&hull), bits(&want), "case {case}: {hull:?} {want:?}");
+            if let Some(acc) = &want {
+                for r in &refs {
+                    if let Some(outer) = shape.contract_piece(r.hull_ref().axes()) {
+                        let absorbed = r
+                            .boxes()
+                            .iter()
+                            .filter(|b| shape.absorbs(acc, &outer, b.axes()));
+                        skipped += absorbed.count();
+                    }
+                }
+            }
+        }
+        // The test means something only if boxes are skipped.
+        assert!(skipped > 10_000, "{skipped}");
+    }
 
     #[test]
     fn a_range_that_fits_one_region_picks_it_and_pins_the_robot() {

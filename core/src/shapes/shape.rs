@@ -98,10 +98,13 @@ pub struct Shape {
     /// changed `bearing` recomputes them), so every contraction gives the
     /// same bits as without it.
     trig: OnceCell<(Interval, Interval, Interval)>,
+    /// (r_hi, U) for the bound U of [`Shape::absorbs`], made at its first
+    /// call; used only while the range's upper bound has the same bits.
+    reach: OnceCell<(f64, f64)>,
 }
 
 /// Equal shapes: the same centre, range, bearing and cut (the cached
-/// cosine and sine are not part of the shape).
+/// cosine, sine and reach are not part of the shape).
 impl PartialEq for Shape {
     fn eq(&self, other: &Shape) -> bool {
         self.centre == other.centre
@@ -166,6 +169,16 @@ pub trait DetectionShape {
     fn meets_box(&self, b: &[Interval]) -> bool {
         self.contract_piece(b).is_some()
     }
+
+    /// A cheap test that the hull of `acc` and the piece of `b` (when
+    /// there is one) is `acc`, bit for bit, given `outer`, the piece of a
+    /// box holding `b` (the contractions are inclusion-monotone, so it
+    /// holds the piece of `b`): then the branch contraction need not
+    /// contract `b` once its region is known to survive. `false`: not
+    /// known (the default).
+    fn absorbs(&self, _acc: &Self::Piece, _outer: &Self::Piece, _b: &[Interval]) -> bool {
+        false
+    }
 }
 
 impl DetectionShape for Shape {
@@ -216,6 +229,10 @@ impl DetectionShape for Shape {
     fn meets_box(&self, b: &[Interval]) -> bool {
         Shape::meets_box(self, b)
     }
+
+    fn absorbs(&self, acc: &Piece, outer: &Piece, b: &[Interval]) -> bool {
+        Shape::absorbs(self, acc, outer, b)
+    }
 }
 
 /// A reference to a shape is that shape (so that `&&Shape` from an
@@ -262,6 +279,17 @@ impl<T: DetectionShape> DetectionShape for &T {
     fn meets_box(&self, b: &[Interval]) -> bool {
         T::meets_box(self, b)
     }
+
+    fn absorbs(&self, acc: &T::Piece, outer: &T::Piece, b: &[Interval]) -> bool {
+        T::absorbs(self, acc, outer, b)
+    }
+}
+
+/// `up(sqrt(up(r^2)))`: a bound of every |p_i - d_i| that
+/// [`contract_distance`] keeps under a range of upper bound `r` (the
+/// bound of [`Shape::absorbs`], computed by the same operations).
+fn reach(r: f64) -> f64 {
+    Interval::new(0.0, r).sqr().sqrt().hi()
 }
 
 /// The interval of distances between a point of `p` and a point of `q`
@@ -290,6 +318,7 @@ impl Shape {
             bearing,
             cut,
             trig: OnceCell::new(),
+            reach: OnceCell::new(),
         }
     }
 
@@ -355,6 +384,45 @@ impl Shape {
     /// Whether the shape may meet `b` (`false` is a proof that it does not).
     pub fn meets_box(&self, b: &[Interval]) -> bool {
         self.contract_piece(b).is_some()
+    }
+
+    /// Whether `acc` holds the piece of `b` so that their hull is `acc`
+    /// bit for bit ([`DetectionShape::absorbs`]), without contracting:
+    /// the piece lies in `outer` (the piece of a box holding `b`: every
+    /// step of the contraction is inclusion-monotone), its landmark part
+    /// in b ∩ C and its robot part in b ∩ C + [-U, U] with
+    /// `U = up(sqrt(up(r_hi^2)))`, because every [`contract_distance`]
+    /// ends the robot part with `p ∩= u + d`, where `|u| <= sqrt(s_i)`
+    /// and `s_i <= r_hi^2`, both rounded up (the bearing step between
+    /// them only shrinks p and d). A bound of `acc` equal to the piece's
+    /// must not be a zero (the hull of +0 and -0 may keep either). O(d).
+    pub fn absorbs(&self, acc: &Piece, outer: &Piece, b: &[Interval]) -> bool {
+        let range_hi = self.range.hi();
+        let &(made, u) = self.reach.get_or_init(|| (range_hi, reach(range_hi)));
+        let u = if made.to_bits() == range_hi.to_bits() {
+            u
+        } else {
+            reach(range_hi)
+        };
+        let reach = Interval::new(-u, u);
+        // `a` holds `x`, and a bound of theirs equal in value has its bits.
+        let holds = |a: Interval, x: Interval| {
+            let lo = a.lo() < x.lo() || (a.lo() == x.lo() && a.lo() != 0.0);
+            let hi = a.hi() > x.hi() || (a.hi() == x.hi() && a.hi() != 0.0);
+            lo && hi
+        };
+        for (a, x) in b.iter().enumerate().take(self.dim()) {
+            let d = x.intersect(self.cut[a]).intersect(outer.d[a]);
+            let p = outer.p[a].intersect(d + reach);
+            if d.is_empty() || p.is_empty() {
+                // No piece.
+                return true;
+            }
+            if !(holds(acc.d[a], d) && holds(acc.p[a], p)) {
+                return false;
+            }
+        }
+        true
     }
 
     /// The hull of the shape as far as its contraction shows: C contracted
