@@ -147,6 +147,18 @@ fn plaza_is_refused_a_heading_bound_its_truth_cannot_support() {
         "{e}"
     );
     assert!(!sensor.exists());
+    // A margin for a bound the model does not have, or not a number: named.
+    for (flag, what) in [
+        ("bogus=1", "no bound 'bogus'"),
+        ("range=x", "F must be a number"),
+    ] {
+        let mut bad = args.clone();
+        bad.extend(["--assume", "heading=0.02", "--margin", flag]);
+        let o = nvector().args(&bad).output().unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(e.contains(what), "{flag}: {e}");
+    }
     // Stated instead: a model, the heading marked as assumed.
     args.extend(["--assume", "heading=0.02"]);
     ok(&args);

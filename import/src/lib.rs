@@ -6,13 +6,18 @@
 //! reads files but holds no HTTP, no storage and no clock: the CLI and the
 //! Python package call it.
 //!
-//! - [`csv`]: the CSV reader (file, line and column in every error);
+//! - [`csv`]: the one CSV reader (file, line and column in every error),
+//!   of the data sets, the generic import and the calibration;
 //! - [`generic`]: a mission from a log CSV and a detections CSV, the
 //!   bounds given by the caller;
 //! - [`plaza`], [`woods`]: CMU Plaza 1 and UTIAS Lost in the Woods, every
 //!   bound derived from the data against the truth (docs/cmu-plaza1.md,
 //!   docs/utias-woods.md);
 //! - [`locards`]: LocaRDS multilateration messages as a TDOA problem;
+//! - [`calibrate`], [`sensor_model`], [`apply`]: a sensor model fitted on
+//!   a run with truth and applied to runs without it
+//!   (docs/calibration.md); the data sets convert to its CSVs
+//!   ([`plaza::calibration_csvs`], [`woods::calibration_csvs`]);
 //! - [`plant_false_ranges`]: core's planting of false ranges
 //!   (`nvector_core::slam::plant`) applied to an imported mission.
 //!

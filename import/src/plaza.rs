@@ -414,7 +414,7 @@ fn cmu_document(
 /// reads it: the log `t,speed,heading` (unicycle2d), one row per odometry
 /// row at the time of the pose it starts from, the speed its distance over
 /// the span's mean time step (so that dt × speed is the distance), the
-/// heading integrated from the truth's first heading ([`cmu_inputs`]); the
+/// heading integrated from the truth's first heading; the
 /// detections `t,range,landmark` at the time of the nearest pose; the
 /// truth `t,x,y,heading` as the data set gives it; the beacons `id,x,y`.
 pub fn calibration_csvs(dir: &Path, span: Span) -> Result<Csvs, ImportError> {

@@ -26,6 +26,8 @@ struct Planted {
     motion: f64,
     range: f64,
     bearing: f64,
+    /// Growth of the motion bound per radian of the step's turn.
+    motion_per_turn: f64,
 }
 
 const B: Planted = Planted {
@@ -33,6 +35,7 @@ const B: Planted = Planted {
     motion: 0.02,
     range: 0.1,
     bearing: 0.05,
+    motion_per_turn: 0.0,
 };
 
 fn landmarks(rng: &mut Rng) -> Vec<(u64, [f64; 2])> {
@@ -67,9 +70,10 @@ fn world(seed: u64, n: usize, b: Planted, lms: &[(u64, [f64; 2])]) -> Run {
         let h = th[i];
         th.push(h + dt * w + rng.sym(b.heading));
         let q: [f64; 2] = p[i];
+        let e = b.motion + b.motion_per_turn * (dt * w).abs();
         p.push([
-            q[0] + dt * v * h.cos() + rng.sym(b.motion),
-            q[1] + dt * v * h.sin() + rng.sym(b.motion),
+            q[0] + dt * v * h.cos() + rng.sym(e),
+            q[1] + dt * v * h.sin() + rng.sym(e),
         ]);
     }
     let mut detections = Vec::new();
@@ -214,6 +218,29 @@ fn a_bound_margin_widens_that_bound_alone() {
         o.bound_margins = vec![(name.into(), f)];
         let e = calibrate(&run, &o).unwrap_err().to_string();
         assert!(e.contains(what) && e.contains(name), "{e}");
+    }
+}
+
+/// A motion error that grows with the turn (a tracked point off the
+/// axle): the plane finds the growth, and covers second worlds drawn from
+/// the same bounds at every step, the turning ones included.
+#[test]
+fn a_motion_error_growing_with_the_turn_is_fitted_and_covers_a_second_world() {
+    let planted = Planted {
+        motion: 0.005,
+        motion_per_turn: 0.5,
+        ..B
+    };
+    for seed in 1..=4 {
+        let model = calibrate(&circling(seed, 3000, planted), &options()).expect("calibration");
+        assert!(model.motion_error.turn_slope > 0.0, "seed {seed}");
+        for other in [seed + 2000, seed + 3000] {
+            for c in verify(&model, &circling(other, 3000, planted)) {
+                if c.bound == "motion_error" {
+                    assert_eq!(c.outside, 0, "seed {seed} / {other}: {c:?}");
+                }
+            }
+        }
     }
 }
 
