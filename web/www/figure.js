@@ -24,7 +24,8 @@ function rgba(hex, a) {
 /**
  * The result up to step `last` (the time slider): the trajectory, the
  * headings and the truth's path cut after it, the detections of later
- * steps left out (null: not drawn, the groups keep their indices).
+ * steps left out ("empty", the result format's empty box: not drawn, the
+ * groups keep their indices).
  */
 function upTo(result, mission, last) {
   const n = Array.isArray(result.trajectory) ? result.trajectory.length : 0;
@@ -32,7 +33,7 @@ function upTo(result, mission, last) {
   const dets = (mission && mission.detections) || [];
   const r = { ...result, trajectory: result.trajectory.slice(0, last + 1) };
   if (Array.isArray(result.headings)) r.headings = result.headings.slice(0, last + 1);
-  if (Array.isArray(result.detections)) r.detections = result.detections.map((b, j) => (dets[j] && dets[j].step <= last ? b : null));
+  if (Array.isArray(result.detections)) r.detections = result.detections.map((b, j) => (dets[j] && dets[j].step <= last ? b : 'empty'));
   let m = mission;
   if (mission && mission.truth) {
     const t = { ...mission.truth };
