@@ -103,8 +103,12 @@ WASM_BROTLI_BUDGET=75000
 # missions tab. 18,156 bytes with the outlines alone; 56,243 with core's
 # description of a result's figure (`describe`: the CLI's picture, which
 # the missions tab draws), its JSON reading and writing and the titles'
-# number formatting (2026-11-29).
-FIGURES_BROTLI_BUDGET=57400
+# number formatting (2026-11-29); 73,784 with the result read through
+# core's types of the format (`format::result`: the derived readers and
+# the path-tracking reader, so that a bad result is refused naming its
+# path; reading the text straight into the types, untracked, saved 730
+# bytes only).
+FIGURES_BROTLI_BUDGET=75300
 # The SLAM demo's modules, fetched together by it: the solver's (pkg-slam:
 # `run`) and the simulators' (pkg-sim: `simulate`). One module held both
 # until 2026-11-24: 177,115 bytes when it was made, 182,724 once the woods

@@ -5,7 +5,8 @@ use super::mission::Mission;
 use super::robust::relaxed_intersection;
 use super::types::SolveOptions;
 pub use super::types::{Solution, SolveStatus};
-use crate::format::result::{BoxView, Diameter, IntervalOut, Metrics, Options, Score};
+use crate::error::InputError;
+use crate::format::result::{BoxView, Diameter, IntervalOut, Metrics, Options, ResultDoc, Score};
 use crate::ibox::IntervalBox;
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
@@ -110,6 +111,19 @@ pub fn result_json(mission: &Mission, options: &SolveOptions, s: &Solution) -> V
     // Serializing a view only fails for non-string keys, which it has none
     // of.
     serde_json::to_value(ResultView::new(mission, options, s, 0.0)).unwrap_or(Value::Null)
+}
+
+/// The result as its format's type (what a reader of the written result
+/// gets), `metrics.elapsed_ms` = `elapsed_ms`; an error would be a fault
+/// of the writer (the test holds the two to the same bytes).
+pub fn result_doc(
+    mission: &Mission,
+    options: &SolveOptions,
+    s: &Solution,
+    elapsed_ms: f64,
+) -> Result<ResultDoc, InputError> {
+    let view = ResultView::new(mission, options, s, elapsed_ms);
+    crate::format::result::read_value(&serde_json::to_value(view).unwrap_or(Value::Null))
 }
 
 /// Writes the result JSON to `w` without building it in memory (a 10^6-step
@@ -590,6 +604,8 @@ mod tests {
                     let got = String::from_utf8(got).unwrap();
                     assert_eq!(got, want.to_string());
                     read_back(&got);
+                    let doc = result_doc(&m, &options, &s, 12.5).unwrap();
+                    assert_eq!(serde_json::to_string(&doc).unwrap(), got);
                     want["metrics"]["elapsed_ms"] = json!(0.0);
                     assert_eq!(result_json(&m, &options, &s), want);
                 }

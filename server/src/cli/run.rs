@@ -6,7 +6,7 @@
 use crate::CliError;
 use nvector_core::figure::metres;
 use nvector_core::slam::mission::Mission;
-use nvector_core::slam::result::{result_json, score, write_result, Solution, SolveStatus};
+use nvector_core::slam::result::{result_doc, score, write_result, Solution, SolveStatus};
 use nvector_core::slam::solve::solve_model;
 use nvector_core::slam::types::{Association, OutlierTally, Progress, SolveOptions};
 use std::io::{BufWriter, IsTerminal, Write};
@@ -99,9 +99,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let elapsed_ms = start.elapsed().as_secs_f64() * 1e3;
     bar.finish_and_clear();
     if let Some(path) = &a.plot {
-        let mut result = result_json(&mission, &options, &solution);
-        result["metrics"]["elapsed_ms"] = serde_json::json!(elapsed_ms);
-        let result = nvector_core::format::result::read_value(&result)
+        let result = result_doc(&mission, &options, &solution, elapsed_ms)
             .map_err(|e| CliError(format!("the result read back: {e}")))?;
         super::plot::write_plot(path, &result, &mission.to_value())?;
     }
