@@ -243,7 +243,9 @@ impl DetectionShape for Shape {
         Shape::absorbs(self, acc, outer, b)
     }
 
-    const ABSORBS: bool = true;
+    /// Natively only: the browser's build keeps the plain branch
+    /// contraction (its transfer budget), with the same bits.
+    const ABSORBS: bool = cfg!(not(target_arch = "wasm32"));
 
     fn zero_bound(&self, piece: &Piece) -> bool {
         let dim = self.dim();
