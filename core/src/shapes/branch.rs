@@ -209,7 +209,7 @@ mod tests {
 
     fn interval(rng: &mut Rng, scale: f64) -> Interval {
         let (a, b) = (bound(rng, scale), bound(rng, scale));
-        let (a, b) = if rng.next_u64() % 2 == 0 {
+        let (a, b) = if rng.next_u64().is_multiple_of(2) {
             (a, b)
         } else {
             (-a, -b)
@@ -279,7 +279,7 @@ mod tests {
                 .map(|_| {
                     let w = scale * (0.1 + rng.unit());
                     let mut start = axes(&mut rng, w);
-                    if rng.next_u64() % 4 != 0 {
+                    if !rng.next_u64().is_multiple_of(4) {
                         let w = scale * 0.3 * rng.unit();
                         let v: Vec<Interval> = on_ring
                             .iter()
