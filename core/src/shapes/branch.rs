@@ -30,7 +30,7 @@
 //! the shape meets (m_i boxes).
 
 use super::region::Paving;
-use super::shape::{DetectionShape, Shape};
+use super::shape::{DetectionShape, Shape, MAX_DIM};
 use crate::ibox::IntervalBox;
 
 /// What the branches left.
@@ -67,7 +67,54 @@ pub fn branch(shape: &Shape, regions: &[&Paving]) -> Branches {
 /// is in one of `regions`" (module doc): the hull of the surviving pieces
 /// (`None` when none survives: the constraint is infeasible) and the
 /// indices of the regions that may hold the position.
+///
+/// For shapes that can tell a piece the hull already holds
+/// ([`DetectionShape::absorbs`]), each region's extreme boxes are
+/// contracted first, so that the hull soon holds most other pieces, which
+/// are then not contracted. The hull is the same set in any order, and
+/// the same bits except where +0 and -0 meet: a hull with a zero bound is
+/// made again in the regions' own order, every box contracted.
 pub fn branch_pieces<S: DetectionShape>(
+    shape: &S,
+    regions: &[&Paving],
+) -> (Option<S::Piece>, Vec<usize>) {
+    if S::ABSORBS {
+        let (hull, surviving) = extremes_first(shape, regions);
+        if !hull.as_ref().is_some_and(|h| shape.zero_bound(h)) {
+            return (hull, surviving);
+        }
+    }
+    every_box(shape, regions)
+}
+
+/// [`branch_pieces`] contracting every box, in the regions' order.
+fn every_box<S: DetectionShape>(shape: &S, regions: &[&Paving]) -> (Option<S::Piece>, Vec<usize>) {
+    let mut hull: Option<S::Piece> = None;
+    let mut surviving = Vec::new();
+    for (i, r) in regions.iter().enumerate() {
+        let h = r.hull_ref();
+        if h.is_empty() || !shape.meets_box(h.axes()) {
+            continue;
+        }
+        let mut hit = false;
+        for b in r.boxes() {
+            if let Some(piece) = shape.contract_piece(b.axes()) {
+                hit = true;
+                hull = Some(hull.map_or(piece, |acc| S::hull_pieces(&acc, &piece)));
+            }
+        }
+        if hit {
+            surviving.push(i);
+        }
+    }
+    (hull, surviving)
+}
+
+/// [`branch_pieces`] with each region's extreme boxes first (the first box
+/// with the least lower bound and with the greatest upper bound, on each
+/// axis), then the others in order, those the hull absorbs skipped once
+/// the region survives.
+fn extremes_first<S: DetectionShape>(
     shape: &S,
     regions: &[&Paving],
 ) -> (Option<S::Piece>, Vec<usize>) {
@@ -82,23 +129,26 @@ pub fn branch_pieces<S: DetectionShape>(
         let Some(outer) = shape.contract_piece(h.axes()) else {
             continue;
         };
+        let boxes = r.boxes();
+        let first = extremes(boxes);
         let mut hit = false;
-        for b in r.boxes() {
-            // Once the region survives, a box whose piece the hull holds
-            // changes nothing (the same bits).
+        let order = first
+            .iter()
+            .copied()
+            .chain((0..boxes.len()).filter(|k| !first.contains(k)));
+        for (n, k) in order.enumerate() {
+            let b = boxes[k].axes();
             if hit
+                && n >= first.len()
                 && hull
                     .as_ref()
-                    .is_some_and(|acc| shape.absorbs(acc, &outer, b.axes()))
+                    .is_some_and(|acc| shape.absorbs(acc, &outer, b))
             {
                 continue;
             }
-            if let Some(piece) = shape.contract_piece(b.axes()) {
+            if let Some(piece) = shape.contract_piece(b) {
                 hit = true;
-                hull = Some(match hull {
-                    None => piece,
-                    Some(acc) => S::hull_pieces(&acc, &piece),
-                });
+                hull = Some(hull.map_or(piece, |acc| S::hull_pieces(&acc, &piece)));
             }
         }
         if hit {
@@ -108,35 +158,35 @@ pub fn branch_pieces<S: DetectionShape>(
     (hull, surviving)
 }
 
+/// The indices of the first box with the least lower bound and of the
+/// first with the greatest upper bound on each axis, without repeats, in
+/// increasing order.
+fn extremes(boxes: &[IntervalBox]) -> Vec<usize> {
+    let mut out: Vec<usize> = Vec::with_capacity(2 * MAX_DIM);
+    let dim = boxes.first().map_or(0, IntervalBox::dim);
+    for a in 0..dim {
+        let (mut lo, mut hi) = (0, 0);
+        for (k, b) in boxes.iter().enumerate() {
+            if b[a].lo() < boxes[lo][a].lo() {
+                lo = k;
+            }
+            if b[a].hi() > boxes[hi][a].hi() {
+                hi = k;
+            }
+        }
+        out.extend([lo, hi]);
+    }
+    crate::sort::sort_usize(&mut out);
+    out.dedup();
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::interval::Interval;
     use crate::rng::Rng;
     use crate::shapes::shape::Piece;
-
-    /// [`branch_pieces`] contracting every box (no absorbed box skipped).
-    fn every_box(shape: &Shape, regions: &[&Paving]) -> (Option<Piece>, Vec<usize>) {
-        let mut hull: Option<Piece> = None;
-        let mut surviving = Vec::new();
-        for (i, r) in regions.iter().enumerate() {
-            let h = r.hull_ref();
-            if h.is_empty() || !shape.meets_box(h.axes()) {
-                continue;
-            }
-            let mut hit = false;
-            for b in r.boxes() {
-                if let Some(piece) = shape.contract_piece(b.axes()) {
-                    hit = true;
-                    hull = Some(hull.map_or(piece, |acc| Shape::hull_pieces(&acc, &piece)));
-                }
-            }
-            if hit {
-                surviving.push(i);
-            }
-        }
-        (hull, surviving)
-    }
 
     fn bits(p: &Option<Piece>) -> Vec<u64> {
         p.iter()
@@ -159,7 +209,7 @@ mod tests {
 
     fn interval(rng: &mut Rng, scale: f64) -> Interval {
         let (a, b) = (bound(rng, scale), bound(rng, scale));
-        let (a, b) = if rng.next_u64() % 2 == 0 {
+        let (a, b) = if rng.next_u64().is_multiple_of(2) {
             (a, b)
         } else {
             (-a, -b)
@@ -229,7 +279,7 @@ mod tests {
                 .map(|_| {
                     let w = scale * (0.1 + rng.unit());
                     let mut start = axes(&mut rng, w);
-                    if rng.next_u64() % 4 != 0 {
+                    if !rng.next_u64().is_multiple_of(4) {
                         let w = scale * 0.3 * rng.unit();
                         let v: Vec<Interval> = on_ring
                             .iter()

@@ -179,6 +179,15 @@ pub trait DetectionShape {
     fn absorbs(&self, _acc: &Self::Piece, _outer: &Self::Piece, _b: &[Interval]) -> bool {
         false
     }
+
+    /// Whether [`DetectionShape::absorbs`] may answer `true` (then the
+    /// branch contraction takes the boxes in another order).
+    const ABSORBS: bool = false;
+
+    /// Whether a bound of the piece is zero (of either sign).
+    fn zero_bound(&self, _piece: &Self::Piece) -> bool {
+        true
+    }
 }
 
 impl DetectionShape for Shape {
@@ -233,6 +242,18 @@ impl DetectionShape for Shape {
     fn absorbs(&self, acc: &Piece, outer: &Piece, b: &[Interval]) -> bool {
         Shape::absorbs(self, acc, outer, b)
     }
+
+    /// Natively only: the browser's build keeps the plain branch
+    /// contraction (its transfer budget), with the same bits.
+    const ABSORBS: bool = cfg!(not(target_arch = "wasm32"));
+
+    fn zero_bound(&self, piece: &Piece) -> bool {
+        let dim = self.dim();
+        piece.p[..dim]
+            .iter()
+            .chain(&piece.d[..dim])
+            .any(|x| x.lo() == 0.0 || x.hi() == 0.0)
+    }
 }
 
 /// A reference to a shape is that shape (so that `&&Shape` from an
@@ -282,6 +303,12 @@ impl<T: DetectionShape> DetectionShape for &T {
 
     fn absorbs(&self, acc: &T::Piece, outer: &T::Piece, b: &[Interval]) -> bool {
         T::absorbs(self, acc, outer, b)
+    }
+
+    const ABSORBS: bool = T::ABSORBS;
+
+    fn zero_bound(&self, piece: &T::Piece) -> bool {
+        T::zero_bound(self, piece)
     }
 }
 
@@ -413,12 +440,18 @@ impl Shape {
         };
         for (a, x) in b.iter().enumerate().take(self.dim()) {
             let d = x.intersect(self.cut[a]).intersect(outer.d[a]);
-            let p = outer.p[a].intersect(d + reach);
-            if d.is_empty() || p.is_empty() {
+            if d.is_empty() {
                 // No piece.
                 return true;
             }
-            if !(holds(acc.d[a], d) && holds(acc.p[a], p)) {
+            if !holds(acc.d[a], d) {
+                return false;
+            }
+            let p = outer.p[a].intersect(d + reach);
+            if p.is_empty() {
+                return true;
+            }
+            if !holds(acc.p[a], p) {
                 return false;
             }
         }
