@@ -155,7 +155,12 @@ SIM_BROTLI_BUDGET=91000
 # solver, its format reader and atmost_nvector: 114,733 bytes when it was
 # made, 119,703 with the pulses' hyperbolic shells, 113,991 with core's
 # sorts through one small sort in wasm (branch wasm160c).
-RADAR_BROTLI_BUDGET=116300
+# 2026-11-29: the intervals' sum, difference and intersection built
+# without Interval::new's checks (a speed gain of the solver) left the raw
+# module the same size (324,634 -> 324,630 bytes) but made it less
+# compressible: 115,856 -> 117,350 bytes with brotli (gzip alike); the
+# budget follows, about 0.5 % above.
+RADAR_BROTLI_BUDGET=118000
 
 # One module against its budget.
 within() {
