@@ -162,20 +162,21 @@ fn extremes_first<S: DetectionShape>(
 /// first with the greatest upper bound on each axis, without repeats, in
 /// increasing order.
 fn extremes(boxes: &[IntervalBox]) -> Vec<usize> {
-    let mut out: Vec<usize> = Vec::with_capacity(2 * MAX_DIM);
+    // Per axis: the least lower bound and its box, the greatest upper
+    // bound and its box, in one pass over the boxes.
+    let mut best = [(f64::INFINITY, 0, f64::NEG_INFINITY, 0); MAX_DIM];
     let dim = boxes.first().map_or(0, IntervalBox::dim);
-    for a in 0..dim {
-        let (mut lo, mut hi) = (0, 0);
-        for (k, b) in boxes.iter().enumerate() {
-            if b[a].lo() < boxes[lo][a].lo() {
-                lo = k;
+    for (k, b) in boxes.iter().enumerate() {
+        for (x, e) in b.axes().iter().zip(best.iter_mut()) {
+            if x.lo() < e.0 {
+                (e.0, e.1) = (x.lo(), k);
             }
-            if b[a].hi() > boxes[hi][a].hi() {
-                hi = k;
+            if x.hi() > e.2 {
+                (e.2, e.3) = (x.hi(), k);
             }
         }
-        out.extend([lo, hi]);
     }
+    let mut out: Vec<usize> = best[..dim].iter().flat_map(|e| [e.1, e.3]).collect();
     crate::sort::sort_usize(&mut out);
     out.dedup();
     out
