@@ -41,7 +41,7 @@ from typing import Any, Callable, NamedTuple, Sequence, Union
 import numpy as np
 
 from . import _nvector
-from ._errors import InputError, JobError, ServiceError
+from ._errors import InputError, JobError, ServiceError, read_with_file
 from ._progress import ProgressBar
 from ._client import Client
 from ._plot import figure, plot, read_result
@@ -259,21 +259,13 @@ def run(
         callback = None
     else:
         raise TypeError(f"progress must be True, False or a callable, not {type(progress).__name__}")
-    file = None
-    source: Any = mission
-    if isinstance(mission, (str, os.PathLike)):
-        file = os.fspath(mission)
-        with open(file, encoding="utf-8") as f:
-            source = f.read()
     try:
-        result: dict[str, Any] = _nvector.run(source, contractor, max_rounds, tolerance, callback)
+        result: dict[str, Any] = read_with_file(
+            lambda source: _nvector.run(source, contractor, max_rounds, tolerance, callback), mission
+        )
         if bar is not None:
             bar.finish()
         return result
-    except InputError as e:
-        if file is None:
-            raise
-        raise InputError(e.path, e.message, file=file) from None
     finally:
         if bar is not None:
             bar.close()
@@ -296,18 +288,7 @@ def check(mission: dict[str, Any] | PathLike) -> list[dict[str, Any]]:
     have a ``truth``. Raises :class:`InputError` naming the JSON path of a
     bad value (and the file, for a path).
     """
-    file = None
-    source: Any = mission
-    if isinstance(mission, (str, os.PathLike)):
-        file = os.fspath(mission)
-        with open(file, encoding="utf-8") as f:
-            source = f.read()
-    try:
-        report: dict[str, Any] = _nvector.check(source)
-    except InputError as e:
-        if file is None:
-            raise
-        raise InputError(e.path, e.message, file=file) from None
+    report: dict[str, Any] = read_with_file(_nvector.check, mission)
     violations: list[dict[str, Any]] = report["violations"]
     return violations
 
@@ -327,19 +308,10 @@ def tdoa(
     ``max_rounds`` are the CLI's ``--budget`` and ``--max-rounds``.
     Raises :class:`InputError` naming the JSON path of a bad value.
     """
-    file = None
-    source: Any = problem
-    if isinstance(problem, (str, os.PathLike)):
-        file = os.fspath(problem)
-        with open(file, encoding="utf-8") as f:
-            source = f.read()
-    try:
-        result: dict[str, Any] = _nvector.tdoa(source, contractor, budget, max_rounds)
-        return result
-    except InputError as e:
-        if file is None:
-            raise
-        raise InputError(e.path, e.message, file=file) from None
+    result: dict[str, Any] = read_with_file(
+        lambda source: _nvector.tdoa(source, contractor, budget, max_rounds), problem
+    )
+    return result
 
 
 def import_dataset(

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any
+import os
+from typing import Any, Callable
 
 
 class InputError(ValueError):
@@ -57,3 +58,20 @@ class JobError(RuntimeError):
         self.state = str(job.get("state"))
         detail = job.get("error")
         super().__init__(f"job {job.get('id')} {self.state}" + (f": {detail}" if detail else ""))
+
+
+def read_with_file(read: Callable[[Any], Any], source: Any) -> Any:
+    """``read(source)`` where ``source`` is a document or the path of a file
+    (read as UTF-8 text first): an :class:`InputError` from a file names it
+    (``file``)."""
+    file = None
+    if isinstance(source, (str, os.PathLike)):
+        file = os.fspath(source)
+        with open(file, encoding="utf-8") as f:
+            source = f.read()
+    try:
+        return read(source)
+    except InputError as e:
+        if file is None:
+            raise
+        raise InputError(e.path, e.message, file=file) from None

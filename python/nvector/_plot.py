@@ -23,7 +23,7 @@ import textwrap
 from typing import Any, Union
 
 from . import _nvector
-from ._errors import InputError
+from ._errors import InputError, read_with_file
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -46,18 +46,7 @@ def read_result(result: dict[str, Any] | PathLike) -> dict[str, Any]:
     the first fault (unknown or missing field, bad interval, a box of
     another dimension, a group naming no detection, ...) and the file, for
     a path."""
-    file = None
-    source: Any = result
-    if isinstance(result, (str, os.PathLike)):
-        file = os.fspath(result)
-        with open(file, encoding="utf-8") as f:
-            source = f.read()
-    try:
-        out: dict[str, Any] = _nvector.read_result(source)
-    except InputError as e:
-        if file is None:
-            raise
-        raise InputError(e.path, e.message, file=file) from None
+    out: dict[str, Any] = read_with_file(_nvector.read_result, result)
     return out
 
 
