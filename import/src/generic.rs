@@ -182,7 +182,12 @@ fn check_columns(
 
 /// A non-negative integer cell, or an error naming its file, line and
 /// column.
-fn integer_cell(x: f64, path: &Path, line: usize, name: &str) -> Result<u64, ImportError> {
+pub(crate) fn integer_cell(
+    x: f64,
+    path: &Path,
+    line: usize,
+    name: &str,
+) -> Result<u64, ImportError> {
     if x >= 0.0 && x.fract() == 0.0 && x <= 9_007_199_254_740_992.0 {
         Ok(x as u64)
     } else {

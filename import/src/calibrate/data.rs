@@ -8,6 +8,7 @@
 //! the log's mean spacing.
 
 use crate::csv::read_cells;
+use crate::generic::integer_cell;
 use crate::ImportError;
 use std::path::{Path, PathBuf};
 
@@ -239,19 +240,6 @@ impl Grid<'_> {
     }
 }
 
-/// A non-negative integer cell.
-fn integer(x: f64, path: &Path, line: usize, name: &str) -> Result<u64, ImportError> {
-    if x >= 0.0 && x.fract() == 0.0 && x <= 9_007_199_254_740_992.0 {
-        Ok(x as u64)
-    } else {
-        Err(ImportError::line(
-            path,
-            line,
-            format!("{name} must be a non-negative integer, found {x}"),
-        ))
-    }
-}
-
 fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, ImportError> {
     let det = read_cells(path)?;
     let (tc, rc) = (det.column("t")?, det.column("range")?);
@@ -285,10 +273,10 @@ fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, ImportErr
             range,
             bearing: cell(bc),
             scan: cell(sc)
-                .map(|x| integer(x, path, line, "scan"))
+                .map(|x| integer_cell(x, path, line, "scan"))
                 .transpose()?,
             landmark: cell(lc)
-                .map(|x| integer(x, path, line, "landmark"))
+                .map(|x| integer_cell(x, path, line, "landmark"))
                 .transpose()?,
             line,
         });
@@ -348,7 +336,7 @@ fn read_landmarks(path: &Path) -> Result<Vec<(u64, [f64; 2])>, ImportError> {
     let mut out = Vec::with_capacity(tab.rows.len());
     for r in 0..tab.rows.len() {
         let line = tab.rows[r].0;
-        let id = integer(tab.number(r, ic)?, path, line, "id")?;
+        let id = integer_cell(tab.number(r, ic)?, path, line, "id")?;
         out.push((id, [tab.number(r, xc)?, tab.number(r, yc)?]));
     }
     out.sort_by_key(|l| l.0);

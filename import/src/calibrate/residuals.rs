@@ -55,6 +55,14 @@ fn model_heading(run: &Run, t: &Truth, i: usize) -> Option<f64> {
     }
 }
 
+/// The true positions at both ends of step i, when the truth has both.
+fn ends(t: &Truth, i: usize) -> Option<([f64; 2], [f64; 2])> {
+    Some((
+        t.positions.get(i).copied()??,
+        t.positions.get(i + 1).copied()??,
+    ))
+}
+
 /// (step, measured speed, along-track true speed) at the steps whose two
 /// ends have a true position (and a heading): the true displacement
 /// projected on the model's heading, over dt.
@@ -62,10 +70,7 @@ pub fn along_track(run: &Run) -> Vec<(usize, f64, f64)> {
     let t = truth(run);
     (0..run.steps())
         .filter_map(|i| {
-            let (a, b) = (
-                t.positions.get(i).copied()??,
-                t.positions.get(i + 1).copied()??,
-            );
+            let (a, b) = ends(&t, i)?;
             let h = model_heading(run, &t, i)?;
             let u = ((b[0] - a[0]) * h.cos() + (b[1] - a[1]) * h.sin()) / run.dt;
             Some((i, run.speed[i], u))
@@ -130,10 +135,7 @@ pub fn motion_steps(
     let t = truth(run);
     (0..run.steps())
         .filter_map(|i| {
-            let (a, b) = (
-                t.positions.get(i).copied()??,
-                t.positions.get(i + 1).copied()??,
-            );
+            let (a, b) = ends(&t, i)?;
             let h = model_heading(run, &t, i)?;
             let dist = run.speed[i].abs() * run.dt;
             let s = speed_interval(run.speed[i], speed_error(dist), sign_unknown_below);
