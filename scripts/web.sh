@@ -71,10 +71,21 @@ build() {
     brotli -f -q 11 -o "$f.br" "$f"
     gzip -9 -n -c "$f" >"$f.gz"
   done
-  module nvector-web "--no-default-features --features playground" nvector_web web/www/pkg nvector_web
-  module nvector-web "--no-default-features --features figures" nvector_web web/www/pkg-figures nvector_web_figures
-  build_slam
-  build_radar
+  # Two chains at a time: a module's wasm-opt and brotli each use one
+  # core, and cargo's lock on the target directory lets one chain compile
+  # while the other optimises (the cold build of the five modules went
+  # from one core busy to two). A chain that fails fails the build.
+  (
+    module nvector-web "--no-default-features --features playground" nvector_web web/www/pkg nvector_web
+    module nvector-web "--no-default-features --features figures" nvector_web web/www/pkg-figures nvector_web_figures
+    build_radar
+  ) &
+  local first=$!
+  build_slam &
+  local second=$! status=0
+  wait "$first" || status=$?
+  wait "$second" || status=$?
+  return "$status"
 }
 
 # The SLAM demo's two modules: the solver's and the simulators'.
