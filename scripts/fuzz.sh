@@ -15,7 +15,12 @@ seconds=${1:-60}
 scripts/venv.sh
 bin=${NVECTOR_BIN:-}
 if [ -z "$bin" ]; then
-  cargo build --quiet -p nvector-server --bin nvector --profile test
+  # The selection of `cargo test --workspace` (scripts/test_rust.py and
+  # the end-to-end harness build the same): after `make test`'s Rust step a
+  # no-op. `-p nvector-server` alone resolves other features (no
+  # dev-dependencies) and built the server and its dependencies a second
+  # time, over the binary the other steps use.
+  cargo build --quiet --workspace --bins --tests --profile test
   bin=target/debug/nvector
 fi
 

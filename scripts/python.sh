@@ -19,7 +19,12 @@ if ! .venv/bin/python -c "import mypy" 2>/dev/null; then
   exit 1
 fi
 if [ -z "${NVECTOR_BIN:-}" ]; then
-  cargo build --quiet -p nvector-server --bin nvector --profile test
+  # The selection of `cargo test --workspace` (scripts/test_rust.py and
+  # the end-to-end harness build the same): after `make test`'s Rust step a
+  # no-op. `-p nvector-server` alone resolves other features (no
+  # dev-dependencies) and built the server and its dependencies a second
+  # time, over the binary the other steps use.
+  cargo build --quiet --workspace --bins --tests --profile test
   NVECTOR_BIN="$PWD/target/debug/nvector"
 fi
 export NVECTOR_BIN
