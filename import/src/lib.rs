@@ -51,6 +51,9 @@ pub fn validated(mission: Value) -> Result<Value, ImportError> {
     Ok(mission)
 }
 
+/// What a data set's same-run calibration is, in `meta.calibration.method`.
+pub const SAME_RUN_METHOD: &str = "every bound fitted on this run's own truth by the calibration (docs/calibration.md, \"Same-run calibration\"): the data set converted to the calibration's CSVs, calibrated on itself (`meta.sensor_model`: each bound's method, the flagged steps) and applied to the same run; `nvector calibrate` fits the per-robot bounds that transfer to other runs";
+
 /// The outlier share P of the data-set importers: 0 <= P < 0.5.
 fn check_outlier_share(share: f64) -> Result<(), ImportError> {
     if (0.0..0.5).contains(&share) {
