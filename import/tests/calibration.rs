@@ -117,6 +117,7 @@ fn options() -> Options {
         sensor_offset: [0.0, 0.0],
         assume_heading: None,
         source: "planted".into(),
+        ..Options::default()
     }
 }
 

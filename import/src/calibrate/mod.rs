@@ -305,7 +305,7 @@ fn heading(run: &Run, o: &Options) -> Fitted<(Bound, Vec<(usize, f64)>)> {
             })?;
             let pts: Vec<(f64, f64)> = ordinary.iter().map(|p| (p.1, p.2.abs())).collect();
             let (of, shape) = if o.constant_steps {
-                (Measure::None, "the largest")
+                (Measure::None, "the largest of")
             } else {
                 (
                     Measure::Turn,
@@ -462,7 +462,8 @@ fn window(
     margin: f64,
     method: &str,
 ) -> Fitted<Window> {
-    let independent = r.len() / k;
+    // Disjoint windows: samples / k, and one as soon as there is a sample.
+    let independent = (r.len() / k).max(usize::from(!r.is_empty()));
     if independent < min {
         return refuse(
             &format!("{name}[k={k}]"),
