@@ -135,6 +135,38 @@ impl Run {
         format!("{}:{h:016x}", self.model.name())
     }
 
+    /// The steps `[a, b)` of the run as a run of their own (b - a >= 2):
+    /// the log's rows, the detections at steps a..=b renumbered, the truth
+    /// at poses a..=b (a held-out part of a calibration run:
+    /// [`crate::calibrate::holdout`]).
+    pub fn steps_between(&self, a: usize, b: usize) -> Run {
+        let b = b.min(self.steps());
+        let truth = self.truth.as_ref().map(|t| Truth {
+            positions: t.positions[a..=b].to_vec(),
+            headings: t.headings[a..=b].to_vec(),
+            has_heading: t.has_heading,
+        });
+        Run {
+            model: self.model,
+            t: self.t[a..b].to_vec(),
+            dt: self.dt,
+            speed: self.speed[a..b].to_vec(),
+            rotation: self.rotation[a..b].to_vec(),
+            detections: self
+                .detections
+                .iter()
+                .filter(|d| (a..=b).contains(&d.step))
+                .map(|d| Detection {
+                    step: d.step - a,
+                    ..d.clone()
+                })
+                .collect(),
+            truth,
+            landmarks: self.landmarks.clone(),
+            paths: self.paths.clone(),
+        }
+    }
+
     /// The index of a landmark id in the sorted landmarks.
     pub fn landmark_index(&self, id: u64) -> Option<usize> {
         self.landmarks

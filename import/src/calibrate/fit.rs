@@ -199,8 +199,9 @@ pub fn plane_bound(
 /// residual; widened at use by F × its half-width plus `margin`
 /// ([`Band::at`]). `skip` (below, above): the band of an outlier share,
 /// each line over every point but the `skip` farthest beyond it
-/// ([`upper_line_skipping`]) and the constant band between the quantiles
-/// that leave as many out; (0, 0) holds every point.
+/// ([`upper_line_skipping`]), and the constant band spans the points
+/// between the lines, so at most `skip.0 + skip.1` points are left out;
+/// (0, 0) holds every point.
 pub fn band(
     points: &[(f64, f64)],
     (of, min_range): (BandOf, f64),
@@ -211,14 +212,15 @@ pub fn band(
     let negated: Vec<(f64, f64)> = points.iter().map(|p| (p.0, -p.1)).collect();
     let (ua, ub) = upper_line_skipping(points, -2.0, 2.0, skip.1);
     let (la, lb) = upper_line_skipping(&negated, -2.0, 2.0, skip.0);
-    let constant = if points.is_empty() {
-        [f64::INFINITY, f64::NEG_INFINITY]
-    } else {
-        let mut sorted: Vec<f64> = points.iter().map(|p| p.1).collect();
-        sorted.sort_unstable_by(f64::total_cmp);
-        let last = sorted.len() - 1;
-        [sorted[skip.0.min(last)], sorted[last - skip.1.min(last)]]
-    };
+    // The constant band spans the points between the two lines: those
+    // the lines leave out stay out, and no other (at most skip.0 +
+    // skip.1 points outside in all).
+    let constant = points
+        .iter()
+        .filter(|&&(x, y)| skip == (0, 0) || (-(la + lb * x) <= y && y <= ua + ub * x))
+        .fold([f64::INFINITY, f64::NEG_INFINITY], |s, p| {
+            [s[0].min(p.1), s[1].max(p.1)]
+        });
     let mut out = Band {
         upper: [ua, ub],
         lower: [la, lb],

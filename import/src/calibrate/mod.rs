@@ -864,3 +864,63 @@ pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
     }
     out
 }
+
+/// The relative margins tried by [`holdout`], in order.
+pub const HOLDOUT_LADDER: [f64; 8] = [0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0];
+
+/// The margins a held-out part of the calibration run asks for: the run's
+/// steps before `1 - fraction` of them calibrate a model, checked
+/// ([`verify`]) on the rest; each bound the rest breaks gets the next
+/// margin of [`HOLDOUT_LADDER`] above its own, until the check is clean or
+/// the ladder ends. Returns the margins (every bound's F, the raised ones
+/// included) and the last check. A rule a user can apply without the truth
+/// of the run they solve (docs/calibration.md, step 3).
+pub fn holdout(
+    run: &Run,
+    o: &Options,
+    fraction: f64,
+) -> Result<(Options, Vec<Coverage>), ImportError> {
+    if !(fraction > 0.0 && fraction < 1.0) {
+        return Err(ImportError::setting(
+            "holdout",
+            format!("--holdout must be in (0, 1), found {fraction}"),
+        ));
+    }
+    let n = run.steps();
+    let cut = ((1.0 - fraction) * n as f64).round() as usize;
+    if cut < 2 || n - cut < 2 {
+        return Err(ImportError::setting(
+            "holdout",
+            format!("--holdout {fraction}: {n} steps leave fewer than 2 on a side"),
+        ));
+    }
+    let (fit_part, check_part) = (run.steps_between(0, cut), run.steps_between(cut, n));
+    let mut o = o.clone();
+    loop {
+        let model = calibrate(&fit_part, &o)?;
+        let cov = verify(&model, &check_part);
+        let broken: Vec<&str> = BOUND_NAMES
+            .iter()
+            .copied()
+            .filter(|name| {
+                cov.iter()
+                    .any(|c| c.outside > 0 && bound_name(&c.bound) == *name)
+            })
+            .collect();
+        let mut raised = false;
+        for name in broken {
+            if let Some(&f) = HOLDOUT_LADDER.iter().find(|&&f| f > o.margin(name)) {
+                o.bound_margins.push((name.to_string(), f));
+                raised = true;
+            }
+        }
+        if !raised {
+            return Ok((o, cov));
+        }
+    }
+}
+
+/// The bound of a coverage line (`heading_drift[k=30]` is `heading_drift`).
+fn bound_name(line: &str) -> &str {
+    line.split('[').next().unwrap_or(line)
+}

@@ -80,6 +80,13 @@ pub struct Args {
     /// touching a gap exempt from the heading windows.
     #[arg(long, requires = "same_run")]
     complete_gaps: bool,
+    /// Choose the margins on a held-out part of this run: fit on its steps
+    /// before 1 - FRACTION of them, check on the rest, raise the margin of
+    /// each bound broken (0.1, 0.25, 0.5, 0.75, 1, 1.5, 2, 3) until the
+    /// check is clean; then fit the whole run with those margins
+    /// (docs/calibration.md, step 3). The margins chosen are printed.
+    #[arg(long, value_name = "FRACTION")]
+    holdout: Option<f64>,
     /// Instead of fitting: how a model holds on this run (the samples it
     /// leaves outside, bound by bound), as JSON; exit 1 when any.
     #[arg(long, value_name = "SENSOR.json")]
@@ -176,12 +183,37 @@ pub fn run(a: Args) -> Result<(), CliError> {
         constant_steps: a.constant_steps,
         outlier_share: a.outlier_share,
     };
+    let options = match a.holdout {
+        Some(f) => held_out(&run, options, f)?,
+        None => options,
+    };
     let sensor = calibrate::calibrate(&run, &options)?;
     for r in &sensor.refused {
         say!("nvector calibrate: left out {}: {}", r.bound, r.reason);
     }
     let text = serde_json::to_string_pretty(&sensor)?;
     write_text(&text, a.out.as_deref())
+}
+
+/// `--holdout FRACTION`: the margins the held-out part asks for, said on
+/// standard error.
+fn held_out(
+    run: &data::Run,
+    o: calibrate::Options,
+    fraction: f64,
+) -> Result<calibrate::Options, CliError> {
+    let (chosen, cov) = calibrate::holdout(run, &o, fraction)?;
+    let margins: Vec<String> = calibrate::BOUND_NAMES
+        .iter()
+        .map(|n| format!("{n}={}", chosen.margin(n)))
+        .collect();
+    let outside: usize = cov.iter().map(|c| c.outside).sum();
+    say!(
+        "nvector calibrate: --holdout {fraction}: margins {} ({outside} sample(s) of the held-out part outside{})",
+        margins.join(" "),
+        if outside > 0 { ": the ladder ended" } else { "" }
+    );
+    Ok(chosen)
 }
 
 /// The `--flag NAME=T`, `--flag-bound` and `--complete-gaps` flags.
