@@ -372,14 +372,16 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
     }
     // Zero-velocity steps (the odometry reports under 1 cm) get their own
     // bound: the data's README finds delta_distance equal to the true step
-    // length to 1e-4 m, so that bound is a small fraction of the moving
-    // steps' one (and the loop above checked it holds the truth).
+    // length to 1e-3 m on 9554 of the 9657 steps, so that bound (the
+    // speed is taken as measured: it holds the step's whole residual, a
+    // few mm) is a small fraction of the moving steps' one (and the loop
+    // above checked it holds the truth).
     let meta = &read_json(&out_path)["meta"];
     let (still, moving) = (
         meta["stationary_motion_error"].as_f64().unwrap(),
         meta["ordinary_motion_error"].as_f64().unwrap(),
     );
-    assert!(still < 0.002 && still * 10.0 < moving, "{still} {moving}");
+    assert!(still < 0.006 && still * 4.0 < moving, "{still} {moving}");
     assert!(meta["stationary_steps"].as_u64().unwrap() > 900);
     // The range band between lines in the measured range is narrower on
     // average than the constant band of the smallest and largest residual:

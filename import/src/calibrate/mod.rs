@@ -218,6 +218,9 @@ impl Options {
     }
 }
 
+/// `(step, bound)` of the flagged steps of one per-step bound.
+type StepBounds = Vec<(usize, f64)>;
+
 /// A bound refused, or fitted.
 type Fitted<T> = Result<T, Refusal>;
 
@@ -255,7 +258,7 @@ fn enough(bound: &str, samples: &[f64], min: usize, what: &str) -> Fitted<()> {
 /// The heading bound: `unicycle2d` the heading channel (constant),
 /// `odometry2d` the per-step integration error (affine in the turn, or
 /// constant), and the flagged steps.
-fn heading(run: &Run, o: &Options) -> Fitted<(Bound, Vec<(usize, f64)>)> {
+fn heading(run: &Run, o: &Options) -> Fitted<(Bound, StepBounds)> {
     if let Some(e) = o.assume_heading {
         if !(e.is_finite() && e >= 0.0) {
             return refuse(
@@ -378,7 +381,7 @@ fn speed(run: &Run, o: &Options) -> SpeedBound {
 
 /// The per-step motion error, affine in the step's distance and turn (or
 /// constant), with its still class, and the flagged steps.
-fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<(Bound, Vec<(usize, f64)>)> {
+fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<(Bound, StepBounds)> {
     let f = o.margin("motion_error");
     let min = o.min_samples(f);
     let eh = match run.model {
@@ -722,7 +725,7 @@ fn flagged_steps(
     run: &Run,
     o: &Options,
     h: &Bound,
-    (mut heading, motion): (Vec<(usize, f64)>, Vec<(usize, f64)>),
+    (mut heading, motion): (StepBounds, StepBounds),
     gap_step: &[bool],
 ) -> (Option<Flagged>, (Vec<usize>, f64)) {
     let Some(f) = o.flag else {
