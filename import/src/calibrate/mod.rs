@@ -825,21 +825,26 @@ pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
             .map(|p| p.3 - model.motion_error_at(p.0, p.1, p.2, same)),
     ));
     let turn = res::prefix_turn(run);
-    let exempt = |t: f64| -> Vec<usize> {
-        (0..run.steps())
-            .filter(|&i| model.heading_error_at(i, res::step_turn(run, i), same) > t)
-            .collect()
+    // An exempt window's statement, as the mission's: |th(i+k) - th(i) -
+    // S| <= error + the exempt steps' own bounds in the window.
+    let exempt_sum = |t: f64| -> Vec<f64> {
+        let mut p = vec![0.0];
+        for i in 0..run.steps() {
+            let e = model.heading_error_at(i, res::step_turn(run, i), same);
+            p.push(p[i] + if e > t { e } else { 0.0 });
+        }
+        p
     };
     for w in &model.heading_drift {
-        let r = match w.exempt_above {
-            Some(t) => {
-                res::heading_window(run, &res::prefix_turn_exempting(run, &exempt(t)), w.steps)
-            }
-            None => res::heading_window(run, &turn, w.steps),
-        };
+        let k = w.steps;
+        let slack = w.exempt_above.map(exempt_sum);
+        let r: Vec<f64> = res::heading_window_at(run, &turn, k)
+            .into_iter()
+            .map(|(i, r)| r.abs() - slack.as_ref().map_or(0.0, |x| x[i + k] - x[i]))
+            .collect();
         out.push(count(
             format!("heading_drift[k={}]", w.steps),
-            r.iter().map(|x| x.abs() - w.error),
+            r.iter().map(|x| x - w.error),
         ));
     }
     let prefix = res::prefix_motion(run);

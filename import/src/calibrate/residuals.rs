@@ -156,6 +156,14 @@ pub fn motion_steps(
 /// exempt steps' residuals ([`prefix_turn_exempting`]), which the window
 /// then leaves out.
 pub fn heading_window(run: &Run, prefix_turn: &[f64], k: usize) -> Vec<f64> {
+    heading_window_at(run, prefix_turn, k)
+        .into_iter()
+        .map(|x| x.1)
+        .collect()
+}
+
+/// [`heading_window`] with each window's first step: `(i, residual)`.
+pub fn heading_window_at(run: &Run, prefix_turn: &[f64], k: usize) -> Vec<(usize, f64)> {
     let t = truth(run);
     let n = run.steps();
     if k > n {
@@ -164,7 +172,7 @@ pub fn heading_window(run: &Run, prefix_turn: &[f64], k: usize) -> Vec<f64> {
     (0..=n - k)
         .filter_map(|i| {
             let (a, b) = (t.headings[i]?, t.headings[i + k]?);
-            Some(b - a - (prefix_turn[i + k] - prefix_turn[i]))
+            Some((i, b - a - (prefix_turn[i + k] - prefix_turn[i])))
         })
         .collect()
 }
