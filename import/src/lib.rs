@@ -10,8 +10,9 @@
 //!   of the data sets, the generic import and the calibration;
 //! - [`generic`]: a mission from a log CSV and a detections CSV, the
 //!   bounds given by the caller;
-//! - [`plaza`], [`woods`]: CMU Plaza 1 and UTIAS Lost in the Woods, every
-//!   bound derived from the data against the truth (docs/cmu-plaza1.md,
+//! - [`plaza`], [`woods`]: CMU Plaza 1 and UTIAS Lost in the Woods,
+//!   converted to the calibration's CSVs, calibrated on themselves (a
+//!   same-run calibration) and the model applied (docs/cmu-plaza1.md,
 //!   docs/utias-woods.md);
 //! - [`locards`]: LocaRDS multilateration messages as a TDOA problem;
 //! - [`calibrate`], [`sensor_model`], [`apply`]: a sensor model fitted on
