@@ -372,23 +372,34 @@ fn cmu_plaza_ground_truth_satisfies_the_mission() {
     }
     // Zero-velocity steps (the odometry reports under 1 cm) get their own
     // bound: the data's README finds delta_distance equal to the true step
-    // length to 1e-4 m, so that bound is a small fraction of the moving
-    // steps' one (and the loop above checked it holds the truth).
+    // length to 1e-3 m on 9554 of the 9657 steps, so that bound (the
+    // speed is taken as measured: it holds the step's whole residual, a
+    // few mm) is a small fraction of the moving steps' one (and the loop
+    // above checked it holds the truth).
     let meta = &read_json(&out_path)["meta"];
     let (still, moving) = (
         meta["stationary_motion_error"].as_f64().unwrap(),
         meta["ordinary_motion_error"].as_f64().unwrap(),
     );
-    assert!(still < 0.002 && still * 10.0 < moving, "{still} {moving}");
+    assert!(still < 0.006 && still * 4.0 < moving, "{still} {moving}");
     assert!(meta["stationary_steps"].as_u64().unwrap() > 900);
-    // The range band around a line in the measured range is narrower than
-    // the constant band (slope 0 is one of the lines it was chosen from);
-    // the loop below checks that it holds every true distance.
-    let model = &meta["range_error_model"];
-    let band = model["offset"][1].as_f64().unwrap() - model["offset"][0].as_f64().unwrap();
+    // The range band between lines in the measured range is narrower on
+    // average than the constant band of the smallest and largest residual:
+    // the error grows with the range (the data's README), and a band
+    // around one line of slope 0.0676 is 3.35 m wide against the
+    // constant 7.22 m (docs/cmu-plaza1.md); each line, the narrowest on
+    // average, is no wider than that band's. The loop below checks that
+    // it holds every true distance.
     let constant = meta["range_error_bounds"][1].as_f64().unwrap()
-        - meta["range_error_bounds"][0].as_f64().unwrap();
-    assert!(band < constant, "{band} {constant}");
+        - meta["range_error_bounds"][0].as_f64().unwrap()
+        + 2.0 * meta["range_error_model"]["margin"].as_f64().unwrap();
+    let mean = m
+        .detections
+        .iter()
+        .map(|d| d.range.hi() - d.range.lo())
+        .sum::<f64>()
+        / m.detections.len() as f64;
+    assert!(mean < 0.6 * constant, "{mean} {constant}");
     // Every range holds the true distance to the true beacon.
     for (j, d) in m.detections.iter().enumerate() {
         let p = &t.positions[d.step];

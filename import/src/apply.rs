@@ -9,7 +9,7 @@
 //! heading 0.
 
 use crate::calibrate::data::{Model, Run};
-use crate::calibrate::residuals::{speed_interval, step_turn};
+use crate::calibrate::residuals::{speed_interval, step_turn, true_reading};
 use crate::sensor_model::SensorModel;
 use crate::ImportError;
 use serde_json::{json, Value};
@@ -60,6 +60,16 @@ pub fn mission(run: &Run, model: &SensorModel, o: &Options) -> Result<Value, Imp
                 "the sensor model is for {}, the log is read as {}",
                 model.model,
                 run.model.name()
+            ),
+        ));
+    }
+    let same_run = model.calibration.fingerprint == run.fingerprint();
+    if model.flagged.is_some() && !same_run {
+        return Err(ImportError::setting(
+            "sensor_model",
+            format!(
+                "the sensor model has flagged steps: a same-run calibration of {} whose steps' own bounds hold on that log only, not on this one (calibrate without flagged steps to transfer it)",
+                model.calibration.source
             ),
         ));
     }
@@ -118,7 +128,13 @@ fn inputs(run: &Run, model: &SensorModel) -> Value {
         lo.push(a);
         hi.push(b);
     }
-    let speed = json!({"lo": lo, "hi": hi});
+    // Exact speeds (no error, no sign rule) as their values: the same
+    // intervals in half the bytes.
+    let exact = lo.iter().zip(&hi).all(|(a, b)| a == b);
+    let speed = match exact {
+        true => json!({"value": run.speed, "error": 0.0}),
+        false => json!({"lo": lo, "hi": hi}),
+    };
     match run.model {
         Model::Odometry2d => {
             json!({"speed": speed, "turn_rate": {"value": run.rotation, "error": 0.0}})
@@ -144,11 +160,13 @@ fn motion_fields(
     ex: &mut Extrapolated,
 ) {
     let me = &model.motion_error;
+    let same = model.calibration.fingerprint == run.fingerprint();
     m["motion_error"] = (0..run.steps())
         .map(|i| {
             let x = (run.speed[i] * run.dt).abs();
-            ex.motion += usize::from(beyond(me.fit.span, x));
-            json!(me.at_step(x, step_turn(run, i)))
+            let still = me.still.as_ref().is_some_and(|s| x < s.below);
+            ex.motion += usize::from(!still && beyond(me.fit.span, x));
+            json!(model.motion_error_at(i, x, step_turn(run, i), same))
         })
         .collect();
     if run.model != Model::Odometry2d {
@@ -158,10 +176,11 @@ fn motion_fields(
     m["heading_error"] = run
         .rotation
         .iter()
-        .map(|w| {
+        .enumerate()
+        .map(|(i, w)| {
             let x = (w * run.dt).abs();
             ex.heading += usize::from(beyond(h.fit.span, x));
-            json!(h.at(x))
+            json!(model.heading_error_at(i, x, same))
         })
         .collect();
     let e = FRAME_HEADING;
@@ -175,7 +194,10 @@ fn motion_fields(
     };
     let windows = |ws: &[crate::sensor_model::Window]| {
         ws.iter()
-            .map(|w| json!({"steps": w.steps, "error": w.error}))
+            .map(|w| match w.exempt_above {
+                Some(t) => json!({"steps": w.steps, "error": w.error, "exempt_above": t}),
+                None => json!({"steps": w.steps, "error": w.error}),
+            })
             .collect::<Vec<_>>()
     };
     m["heading_drift"] = json!(windows(&model.heading_drift));
@@ -304,4 +326,30 @@ fn truth(run: &Run) -> Option<Value> {
         }
     }
     Some(v)
+}
+
+/// The detections (by index) whose true range or bearing lies outside the
+/// interval `model` gives them (as [`mission`] writes it), at the steps
+/// where the truth is known: the readings an outlier share
+/// ([`crate::calibrate::Options::outlier_share`]) left outside.
+pub fn readings_outside(run: &Run, model: &SensorModel) -> Vec<usize> {
+    let inside_mod_2pi = |x: f64, [lo, hi]: [f64; 2]| {
+        let tau = 2.0 * std::f64::consts::PI;
+        x + tau * ((lo - x) / tau).ceil() <= hi
+    };
+    (0..run.detections.len())
+        .filter(|&j| {
+            let Some((range, bearing)) = true_reading(run, j, model.sensor_offset) else {
+                return false;
+            };
+            let d = &run.detections[j];
+            let (r, _) = model.range.interval(d.range, d.range);
+            let r_ok = r[0].max(0.0) <= range && range <= r[1].max(0.0);
+            let b_ok = match (&model.bearing, d.bearing, bearing) {
+                (Some(b), Some(m), Some(t)) => inside_mod_2pi(t, b.interval(m, d.range).0),
+                _ => true,
+            };
+            !(r_ok && b_ok)
+        })
+        .collect()
 }

@@ -100,6 +100,12 @@ pub fn read_cells(path: &Path) -> Result<Table, ImportError> {
     read_rows(path, true, 0, true)
 }
 
+/// [`read_cells`] of a text already in memory (a data set converted to
+/// the calibration's files), `path` naming it in errors.
+pub fn cells_of_text(text: &str, path: &Path) -> Result<Table, ImportError> {
+    rows_of_text(text, path, true, 0, true)
+}
+
 fn read_rows(
     path: &Path,
     header: bool,
@@ -107,6 +113,16 @@ fn read_rows(
     empty_ok: bool,
 ) -> Result<Table, ImportError> {
     let text = std::fs::read_to_string(path).map_err(|e| ImportError::read(path, e))?;
+    rows_of_text(&text, path, header, min_columns, empty_ok)
+}
+
+fn rows_of_text(
+    text: &str,
+    path: &Path,
+    header: bool,
+    min_columns: usize,
+    empty_ok: bool,
+) -> Result<Table, ImportError> {
     let mut lines = text
         .lines()
         .enumerate()

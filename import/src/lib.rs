@@ -10,8 +10,9 @@
 //!   of the data sets, the generic import and the calibration;
 //! - [`generic`]: a mission from a log CSV and a detections CSV, the
 //!   bounds given by the caller;
-//! - [`plaza`], [`woods`]: CMU Plaza 1 and UTIAS Lost in the Woods, every
-//!   bound derived from the data against the truth (docs/cmu-plaza1.md,
+//! - [`plaza`], [`woods`]: CMU Plaza 1 and UTIAS Lost in the Woods,
+//!   converted to the calibration's CSVs, calibrated on themselves (a
+//!   same-run calibration) and the model applied (docs/cmu-plaza1.md,
 //!   docs/utias-woods.md);
 //! - [`locards`]: LocaRDS multilateration messages as a TDOA problem;
 //! - [`calibrate`], [`sensor_model`], [`apply`]: a sensor model fitted on
@@ -50,6 +51,9 @@ pub fn validated(mission: Value) -> Result<Value, ImportError> {
     Mission::from_value(&mission).map_err(ImportError::InvalidMission)?;
     Ok(mission)
 }
+
+/// What a data set's same-run calibration is, in `meta.calibration.method`.
+pub const SAME_RUN_METHOD: &str = "every bound fitted on this run's own truth by the calibration (docs/calibration.md, \"Same-run calibration\"): the data set converted to the calibration's CSVs, calibrated on itself (`meta.sensor_model`: each bound's method, the flagged steps) and applied to the same run; `nvector calibrate` fits the per-robot bounds that transfer to other runs";
 
 /// The outlier share P of the data-set importers: 0 <= P < 0.5.
 fn check_outlier_share(share: f64) -> Result<(), ImportError> {

@@ -1,160 +1,46 @@
 //! The CMU Plaza 1 range-only data set (Djugash and Singh, via GTSAM's
-//! examples; `data/cmu-plaza1`) as a `unicycle2d` mission with its truth.
-//! docs/cmu-plaza1.md derives every bound from the data; `meta` records
-//! the figures.
+//! examples; `data/cmu-plaza1`) as a `unicycle2d` mission with its truth:
+//! the data set converted to the calibration's four CSVs
+//! ([`calibration_csvs`]), a same-run calibration of them (the one fitting
+//! code, [`crate::calibrate`], with the settings of [`cmu`]) and the model
+//! applied to the same run ([`crate::apply`]). docs/cmu-plaza1.md gives
+//! the figures; `meta` records them.
 
 use crate::calibrate::convert::{self, Csvs, Span};
+use crate::calibrate::{self, data, Flag};
 use crate::csv::read_table;
 use crate::ImportError;
 use serde_json::{json, Value};
 use std::path::Path;
 
-/// Bounds of the CMU import (docs/cmu-plaza1.md explains each).
+/// The settings of Plaza 1's same-run calibration (docs/cmu-plaza1.md
+/// explains each).
 pub mod cmu {
-    /// Error bound on delta_distance per step (m).
-    pub const SPEED_ERROR: f64 = 0.01;
-    /// Error bound on the integrated heading (rad).
+    /// The heading bound (rad), stated: the truth's heading is the
+    /// integrated odometry heading, it cannot calibrate it.
     pub const HEADING_ERROR: f64 = 0.02;
-    /// Below this delta_distance (m per step) the robot may be backing up.
-    pub const BACKUP_BELOW: f64 = 0.08;
-    /// A step whose residual against the interval model exceeds this (m) is
-    /// an anomaly and gets its own motion error.
+    /// A step whose motion residual exceeds this (m) is flagged and gets
+    /// its own motion error.
     pub const FLAG_ABOVE: f64 = 0.02;
-    /// Margin added to every bound derived from the data.
-    pub const MARGIN: f64 = 0.05;
-    /// Below this delta_distance (m per step) the odometry says the robot
-    /// stands still (a zero-velocity step).
+    /// A flagged step's bound: its residual x this + [`FLAGGED_MARGIN`].
+    pub const FLAGGED_FACTOR: f64 = 1.5;
+    /// See [`FLAGGED_FACTOR`] (m).
+    pub const FLAGGED_MARGIN: f64 = 0.05;
+    /// Below this reported distance (m per step) the odometry says the
+    /// robot stands still (the zero-velocity class).
     pub const STILL_BELOW: f64 = 0.01;
-    /// Margin added to the largest residual of the zero-velocity steps.
-    pub const STILL_MARGIN: f64 = 0.001;
-    /// Margin added to the largest residual of the other ordinary steps.
-    pub const ORDINARY_MARGIN: f64 = 0.005;
 }
 
-/// The odometry of Plaza 1 as the model's inputs: the heading integrated
-/// from the known initial heading, and the speed per step (dt = 1 step:
-/// `delta_distance`, its sign unknown below [`cmu::BACKUP_BELOW`]).
-struct CmuInputs {
-    heading: Vec<f64>,
-    speed: Vec<[f64; 2]>,
-}
-
-fn cmu_inputs(dr: &[Vec<f64>], gt: &[Vec<f64>]) -> CmuInputs {
-    use cmu::*;
+/// The heading of Plaza 1's odometry at each row: `delta_heading`
+/// integrated from the truth's first heading.
+fn cmu_heading(dr: &[Vec<f64>], gt: &[Vec<f64>]) -> Vec<f64> {
     let mut heading = Vec::with_capacity(dr.len());
     let mut h = gt[0][3];
     for row in dr {
         heading.push(h);
         h += row[2];
     }
-    let speed = dr
-        .iter()
-        .map(|r| {
-            let d = r[1];
-            let lo = if d < BACKUP_BELOW {
-                -d - SPEED_ERROR
-            } else {
-                d - SPEED_ERROR
-            };
-            [lo, d + SPEED_ERROR]
-        })
-        .collect();
-    CmuInputs { heading, speed }
-}
-
-/// The per-step motion error of Plaza 1 (docs/cmu-plaza1.md, "Motion
-/// error per step") and the figures `meta` records.
-struct CmuMotion {
-    per_step: Vec<f64>,
-    ordinary: f64,
-    stationary: f64,
-    stationary_steps: usize,
-    anomalous_steps: usize,
-}
-
-/// The residual of each true step against the interval model (speed and
-/// heading intervals): v·(cos, sin) enclosed by sampling the corners and
-/// the extremal angles inside.
-fn cmu_residuals(gt: &[Vec<f64>], inputs: &CmuInputs) -> Vec<f64> {
-    use cmu::*;
-    let (speed, heading) = (&inputs.speed, &inputs.heading);
-    (0..speed.len())
-        .map(|i| {
-            let (dx, dy) = (gt[i + 1][1] - gt[i][1], gt[i + 1][2] - gt[i][2]);
-            let (mut bx, mut by) = (
-                (f64::INFINITY, f64::NEG_INFINITY),
-                (f64::INFINITY, f64::NEG_INFINITY),
-            );
-            for v in [
-                speed[i][0],
-                speed[i][1],
-                0.0f64.clamp(speed[i][0], speed[i][1]),
-            ] {
-                for k in 0..=8 {
-                    let a = heading[i] - HEADING_ERROR + 2.0 * HEADING_ERROR * k as f64 / 8.0;
-                    let (x, y) = (v * a.cos(), v * a.sin());
-                    bx = (bx.0.min(x), bx.1.max(x));
-                    by = (by.0.min(y), by.1.max(y));
-                }
-            }
-            let ex = (bx.0 - dx).max(dx - bx.1).max(0.0);
-            let ey = (by.0 - dy).max(dy - by.1).max(0.0);
-            ex.max(ey)
-        })
-        .collect()
-}
-
-/// Two classes of ordinary steps (zero-velocity ones, where the odometry
-/// reports under [`cmu::STILL_BELOW`], and moving ones), each bounded by
-/// its own largest residual plus a margin; the anomalies (residual above
-/// [`cmu::FLAG_ABOVE`]) get their own residual × 1.5 + margin.
-fn cmu_motion(dr: &[Vec<f64>], residual: &[f64]) -> CmuMotion {
-    use cmu::*;
-    let n = residual.len();
-    let still = |i: usize| dr[i][1] < STILL_BELOW;
-    let class_max = |moving: bool| {
-        (0..n)
-            .filter(|&i| residual[i] <= FLAG_ABOVE && still(i) != moving)
-            .map(|i| residual[i])
-            .fold(0.0, f64::max)
-    };
-    let (ordinary, stationary) = (
-        class_max(true) + ORDINARY_MARGIN,
-        class_max(false) + STILL_MARGIN,
-    );
-    let per_step = (0..n)
-        .map(|i| {
-            let r = residual[i];
-            if r > FLAG_ABOVE {
-                r * 1.5 + MARGIN
-            } else if still(i) {
-                stationary
-            } else {
-                ordinary
-            }
-        })
-        .collect();
-    CmuMotion {
-        per_step,
-        ordinary,
-        stationary,
-        stationary_steps: (0..n)
-            .filter(|&i| still(i) && residual[i] <= FLAG_ABOVE)
-            .count(),
-        anomalous_steps: residual.iter().filter(|&&r| r > FLAG_ABOVE).count(),
-    }
-}
-
-/// The ranges of Plaza 1, each matched to the nearest odometry row by
-/// time, with its beacon (0-based index of the sorted ids) and its error
-/// against the true distance at that row.
-struct CmuRanges {
-    /// (step, measured range, landmark index).
-    dets: Vec<(usize, f64, usize)>,
-    /// Measured minus true distance, per range.
-    errs: Vec<f64>,
-    /// The beacons' positions, by landmark index.
-    landmarks: Vec<[f64; 2]>,
+    heading
 }
 
 /// The pose (row of the truth) nearest in time to `t`; the earlier one
@@ -171,109 +57,6 @@ fn nearest_pose(times: &[f64], t: f64) -> usize {
                 i
             }
         }
-    }
-}
-
-fn cmu_ranges(td: &[Vec<f64>], tl: &[Vec<f64>], gt: &[Vec<f64>]) -> Result<CmuRanges, ImportError> {
-    let times: Vec<f64> = gt.iter().map(|r| r[0]).collect();
-    let mut ids: Vec<i64> = tl.iter().map(|r| r[0] as i64).collect();
-    ids.sort_unstable();
-    let beacon = |id: i64| tl.iter().find(|r| r[0] as i64 == id).map(|r| [r[1], r[2]]);
-    let mut out = CmuRanges {
-        dets: Vec::with_capacity(td.len()),
-        errs: Vec::with_capacity(td.len()),
-        landmarks: ids.iter().filter_map(|&id| beacon(id)).collect(),
-    };
-    for r in td {
-        let (t, id, range) = (r[0], r[2] as i64, r[3]);
-        let step = nearest_pose(&times, t);
-        let (Ok(li), Some([bx, by])) = (ids.binary_search(&id), beacon(id)) else {
-            return Err(ImportError::file(
-                "Plaza1_TD.txt",
-                format!("beacon {id} is not in Plaza1_TL.csv"),
-            ));
-        };
-        let truth = ((gt[step][1] - bx).powi(2) + (gt[step][2] - by).powi(2)).sqrt();
-        out.errs.push(range - truth);
-        out.dets.push((step, range, li));
-    }
-    Ok(out)
-}
-
-/// The range band of the import: error = measured - true distance lies in
-/// `[offset.0 + slope·r, offset.1 + slope·r]` (r the measured range), on
-/// all ranges but `outside`.
-struct RangeBand {
-    slope: f64,
-    offset: (f64, f64),
-    /// The ranges left outside the band (by index), at most the share
-    /// asked for; their true distance is outside their interval.
-    outside: Vec<usize>,
-}
-
-/// The lowest and highest values of `x` once the `drop_lo` lowest and the
-/// `drop_hi` highest are left out (all of `x` when both are 0).
-fn trimmed_span(x: &mut [f64], drop_lo: usize, drop_hi: usize) -> (f64, f64) {
-    x.sort_unstable_by(f64::total_cmp);
-    (x[drop_lo], x[x.len() - 1 - drop_hi])
-}
-
-/// The range band (docs/cmu-plaza1.md): a scale error of the ranging plus
-/// an offset, with the slope b that makes the band narrowest. With the
-/// outlier share P > 0 the band is the central (1 - P) share: of the k
-/// residuals e - b·r, the floor(P·k / 2) lowest and the rest of floor(P·k)
-/// highest are left out, and b makes that trimmed band narrowest (the
-/// ternary search of the P = 0 case; the trimmed width need not be convex,
-/// so b is a local optimum; which ranges fall outside is then counted
-/// exactly on the final intervals, margin included).
-fn range_band(ranges: &CmuRanges, share: f64) -> RangeBand {
-    let k = ranges.errs.len();
-    let dropped = ((share * k as f64).floor() as usize).min(k.saturating_sub(1));
-    let (drop_lo, drop_hi) = (dropped / 2, dropped - dropped / 2);
-    let mut buf = vec![0.0; k];
-    let mut band = |b: f64| {
-        for ((x, d), &e) in buf.iter_mut().zip(&ranges.dets).zip(&ranges.errs) {
-            *x = e - b * d.1;
-        }
-        trimmed_span(&mut buf, drop_lo, drop_hi)
-    };
-    let (mut b_lo, mut b_hi) = (-1.0f64, 1.0f64);
-    for _ in 0..200 {
-        let (m1, m2) = (b_lo + (b_hi - b_lo) / 3.0, b_hi - (b_hi - b_lo) / 3.0);
-        let (w1, w2) = (band(m1), band(m2));
-        if w1.1 - w1.0 <= w2.1 - w2.0 {
-            b_hi = m2;
-        } else {
-            b_lo = m1;
-        }
-    }
-    let slope = (b_lo + b_hi) / 2.0;
-    let offset = band(slope);
-    let mut out = RangeBand {
-        slope,
-        offset,
-        outside: Vec::new(),
-    };
-    out.outside = (0..k)
-        .filter(|&j| {
-            let truth = ranges.dets[j].1 - ranges.errs[j];
-            let [lo, hi] = out.interval(ranges.dets[j].1);
-            !(lo <= truth && truth <= hi)
-        })
-        .collect();
-    out
-}
-
-impl RangeBand {
-    /// The interval of the true distance for a measured range:
-    /// true = measured - error, error in offset + slope·measured, widened
-    /// by the margin.
-    fn interval(&self, range: f64) -> [f64; 2] {
-        let (alo, ahi) = self.offset;
-        [
-            (range - (ahi + self.slope * range) - cmu::MARGIN).max(0.0),
-            range - (alo + self.slope * range) + cmu::MARGIN,
-        ]
     }
 }
 
@@ -318,95 +101,75 @@ fn plaza_files(dir: &Path) -> Result<PlazaFiles, ImportError> {
     Ok(PlazaFiles { dr, gt, td, tl })
 }
 
-/// The CMU Plaza 1 dataset as a mission (beacon ids hidden unless
-/// `operator`), with the ground truth. `outlier_share` P: the range band
-/// holds the central (1 - P) share of the residuals, and `max_outliers` is
-/// the count left outside (0: every range inside, no `max_outliers`).
-pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, ImportError> {
-    crate::check_outlier_share(outlier_share)?;
-    let PlazaFiles { dr, gt, td, tl } = plaza_files(dir)?;
-    let inputs = cmu_inputs(&dr, &gt);
-    let motion = cmu_motion(&dr, &cmu_residuals(&gt, &inputs));
-    let ranges = cmu_ranges(&td, &tl, &gt)?;
-    let band = range_band(&ranges, outlier_share);
-    let detections: Vec<Value> = ranges
-        .dets
-        .iter()
-        .map(|&(step, range, li)| {
-            let mut d = json!({"step": step, "range": band.interval(range)});
-            if operator {
-                d["landmark"] = json!(li);
-            }
-            d
-        })
-        .collect();
-    let mut mission = cmu_document(operator, &gt, &inputs, &motion, detections);
-    let meta = &mut mission["meta"];
-    meta["range_error_bounds"] =
-        json!(ranges
-            .errs
-            .iter()
-            .fold([f64::INFINITY, f64::NEG_INFINITY], |a, &e| [
-                a[0].min(e),
-                a[1].max(e)
-            ]));
-    meta["range_error_model"] = json!({"slope": band.slope, "offset": [band.offset.0, band.offset.1], "margin": cmu::MARGIN});
-    if outlier_share > 0.0 {
-        meta["outlier_share"] = json!({
-            "share": outlier_share,
-            "method": "the range band holds the central (1 - share) of the residuals: floor(share k / 2) lowest and the rest of floor(share k) highest left out, the slope making that band narrowest; `outside` lists the ranges (by index) whose true distance is outside their interval, margin included, and max_outliers is their count",
-            "outside": band.outside,
-        });
-        mission["max_outliers"] = json!(band.outside.len());
+/// The same-run calibration of Plaza 1 (docs/cmu-plaza1.md): every bound
+/// fitted on the run's own truth with no relative margin, the heading
+/// stated, the motion error constant with its still class and the steps
+/// the truth flags, the range band holding every residual (or the
+/// central 1 - `outlier_share` of them).
+pub fn calibration_options(outlier_share: f64) -> calibrate::Options {
+    use cmu::*;
+    calibrate::Options {
+        relative_margin: 0.0,
+        assume_heading: Some(HEADING_ERROR),
+        source: "CMU Plaza 1, this run".into(),
+        same_run: true,
+        flag: Some(Flag {
+            heading_above: None,
+            motion_above: Some(FLAG_ABOVE),
+            factor: FLAGGED_FACTOR,
+            margin: FLAGGED_MARGIN,
+            complete_gaps: false,
+        }),
+        still_below: Some(STILL_BELOW),
+        constant_steps: true,
+        outlier_share,
+        ..calibrate::Options::default()
     }
-    let matching: Vec<usize> = ranges.dets.iter().map(|d| d.2).collect();
-    mission["truth"]["landmarks"] = json!(ranges.landmarks);
-    mission["truth"]["matching"] = json!(matching);
-    mission["landmark_count"] = json!(ranges.landmarks.len());
-    crate::validated(mission)
 }
 
-/// The mission document of Plaza 1 around its detections (the range
-/// model's `meta`, the landmarks and the matching are added by the caller).
-fn cmu_document(
-    operator: bool,
-    gt: &[Vec<f64>],
-    inputs: &CmuInputs,
-    motion: &CmuMotion,
-    detections: Vec<Value>,
-) -> Value {
-    let speed = &inputs.speed;
-    let positions: Vec<[f64; 2]> = gt.iter().map(|r| [r[1], r[2]]).collect();
-    let e0 = 0.01;
-    json!({
-        "format": "nvector-mission/1",
-        "name": if operator { "cmu-plaza1-operator" } else { "cmu-plaza1" },
-        "model": "unicycle2d",
-        "dt": 1.0,
-        "steps": speed.len(),
-        "initial_position": [[gt[0][1] - e0, gt[0][1] + e0], [gt[0][2] - e0, gt[0][2] + e0]],
-        "final_position": null,
-        "inputs": {
-            "speed": {"lo": speed.iter().map(|s| s[0]).collect::<Vec<_>>(), "hi": speed.iter().map(|s| s[1]).collect::<Vec<_>>()},
-            "heading": {"value": inputs.heading, "error": cmu::HEADING_ERROR},
-        },
-        "motion_error": motion.per_step,
-        "detections": detections,
-        "meta": {
-            "source": "CMU Plaza 1 (Djugash and Singh), via GTSAM's examples",
-            "ordinary_motion_error": motion.ordinary,
-            "stationary_motion_error": motion.stationary,
-            "stationary_steps": motion.stationary_steps,
-            "anomalous_steps": motion.anomalous_steps,
-            "dt_note": "one step per odometry row; speed is metres per step",
-            "calibration": {
-                "source": "CMU Plaza 1, this run",
-                "same_run": true,
-                "method": "oracle: every bound fitted on this run's own truth (docs/cmu-plaza1.md): the anomalous steps found by the truth get their own motion error, the range band spans every residual; the heading error is stated (0.02 rad), the truth's heading being the integrated odometry; `nvector calibrate` fits the per-robot bounds that transfer to other runs (docs/calibration.md)",
-            },
-        },
-        "truth": {"positions": positions},
-    })
+/// The CMU Plaza 1 dataset as a mission (beacon ids hidden unless
+/// `operator`), with the ground truth: the data set's CSVs, calibrated on
+/// themselves ([`calibration_options`]) and the model applied to them.
+/// `outlier_share` P: the range band holds the central (1 - P) share of
+/// the residuals, and `max_outliers` is the count left outside (0: every
+/// range inside, no `max_outliers`).
+pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value, ImportError> {
+    crate::check_outlier_share(outlier_share)?;
+    let csvs = calibration_csvs(dir, Span::ALL)?;
+    let run = data::run_of_csvs(data::Model::Unicycle2d, &csvs, dir)?;
+    let model = calibrate::calibrate(&run, &calibration_options(outlier_share))?;
+    let name = if operator {
+        "cmu-plaza1-operator"
+    } else {
+        "cmu-plaza1"
+    };
+    let options = crate::apply::Options {
+        operator,
+        name: name.into(),
+        sensor_model: "same-run calibration (meta.sensor_model)".into(),
+        ..crate::apply::Options::default()
+    };
+    let mut mission = crate::apply::mission(&run, &model, &options)?;
+    let m = &model.motion_error;
+    let meta = &mut mission["meta"];
+    meta["source"] = json!("CMU Plaza 1 (Djugash and Singh), via GTSAM's examples");
+    meta["calibration"]["method"] = json!(format!("oracle: {}", crate::SAME_RUN_METHOD));
+    meta["ordinary_motion_error"] = json!(m.constant);
+    meta["stationary_motion_error"] = json!(m.still.as_ref().map(|s| s.error));
+    meta["stationary_steps"] = json!(m.still.as_ref().map_or(0, |s| s.fit.samples));
+    meta["anomalous_steps"] = json!(model.flagged.as_ref().map_or(0, |f| f.motion.len()));
+    meta["range_error_bounds"] = json!(model.range.constant);
+    meta["range_error_model"] = json!({"upper": model.range.upper, "lower": model.range.lower, "margin": model.range.fit.margin});
+    if outlier_share > 0.0 {
+        let outside = crate::apply::readings_outside(&run, &model);
+        mission["meta"]["outlier_share"] = json!({
+            "share": outlier_share,
+            "method": "the range band holds the central (1 - share) of the residuals: floor(share k / 2) lowest and the rest of floor(share k) highest left out of each line and of the constant band; `outside` lists the ranges (by index) whose true distance is outside their interval, margin included, and max_outliers is their count",
+            "outside": outside,
+        });
+        mission["max_outliers"] = json!(outside.len());
+    }
+    crate::validated(mission)
 }
 
 /// Plaza 1 in `dir` over `span` (of the poses' times) as the
@@ -423,7 +186,7 @@ pub fn calibration_csvs(dir: &Path, span: Span) -> Result<Csvs, ImportError> {
     let times: Vec<f64> = gt.iter().map(|r| r[0]).collect();
     let (a, b) = convert::rows(&times[..dr.len()], span, &dir.join("Plaza1_GT.csv"))?;
     let dt = (times[b - 1] - times[a]) / (b - 1 - a) as f64;
-    let heading = cmu_inputs(&dr, &gt).heading;
+    let heading = cmu_heading(&dr, &gt);
     let mut out = Csvs {
         log: "t,speed,heading\n".into(),
         detections: "t,range,landmark\n".into(),
@@ -437,6 +200,12 @@ pub fn calibration_csvs(dir: &Path, span: Span) -> Result<Csvs, ImportError> {
         let _ = writeln!(out.truth, "{},{},{},{}", r[0], r[1], r[2], r[3]);
     }
     for r in &td {
+        if !tl.iter().any(|l| l[0] == r[2]) {
+            return Err(ImportError::file(
+                dir.join("Plaza1_TD.txt"),
+                format!("beacon {} is not in Plaza1_TL.csv", r[2]),
+            ));
+        }
         let step = nearest_pose(&times, r[0]);
         if (a..=b).contains(&step) {
             let _ = writeln!(out.detections, "{},{},{}", times[step], r[3], r[2]);

@@ -51,6 +51,60 @@ pub struct SensorModel {
     /// The bounds the data could not support, each with its reason.
     #[serde(default)]
     pub refused: Vec<Refusal>,
+    /// Same-run calibration only: the steps of the calibration log that
+    /// the truth flagged, each with its own bound; applied only to that
+    /// log (its fingerprint), refused on another.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flagged: Option<Flagged>,
+}
+
+/// The flagged steps of a same-run calibration (docs/calibration.md,
+/// "Same-run calibration"): a step whose residual is above `above` gets
+/// its own bound, `factor` x its residual + `margin`, and the per-step
+/// bound is fitted on the other steps. A step touching a gap of the truth
+/// (completed across it, `complete_gaps`) gets at least the largest
+/// ordinary heading bound + `gap_heading_margin`, so the drift windows
+/// exempt it. Only the run that flagged them has these steps.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Flagged {
+    /// The method, in words.
+    pub method: String,
+    /// A heading residual above this flags its step (rad; `None`: no
+    /// heading step is flagged).
+    pub heading_above: Option<f64>,
+    /// A motion residual above this flags its step (m per axis).
+    pub motion_above: Option<f64>,
+    /// The factor on a flagged step's residual.
+    pub factor: f64,
+    /// The margin added after it.
+    pub margin: f64,
+    /// Whether the truth was completed across its gaps (linear
+    /// interpolation between the known ends; after the last, dead
+    /// reckoning) for the per-step bounds and the drift windows.
+    pub complete_gaps: bool,
+    /// A step touching a gap has a heading bound at least the largest
+    /// ordinary one plus this (rad).
+    pub gap_heading_margin: f64,
+    /// `(step, bound)` of the flagged heading steps (and the gap steps).
+    pub heading: Vec<(usize, f64)>,
+    /// `(step, bound)` of the flagged motion steps.
+    pub motion: Vec<(usize, f64)>,
+}
+
+/// The zero-velocity class of the motion error: a step whose reported
+/// distance |speed|·dt is below `below` gets `error` instead of the
+/// affine bound (a robot the odometry sees standing still does not
+/// drift).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Still {
+    /// The reported distance below which a step is still (m).
+    pub below: f64,
+    /// The motion error of a still step (m per axis).
+    pub error: f64,
+    /// How it was fitted.
+    pub fit: Fit,
 }
 
 /// What a model was fitted on.
@@ -133,6 +187,9 @@ pub struct Bound {
     /// heading's change to the next step), >= 0; 0 for the other bounds.
     #[serde(default)]
     pub turn_slope: f64,
+    /// `motion_error`: the zero-velocity class, when fitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub still: Option<Still>,
     /// How it was fitted.
     pub fit: Fit,
 }
@@ -143,9 +200,13 @@ impl Bound {
         self.constant + self.slope * x
     }
 
-    /// The bound of a step at x that turns by `turn` (rad).
+    /// The bound of a step at x that turns by `turn` (rad): the still
+    /// class's below its distance.
     pub fn at_step(&self, x: f64, turn: f64) -> f64 {
-        self.at(x) + self.turn_slope * turn
+        match &self.still {
+            Some(s) if x < s.below => s.error,
+            _ => self.at(x) + self.turn_slope * turn,
+        }
     }
 }
 
@@ -171,6 +232,10 @@ pub struct Window {
     pub steps: usize,
     /// The bound (rad for heading windows, m for motion windows).
     pub error: f64,
+    /// Heading windows of a same-run calibration: the steps whose heading
+    /// bound is above this are exempt (the mission's `exempt_above`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exempt_above: Option<f64>,
     /// How it was fitted.
     pub fit: Fit,
 }
@@ -262,6 +327,30 @@ pub struct Refusal {
 }
 
 impl SensorModel {
+    /// The flagged bound of step `step` in `steps`, when the model is
+    /// applied to its own calibration run (`same_run`).
+    fn flagged_at(steps: Option<&Vec<(usize, f64)>>, step: usize, same_run: bool) -> Option<f64> {
+        let steps = steps.filter(|_| same_run)?;
+        let i = steps.binary_search_by_key(&step, |x| x.0).ok()?;
+        Some(steps[i].1)
+    }
+
+    /// The per-step heading bound of odometry2d at step `step` turning by
+    /// `turn` (rad): the flagged step's own on the calibration run.
+    pub fn heading_error_at(&self, step: usize, turn: f64, same_run: bool) -> f64 {
+        let flagged = self.flagged.as_ref().map(|f| &f.heading);
+        Self::flagged_at(flagged, step, same_run).unwrap_or_else(|| self.heading.at(turn))
+    }
+
+    /// The per-step motion bound at step `step` of reported distance
+    /// `dist` turning by `turn`: the flagged step's own on the calibration
+    /// run.
+    pub fn motion_error_at(&self, step: usize, dist: f64, turn: f64, same_run: bool) -> f64 {
+        let flagged = self.flagged.as_ref().map(|f| &f.motion);
+        Self::flagged_at(flagged, step, same_run)
+            .unwrap_or_else(|| self.motion_error.at_step(dist, turn))
+    }
+
     /// Parses a sensor model, naming the JSON path of a bad field.
     pub fn from_json(text: &str) -> Result<SensorModel, String> {
         let de = &mut serde_json::Deserializer::from_str(text);
@@ -296,6 +385,23 @@ impl SensorModel {
             }
         };
         bound("speed.error", &self.speed.error)?;
+        let ok = |x: f64| x.is_finite() && x >= 0.0;
+        if let Some(s) = &self.motion_error.still {
+            if !(ok(s.below) && ok(s.error)) {
+                return Err(
+                    "motion_error.still: below and error must be finite numbers >= 0".into(),
+                );
+            }
+        }
+        if let Some(f) = &self.flagged {
+            for (name, steps) in [("heading", &f.heading), ("motion", &f.motion)] {
+                if let Some((i, _)) = steps.iter().enumerate().find(|(_, s)| !ok(s.1)) {
+                    return Err(format!(
+                        "flagged.{name}[{i}]: the bound must be a finite number >= 0"
+                    ));
+                }
+            }
+        }
         bound("heading", &self.heading)?;
         bound("motion_error", &self.motion_error)?;
         for (name, ws) in [
@@ -392,6 +498,7 @@ mod tests {
             constant: f64::INFINITY,
             slope: 0.0,
             turn_slope: 0.0,
+            still: None,
             of: Measure::None,
             fit: fit([0.0, 0.0]),
         };
@@ -434,6 +541,7 @@ mod tests {
             bearing: None,
             sensor_offset: [0.0, 0.0],
             refused: vec![],
+            flagged: None,
         };
         assert!(m.check_numbers().unwrap_err().starts_with("heading"));
         m.heading.constant = 0.1;

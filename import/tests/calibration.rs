@@ -15,6 +15,7 @@
 //!   them (a gap removes its steps, never adds a residual).
 
 use nvector_core::slam::simulate::Rng;
+use nvector_import::apply;
 use nvector_import::calibrate::data::{Detection, Model, Run, Truth};
 use nvector_import::calibrate::{calibrate, fit, verify, Options};
 use nvector_import::sensor_model::Measure;
@@ -117,6 +118,7 @@ fn options() -> Options {
         sensor_offset: [0.0, 0.0],
         assume_heading: None,
         source: "planted".into(),
+        ..Options::default()
     }
 }
 
@@ -382,4 +384,85 @@ fn a_model_round_trips_through_its_json_and_a_bad_field_is_named() {
         nvector_import::sensor_model::SensorModel::from_json(&serde_json::to_string(&neg).unwrap())
             .unwrap_err();
     assert!(e.contains("motion_error"), "{e}");
+}
+
+/// A same-run calibration with every method (steps flagged by the truth,
+/// the truth completed across a gap, a still class, constant per-step
+/// bounds, F = 0) never claims less than its own run needs: the truth
+/// breaks none of its bounds (the exempt heading windows with their
+/// exempt steps' own bounds, as the mission states them), the planted
+/// glitches are flagged, and the model is refused on another run.
+#[test]
+fn a_same_run_model_covers_its_own_run_and_no_other() {
+    use nvector_import::calibrate::Flag;
+    let mut run = circling(3, 2000, B);
+    let t = run.truth.as_mut().unwrap();
+    // Five glitches: the true position jumps 0.3 m at the step (the later
+    // steps keep their own residuals).
+    for g in [300usize, 700, 1100, 1500, 1900] {
+        for p in t.positions[g + 1..].iter_mut().flatten() {
+            p[0] += 0.3;
+        }
+    }
+    // A gap of the motion capture.
+    for k in 1000..1010 {
+        t.positions[k] = None;
+        t.headings[k] = None;
+    }
+    let o = Options {
+        relative_margin: 0.0,
+        same_run: true,
+        flag: Some(Flag {
+            heading_above: Some(0.008),
+            motion_above: Some(0.1),
+            factor: 1.5,
+            margin: 0.01,
+            complete_gaps: true,
+        }),
+        still_below: Some(0.065),
+        constant_steps: true,
+        ..options()
+    };
+    let model = calibrate(&run, &o).expect("same-run calibration");
+    for c in verify(&model, &run) {
+        assert_eq!(c.outside, 0, "{} on its own run: {c:?}", c.bound);
+    }
+    let flagged = model.flagged.as_ref().expect("flagged steps");
+    let motion: Vec<usize> = flagged.motion.iter().map(|f| f.0).collect();
+    for g in [300, 700, 1100, 1500, 1900] {
+        assert!(motion.contains(&g), "glitch {g} not flagged: {motion:?}");
+    }
+    assert!(model.motion_error.still.is_some());
+    assert!(model.heading_drift.iter().any(|w| w.exempt_above.is_some()));
+    // The gap's steps are exempt from the heading windows.
+    assert!((999..1010).all(|i| flagged.heading.iter().any(|f| f.0 == i)));
+    let mission = apply::mission(&run, &model, &apply::Options::default()).expect("its own run");
+    assert_eq!(mission["meta"]["calibration"]["same_run"], true);
+    let other = circling(4, 2000, B);
+    let e = apply::mission(&other, &model, &apply::Options::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("flagged steps"), "{e}");
+}
+
+/// `holdout`: the margins a held-out part asks for leave none of its
+/// samples outside (or the ladder ended), and never lower a margin.
+#[test]
+fn the_held_out_part_chooses_margins_it_is_covered_by() {
+    use nvector_import::calibrate::{holdout, BOUND_NAMES, HOLDOUT_LADDER};
+    for seed in [5, 8] {
+        let run = circling(seed, 4000, B);
+        let (chosen, cov) = holdout(&run, &options(), 0.5).expect("holdout");
+        let ladder_end = BOUND_NAMES
+            .iter()
+            .any(|n| chosen.margin(n) == HOLDOUT_LADDER[HOLDOUT_LADDER.len() - 1]);
+        assert!(
+            cov.iter().all(|c| c.outside == 0) || ladder_end,
+            "seed {seed}: {cov:?}"
+        );
+        for n in BOUND_NAMES {
+            assert!(chosen.margin(n) >= options().margin(n), "{n}");
+        }
+    }
+    assert!(holdout(&circling(5, 100, B), &options(), 1.5).is_err());
 }

@@ -7,7 +7,7 @@
 //! log does not drift away from its detections), within dt / 2; `dt` is
 //! the log's mean spacing.
 
-use crate::csv::read_cells;
+use crate::csv::{cells_of_text, read_cells, Table};
 use crate::generic::integer_cell;
 use crate::ImportError;
 use std::path::{Path, PathBuf};
@@ -135,6 +135,38 @@ impl Run {
         format!("{}:{h:016x}", self.model.name())
     }
 
+    /// The steps `[a, b)` of the run as a run of their own (b - a >= 2):
+    /// the log's rows, the detections at steps a..=b renumbered, the truth
+    /// at poses a..=b (a held-out part of a calibration run:
+    /// [`crate::calibrate::holdout`]).
+    pub fn steps_between(&self, a: usize, b: usize) -> Run {
+        let b = b.min(self.steps());
+        let truth = self.truth.as_ref().map(|t| Truth {
+            positions: t.positions[a..=b].to_vec(),
+            headings: t.headings[a..=b].to_vec(),
+            has_heading: t.has_heading,
+        });
+        Run {
+            model: self.model,
+            t: self.t[a..b].to_vec(),
+            dt: self.dt,
+            speed: self.speed[a..b].to_vec(),
+            rotation: self.rotation[a..b].to_vec(),
+            detections: self
+                .detections
+                .iter()
+                .filter(|d| (a..=b).contains(&d.step))
+                .map(|d| Detection {
+                    step: d.step - a,
+                    ..d.clone()
+                })
+                .collect(),
+            truth,
+            landmarks: self.landmarks.clone(),
+            paths: self.paths.clone(),
+        }
+    }
+
     /// The index of a landmark id in the sorted landmarks.
     pub fn landmark_index(&self, id: u64) -> Option<usize> {
         self.landmarks
@@ -157,16 +189,53 @@ pub struct Files<'a> {
 
 /// Reads a run from its files.
 pub fn read_run(model: Model, files: &Files) -> Result<Run, ImportError> {
-    let (t, speed, rotation) = read_log(model, files.log)?;
+    let tables = Tables {
+        log: read_cells(files.log)?,
+        detections: read_cells(files.detections)?,
+        truth: files.truth.map(read_cells).transpose()?,
+        landmarks: files.landmarks.map(read_cells).transpose()?,
+    };
+    run_of_tables(model, &tables)
+}
+
+/// A run from the calibration's four files held in memory (a data set
+/// converted by its importer: [`super::convert::Csvs`]), each named in
+/// errors as `dir/log.csv`, ... .
+pub fn run_of_csvs(
+    model: Model,
+    csvs: &super::convert::Csvs,
+    dir: &Path,
+) -> Result<Run, ImportError> {
+    let table = |name: &str, text: &str| cells_of_text(text, &dir.join(name));
+    let tables = Tables {
+        log: table("log.csv", &csvs.log)?,
+        detections: table("detections.csv", &csvs.detections)?,
+        truth: Some(table("truth.csv", &csvs.truth)?),
+        landmarks: Some(table("landmarks.csv", &csvs.landmarks)?),
+    };
+    run_of_tables(model, &tables)
+}
+
+/// The four files of a run, read.
+struct Tables {
+    log: Table,
+    detections: Table,
+    truth: Option<Table>,
+    landmarks: Option<Table>,
+}
+
+fn run_of_tables(model: Model, tables: &Tables) -> Result<Run, ImportError> {
+    let (t, speed, rotation) = read_log(model, &tables.log)?;
     let n = t.len();
     let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
     let grid = Grid { t: &t, dt };
-    let detections = read_detections(files.detections, &grid)?;
-    let truth = files
+    let detections = read_detections(&tables.detections, &grid)?;
+    let truth = tables
         .truth
+        .as_ref()
         .map(|p| read_truth(p, &grid, model))
         .transpose()?;
-    let landmarks = files.landmarks.map(read_landmarks).transpose()?;
+    let landmarks = tables.landmarks.as_ref().map(read_landmarks).transpose()?;
     Ok(Run {
         model,
         t,
@@ -177,16 +246,16 @@ pub fn read_run(model: Model, files: &Files) -> Result<Run, ImportError> {
         truth,
         landmarks,
         paths: Paths {
-            log: files.log.to_path_buf(),
-            detections: files.detections.to_path_buf(),
+            log: tables.log.path.clone(),
+            detections: tables.detections.path.clone(),
         },
     })
 }
 
 type Log = (Vec<f64>, Vec<f64>, Vec<f64>);
 
-fn read_log(model: Model, path: &Path) -> Result<Log, ImportError> {
-    let log = read_cells(path)?;
+fn read_log(model: Model, log: &Table) -> Result<Log, ImportError> {
+    let path = &log.path;
     let cols = [
         log.column("t")?,
         log.column("speed")?,
@@ -240,8 +309,8 @@ impl Grid<'_> {
     }
 }
 
-fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, ImportError> {
-    let det = read_cells(path)?;
+fn read_detections(det: &Table, grid: &Grid) -> Result<Vec<Detection>, ImportError> {
+    let path = &det.path;
     let (tc, rc) = (det.column("t")?, det.column("range")?);
     let (bc, sc, lc) = (
         det.optional("bearing"),
@@ -284,8 +353,8 @@ fn read_detections(path: &Path, grid: &Grid) -> Result<Vec<Detection>, ImportErr
     Ok(out)
 }
 
-fn read_truth(path: &Path, grid: &Grid, model: Model) -> Result<Truth, ImportError> {
-    let tab = read_cells(path)?;
+fn read_truth(tab: &Table, grid: &Grid, model: Model) -> Result<Truth, ImportError> {
+    let path = &tab.path;
     let [tc, xc, yc] = [tab.column("t")?, tab.column("x")?, tab.column("y")?];
     let hc = tab.optional("heading");
     let rows = grid.t.len() + 1;
@@ -330,8 +399,8 @@ fn unwrap_headings(h: &mut [Option<f64>]) {
     }
 }
 
-fn read_landmarks(path: &Path) -> Result<Vec<(u64, [f64; 2])>, ImportError> {
-    let tab = read_cells(path)?;
+fn read_landmarks(tab: &Table) -> Result<Vec<(u64, [f64; 2])>, ImportError> {
+    let path = &tab.path;
     let [ic, xc, yc] = [tab.column("id")?, tab.column("x")?, tab.column("y")?];
     let mut out = Vec::with_capacity(tab.rows.len());
     for r in 0..tab.rows.len() {

@@ -123,6 +123,7 @@ pub fn affine_bound(
         constant: a,
         slope: b,
         turn_slope: 0.0,
+        still: None,
         of,
         fit: Fit {
             method: method.into(),
@@ -196,20 +197,27 @@ pub fn plane_bound(
 /// the residuals and above their negations (slopes in [-2, 2]),
 /// intersected with the constant band of the smallest and largest
 /// residual; widened at use by F × its half-width plus `margin`
-/// ([`Band::at`]).
+/// ([`Band::at`]). `skip` (below, above): the band of an outlier share,
+/// each line over every point but the `skip` farthest beyond it
+/// ([`upper_line_skipping`]), and the constant band spans the points
+/// between the lines, so at most `skip.0 + skip.1` points are left out;
+/// (0, 0) holds every point.
 pub fn band(
     points: &[(f64, f64)],
-    of: BandOf,
-    min_range: f64,
-    relative_margin: f64,
-    margin: f64,
+    (of, min_range): (BandOf, f64),
+    skip: (usize, usize),
+    (relative_margin, margin): (f64, f64),
     method: &str,
 ) -> Band {
     let negated: Vec<(f64, f64)> = points.iter().map(|p| (p.0, -p.1)).collect();
-    let (ua, ub) = upper_line(points, -2.0, 2.0);
-    let (la, lb) = upper_line(&negated, -2.0, 2.0);
+    let (ua, ub) = upper_line_skipping(points, -2.0, 2.0, skip.1);
+    let (la, lb) = upper_line_skipping(&negated, -2.0, 2.0, skip.0);
+    // The constant band spans the points between the two lines: those
+    // the lines leave out stay out, and no other (at most skip.0 +
+    // skip.1 points outside in all).
     let constant = points
         .iter()
+        .filter(|&&(x, y)| skip == (0, 0) || (-(la + lb * x) <= y && y <= ua + ub * x))
         .fold([f64::INFINITY, f64::NEG_INFINITY], |s, p| {
             [s[0].min(p.1), s[1].max(p.1)]
         });

@@ -12,9 +12,11 @@ pub mod convert;
 pub mod data;
 pub mod fit;
 pub mod residuals;
+pub mod same_run;
 
 use crate::sensor_model::{
-    BandOf, Bound, Calibration, Fit, Measure, Refusal, SensorModel, SpeedBound, Window, FORMAT,
+    BandOf, Bound, Calibration, Fit, Flagged, Measure, Refusal, SensorModel, SpeedBound, Still,
+    Window, FORMAT,
 };
 use crate::ImportError;
 use data::{Model, Run};
@@ -40,7 +42,14 @@ pub mod margins {
     pub const MIN_RANGE_FOR_BEARING: f64 = 0.1;
     /// A residual whose every sample is at most this is "identically 0".
     pub const ZERO: f64 = 1e-9;
+    /// The still class of the motion error (m).
+    pub const STILL: f64 = 0.001;
 }
+
+/// The heading windows also given without exemptions when some steps are
+/// exempt (steps): over hundreds of steps the exempt steps' own bounds add
+/// up to more than the drift they leave out.
+pub const PLAIN_HEADING_WINDOWS: [usize; 6] = [30, 100, 300, 1000, 3000, 10000];
 
 /// The heading windows tried (steps): every k of 2..=50 (the gaps
 /// between sightings of a returning landmark), then a geometric ladder.
@@ -70,7 +79,64 @@ pub struct Options {
     pub assume_heading: Option<f64>,
     /// What the run is, for the model's `calibration.source`.
     pub source: String,
+    /// A same-run calibration (the oracle): the model is for this run
+    /// alone. The sample rule does not apply (a bound claims this run's
+    /// samples, all of which it covers), F may be 0, and `flag` may give
+    /// steps their own bounds.
+    pub same_run: bool,
+    /// Same-run only: the flagged steps and the completion of the truth
+    /// across its gaps.
+    pub flag: Option<Flag>,
+    /// The zero-velocity class of the motion error: the steps reporting
+    /// a distance |speed|·dt below this (m) get their own bound, fitted on
+    /// theirs.
+    pub still_below: Option<f64>,
+    /// The per-step bounds (heading, motion error) constant, the largest
+    /// residual, instead of affine in the step's distance and turn.
+    pub constant_steps: bool,
+    /// The share P of the detections' residuals each band leaves out
+    /// (0 <= P < 0.5): floor(P k / 2) below, the rest of floor(P k)
+    /// above (docs/outliers.md); the readings then outside are counted.
+    pub outlier_share: f64,
 }
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            relative_margin: 0.1,
+            bound_margins: Vec::new(),
+            sensor_offset: [0.0, 0.0],
+            assume_heading: None,
+            source: String::new(),
+            same_run: false,
+            flag: None,
+            still_below: None,
+            constant_steps: false,
+            outlier_share: 0.0,
+        }
+    }
+}
+
+/// The flagged steps of a same-run calibration ([`Flagged`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Flag {
+    /// A per-step heading residual above this flags its step (rad).
+    pub heading_above: Option<f64>,
+    /// A per-step motion residual above this flags its step (m per axis).
+    pub motion_above: Option<f64>,
+    /// A flagged step's bound: its residual x `factor` + `margin`.
+    pub factor: f64,
+    /// See `factor`.
+    pub margin: f64,
+    /// Complete the truth across its gaps for the per-step bounds and the
+    /// windows ([`same_run::complete`]), the steps touching a gap exempt
+    /// from the heading windows.
+    pub complete_gaps: bool,
+}
+
+/// A step touching a gap of the truth has a heading bound at least the
+/// largest ordinary one plus this (rad): the drift windows exempt it.
+pub const GAP_HEADING_MARGIN: f64 = 1e-6;
 
 /// The bounds a relative margin may be given for (`--margin NAME=F`).
 pub const BOUND_NAMES: [&str; 6] = [
@@ -83,6 +149,16 @@ pub const BOUND_NAMES: [&str; 6] = [
 ];
 
 impl Options {
+    /// The fewest samples a bound with margin F needs: the sample rule's
+    /// ([`fit::min_samples`]), 1 on the same run.
+    pub fn min_samples(&self, f: f64) -> usize {
+        if self.same_run {
+            1
+        } else {
+            fit::min_samples(f)
+        }
+    }
+
     /// The relative margin F of `bound` (one of [`BOUND_NAMES`]).
     pub fn margin(&self, bound: &str) -> f64 {
         self.bound_margins
@@ -95,12 +171,28 @@ impl Options {
     /// Every margin a number > 0, every named bound one of
     /// [`BOUND_NAMES`].
     fn check(&self) -> Result<(), ImportError> {
-        let positive = |f: f64| f.is_finite() && f > 0.0;
+        let same_run = self.same_run;
+        let positive = |f: f64| f.is_finite() && (f > 0.0 || (same_run && f == 0.0));
+        if self.flag.is_some() && !self.same_run {
+            return Err(ImportError::setting(
+                "flag",
+                "flagged steps are a same-run calibration's: their bounds hold on the calibration run only",
+            ));
+        }
+        if !(0.0..0.5).contains(&self.outlier_share) {
+            return Err(ImportError::setting(
+                "outlier_share",
+                format!(
+                    "--outlier-share must be in [0, 0.5), found {}",
+                    self.outlier_share
+                ),
+            ));
+        }
         if !positive(self.relative_margin) {
             return Err(ImportError::setting(
                 "margin",
                 format!(
-                    "--margin must be a number > 0, found {}",
+                    "--margin must be a number > 0 (>= 0 on the same run), found {}",
                     self.relative_margin
                 ),
             ));
@@ -118,13 +210,16 @@ impl Options {
             if !positive(*f) {
                 return Err(ImportError::setting(
                     "margin",
-                    format!("--margin {name}={f}: F must be a number > 0"),
+                    format!("--margin {name}={f}: F must be a number > 0 (>= 0 on the same run)"),
                 ));
             }
         }
         Ok(())
     }
 }
+
+/// `(step, bound)` of the flagged steps of one per-step bound.
+type StepBounds = Vec<(usize, f64)>;
 
 /// A bound refused, or fitted.
 type Fitted<T> = Result<T, Refusal>;
@@ -161,8 +256,9 @@ fn enough(bound: &str, samples: &[f64], min: usize, what: &str) -> Fitted<()> {
 }
 
 /// The heading bound: `unicycle2d` the heading channel (constant),
-/// `odometry2d` the per-step integration error (affine in the turn).
-fn heading(run: &Run, o: &Options) -> Fitted<Bound> {
+/// `odometry2d` the per-step integration error (affine in the turn, or
+/// constant), and the flagged steps.
+fn heading(run: &Run, o: &Options) -> Fitted<(Bound, StepBounds)> {
     if let Some(e) = o.assume_heading {
         if !(e.is_finite() && e >= 0.0) {
             return refuse(
@@ -178,7 +274,7 @@ fn heading(run: &Run, o: &Options) -> Fitted<Bound> {
             "assumed by the user (--assume heading=E), not fitted: no sample",
         );
         b.fit.coverage = 1.0;
-        return Ok(b);
+        return Ok((b, Vec::new()));
     }
     if !run.truth.as_ref().is_some_and(|t| t.has_heading) {
         return refuse(
@@ -187,7 +283,7 @@ fn heading(run: &Run, o: &Options) -> Fitted<Bound> {
         );
     }
     let f = o.margin("heading");
-    let min = fit::min_samples(f);
+    let min = o.min_samples(f);
     let hint = "; state one with --assume heading=E";
     match run.model {
         Model::Unicycle2d => {
@@ -197,22 +293,60 @@ fn heading(run: &Run, o: &Options) -> Fitted<Bound> {
                 ..e
             })?;
             let pts: Vec<(f64, f64)> = r.iter().map(|x| (0.0, x.abs())).collect();
-            Ok(fit::affine_bound(&pts, Measure::None, f, margins::HEADING,
-                "the largest |true - measured heading| over the steps with a true heading, x (1 + F) + margin"))
+            Ok((fit::affine_bound(&pts, Measure::None, f, margins::HEADING,
+                "the largest |true - measured heading| over the steps with a true heading, x (1 + F) + margin"), Vec::new()))
         }
         Model::Odometry2d => {
             let pts = res::heading_steps(run);
-            let r: Vec<f64> = pts.iter().map(|p| p.1).collect();
+            let (ordinary, flagged) = flag_steps(&pts, |p| (p.0, p.2), o, |f| f.heading_above);
+            let r: Vec<f64> = ordinary.iter().map(|p| p.2).collect();
             enough("heading", &r, min, "steps with a true heading at both ends").map_err(|e| {
                 Refusal {
                     reason: e.reason + hint,
                     ..e
                 }
             })?;
-            let pts: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1.abs())).collect();
-            Ok(fit::affine_bound(&pts, Measure::Turn, f, margins::HEADING,
-                "|th(i+1) - th(i) - dt turn_rate(i)| of the truth over the steps with a true heading at both ends, bounded by the narrowest line in the step's turn |turn_rate| dt (slope >= 0), x (1 + F) + margin"))
+            let pts: Vec<(f64, f64)> = ordinary.iter().map(|p| (p.1, p.2.abs())).collect();
+            let (of, shape) = if o.constant_steps {
+                (Measure::None, "the largest of")
+            } else {
+                (
+                    Measure::Turn,
+                    "the narrowest line in the step's turn |turn_rate| dt (slope >= 0) over",
+                )
+            };
+            let method = format!("|th(i+1) - th(i) - dt turn_rate(i)| of the truth over the steps with a true heading at both ends{}: {shape} them, x (1 + F) + margin", flagged_note(o, flagged.len()));
+            Ok((
+                fit::affine_bound(&pts, of, f, margins::HEADING, &method),
+                flagged,
+            ))
         }
+    }
+}
+
+/// The per-step samples split into the ordinary ones and the flagged
+/// steps with their own bounds (none unless [`Options::flag`] sets a
+/// threshold for this bound).
+fn flag_steps<T: Copy>(
+    samples: &[T],
+    residual: impl Fn(&T) -> (usize, f64),
+    o: &Options,
+    above: impl Fn(&Flag) -> Option<f64>,
+) -> (Vec<T>, Vec<(usize, f64)>) {
+    match &o.flag {
+        Some(f) => same_run::flag(samples, residual, above(f), f.factor, f.margin),
+        None => (samples.to_vec(), Vec::new()),
+    }
+}
+
+/// The method's words for the flagged steps, if any.
+fn flagged_note(o: &Options, flagged: usize) -> String {
+    match &o.flag {
+        Some(f) if flagged > 0 => format!(
+            " but the {flagged} flagged ones (residual above the threshold: their own residual x {} + {})",
+            f.factor, f.margin
+        ),
+        _ => String::new(),
     }
 }
 
@@ -245,41 +379,94 @@ fn speed(run: &Run, o: &Options) -> SpeedBound {
     }
 }
 
-/// The per-step motion error, affine in the step's distance and turn.
-fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<Bound> {
+/// The per-step motion error, affine in the step's distance and turn (or
+/// constant), with its still class, and the flagged steps.
+fn motion(run: &Run, o: &Options, s: &SpeedBound, h: &Bound) -> Fitted<(Bound, StepBounds)> {
     let f = o.margin("motion_error");
-    let min = fit::min_samples(f);
+    let min = o.min_samples(f);
     let eh = match run.model {
         Model::Unicycle2d => h.constant,
         Model::Odometry2d => 0.0,
     };
     let pts = res::motion_steps(run, &|x| s.error.at(x), s.sign_unknown_below, eh);
-    let r: Vec<f64> = pts.iter().map(|p| p.2).collect();
-    if pts.len() >= min && r.iter().all(|&x| x <= margins::ZERO) {
+    let (ordinary, flagged) = flag_steps(&pts, |p| (p.0, p.3), o, |f| f.motion_above);
+    let still = o
+        .still_below
+        .and_then(|below| still_class(&ordinary, below, f, min));
+    let moving: Vec<(f64, f64, f64)> = ordinary
+        .iter()
+        .filter(|p| still.as_ref().is_none_or(|s| p.1 >= s.below))
+        .map(|p| (p.1, p.2, p.3))
+        .collect();
+    let r: Vec<f64> = moving.iter().map(|p| p.2).collect();
+    let note = flagged_note(o, flagged.len());
+    let mut bound = if moving.len() >= min && r.iter().all(|&x| x <= margins::ZERO) {
         // Inside the model's intervals everywhere: no error to bound.
-        let line: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.2)).collect();
-        return Ok(fit::affine_bound(
+        let line: Vec<(f64, f64)> = moving.iter().map(|p| (p.0, p.2)).collect();
+        fit::affine_bound(
             &line,
             Measure::Distance,
             f,
             margins::MOTION,
             "the true steps all lie inside the model's intervals: the margin alone",
-        ));
+        )
+    } else {
+        enough(
+            "motion_error",
+            &r,
+            min,
+            "steps with a true position at both ends",
+        )?;
+        let what = format!("per axis, the distance from the true step to the hull of dt s (cos h, sin h) over the step's speed and heading intervals (odometry2d: the true heading), over the steps with a true position at both ends{note}{}", if still.is_some() { " and the still ones" } else { "" });
+        if o.constant_steps {
+            let line: Vec<(f64, f64)> = moving.iter().map(|p| (p.0, p.2)).collect();
+            fit::affine_bound(
+                &line,
+                Measure::None,
+                f,
+                margins::MOTION,
+                &format!("{what}: the largest, x (1 + F) + margin"),
+            )
+        } else {
+            fit::plane_bound(&moving, f, margins::MOTION, &format!("{what}, bounded by the narrowest plane in the step's distance |speed| dt and turn (odometry2d |turn_rate| dt, unicycle2d the measured heading's change; slopes >= 0), x (1 + F) + margin"))
+        }
+    };
+    bound.still = still;
+    Ok((bound, flagged))
+}
+
+/// The still class of the motion error: the largest residual of the
+/// steps reporting less than `below`, x (1 + F) + margin; none when they
+/// are fewer than `min`.
+fn still_class(pts: &[(usize, f64, f64, f64)], below: f64, f: f64, min: usize) -> Option<Still> {
+    let r: Vec<(f64, f64)> = pts
+        .iter()
+        .filter(|p| p.1 < below)
+        .map(|p| (0.0, p.3))
+        .collect();
+    if r.len() < min || !(below.is_finite() && below > 0.0) {
+        return None;
     }
-    enough(
-        "motion_error",
-        &r,
-        min,
-        "steps with a true position at both ends",
-    )?;
-    Ok(fit::plane_bound(&pts, f, margins::MOTION,
-        "per axis, the distance from the true step to the hull of dt s (cos h, sin h) over the step's speed and heading intervals (odometry2d: the true heading), over the steps with a true position at both ends, bounded by the narrowest plane in the step's distance |speed| dt and turn (odometry2d |turn_rate| dt, unicycle2d the measured heading's change; slopes >= 0), x (1 + F) + margin"))
+    let b = fit::affine_bound(&r, Measure::None, f, margins::STILL,
+        "the largest residual of the steps reporting a distance |speed| dt below `below` (the odometry sees the robot standing still), x (1 + F) + margin");
+    Some(Still {
+        below,
+        error: b.constant,
+        fit: b.fit,
+    })
 }
 
 /// A window's bound from its residuals, or why not.
-fn window(name: &str, k: usize, r: &[f64], f: f64, margin: f64, method: &str) -> Fitted<Window> {
-    let min = fit::min_samples(f);
-    let independent = r.len() / k;
+fn window(
+    name: &str,
+    k: usize,
+    r: &[f64],
+    (f, min): (f64, usize),
+    margin: f64,
+    method: &str,
+) -> Fitted<Window> {
+    // Disjoint windows: samples / k, and one as soon as there is a sample.
+    let independent = (r.len() / k).max(usize::from(!r.is_empty()));
     if independent < min {
         return refuse(
             &format!("{name}[k={k}]"),
@@ -291,6 +478,7 @@ fn window(name: &str, k: usize, r: &[f64], f: f64, margin: f64, method: &str) ->
     Ok(Window {
         steps: k,
         error,
+        exempt_above: None,
         fit: Fit {
             method: method.into(),
             relative_margin: f,
@@ -305,11 +493,14 @@ fn window(name: &str, k: usize, r: &[f64], f: f64, margin: f64, method: &str) ->
 }
 
 /// The drift windows of odometry2d, those below k mean per-step bounds.
+/// With `exempt` steps (sorted) the heading windows leave them out
+/// (`exempt_above` t: their heading bounds are above t), and the
+/// [`PLAIN_HEADING_WINDOWS`] are given without exemptions too.
 fn windows(
     run: &Run,
     o: &Options,
-    h: &Bound,
-    m: &Bound,
+    (h, m): (&Bound, &Bound),
+    (exempt, t): (&[usize], f64),
     refused: &mut Vec<Refusal>,
 ) -> (Vec<Window>, Vec<Window>) {
     let n = run.steps().max(1) as f64;
@@ -320,20 +511,46 @@ fn windows(
         .sum::<f64>()
         / n
         * std::f64::consts::SQRT_2;
-    let turn = res::prefix_turn(run);
+    let fh = o.margin("heading_drift");
     let mut hw = Vec::new();
-    for k in heading_windows().filter(|&k| k <= run.steps()) {
-        match window("heading_drift", k, &res::heading_window(run, &turn, k), o.margin("heading_drift"), margins::HEADING_WINDOW,
-            "the largest |th(i+k) - th(i) - sum dt turn_rate| of the truth over the pairs with both headings true, x (1 + F) + margin") {
-            Ok(w) if w.error < k as f64 * per_h => hw.push(w),
+    let exempting = heading_windows().map(|k| (k, !exempt.is_empty()));
+    let plain = PLAIN_HEADING_WINDOWS.into_iter().map(|k| (k, false));
+    let ladder: Vec<(usize, bool)> = match exempt.is_empty() {
+        true => exempting.collect(),
+        false => exempting.chain(plain).collect(),
+    };
+    let (turn, turn_exempting) = (
+        res::prefix_turn(run),
+        res::prefix_turn_exempting(run, exempt),
+    );
+    for (k, x) in ladder.into_iter().filter(|&(k, _)| k <= run.steps()) {
+        let prefix = if x { &turn_exempting } else { &turn };
+        let method = if x {
+            "the largest |th(i+k) - th(i) - sum dt turn_rate - the exempt steps' residuals| of the truth over the pairs with both headings true, x (1 + F) + margin; the exempt steps (heading bound above exempt_above) add their own bounds"
+        } else {
+            "the largest |th(i+k) - th(i) - sum dt turn_rate| of the truth over the pairs with both headings true, x (1 + F) + margin"
+        };
+        match window(
+            "heading_drift",
+            k,
+            &res::heading_window(run, prefix, k),
+            (fh, o.min_samples(fh)),
+            margins::HEADING_WINDOW,
+            method,
+        ) {
+            Ok(w) if w.error < k as f64 * per_h => hw.push(Window {
+                exempt_above: x.then_some(t),
+                ..w
+            }),
             Ok(_) => {}
             Err(e) => refused.push(e),
         }
     }
     let prefix = res::prefix_motion(run);
+    let fm = o.margin("motion_drift");
     let mut mw = Vec::new();
     for k in motion_windows().filter(|&k| k <= run.steps()) {
-        match window("motion_drift", k, &res::motion_window(run, &prefix, k), o.margin("motion_drift"), margins::MOTION_WINDOW,
+        match window("motion_drift", k, &res::motion_window(run, &prefix, k), (fm, o.min_samples(fm)), margins::MOTION_WINDOW,
             "the largest Euclidean |p(i+k) - p(i) - sum dt v (cos th, sin th)| of the truth over the windows with true positions at the ends and true headings inside, x (1 + F) + margin") {
             Ok(w) if w.error < k as f64 * per_m => mw.push(w),
             Ok(_) => {}
@@ -361,11 +578,11 @@ fn bands(
     enough(
         "range",
         &r,
-        fit::min_samples(f),
+        o.min_samples(f),
         "detections of a known landmark at a step with a true pose",
     )?;
     let pts: Vec<(f64, f64)> = d.iter().map(|x| (x.0, x.1)).collect();
-    let range = fit::band(&pts, BandOf::Range, 0.0, f, margins::RANGE,
+    let range = fit::band(&pts, (BandOf::Range, 0.0), share_skip(o, pts.len()), (f, margins::RANGE),
         "measured - true range over the detections of a known landmark at a step with a true pose, between the narrowest lines in the measured range r above and below every residual, within the smallest and largest residual; each side widened by F x the half-width + margin");
     let min_r = margins::MIN_RANGE_FOR_BEARING;
     let bpts: Vec<(f64, f64)> = d
@@ -380,12 +597,19 @@ fn bands(
     enough(
         "bearing",
         &b,
-        fit::min_samples(f),
+        o.min_samples(f),
         "detections with a bearing of a known landmark at a step with a true pose",
     )?;
-    let bearing = fit::band(&bpts, BandOf::InverseRange, min_r, f, margins::BEARING,
+    let bearing = fit::band(&bpts, (BandOf::InverseRange, min_r), share_skip(o, bpts.len()), (f, margins::BEARING),
         "measured - true bearing (wrapped) over the detections with a bearing, between the narrowest lines in 1/r above and below every residual, within the smallest and largest residual; each side widened by F x the half-width + margin");
     Ok((range, Some(bearing)))
+}
+
+/// The residuals a band of k leaves out below and above for the outlier
+/// share P: floor(P k / 2) below, the rest of floor(P k) above.
+fn share_skip(o: &Options, k: usize) -> (usize, usize) {
+    let dropped = ((o.outlier_share * k as f64).floor() as usize).min(k.saturating_sub(1));
+    (dropped / 2, dropped - dropped / 2)
 }
 
 /// A calibration that gives no model: the error names the run's log
@@ -418,37 +642,49 @@ pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, ImportError> {
             "a calibration needs the landmarks (--landmarks)",
         ));
     }
-    let min = fit::min_samples(o.relative_margin);
+    let min = o.min_samples(o.relative_margin);
     let mut refused = Vec::new();
-    let h = heading(run, o);
+    let complete = o.flag.is_some_and(|f| f.complete_gaps);
+    let (fitted, gap_step) = match complete {
+        true => same_run::complete(run),
+        false => (run.clone(), vec![false; run.steps()]),
+    };
+    let h = heading(&fitted, o);
     let s = speed(run, o);
     let placeholder = fit::affine_bound(&[], Measure::None, 0.0, 0.0, "");
-    let m = motion(run, o, &s, h.as_ref().unwrap_or(&placeholder));
+    let m = motion(&fitted, o, &s, h.as_ref().map_or(&placeholder, |h| &h.0));
     let b = bands(run, o);
     let fatal: Vec<Refusal> = [h.as_ref().err(), m.as_ref().err(), b.as_ref().err()]
         .into_iter()
         .flatten()
         .cloned()
         .collect();
-    let (Ok(h), Ok(m), Ok((range, bearing))) = (h, m, b) else {
+    let (Ok((h, flagged_h)), Ok((m, flagged_m)), Ok((range, bearing))) = (h, m, b) else {
         let why: Vec<String> = fatal
             .iter()
             .map(|r| format!("{}: {}", r.bound, r.reason))
             .collect();
         return Err(no_model(run, why.join("; ")));
     };
+    let (flagged, exempt) = flagged_steps(&fitted, o, &h, (flagged_h, flagged_m), &gap_step);
     let (heading_drift, motion_drift) = match run.model {
-        Model::Odometry2d => windows(run, o, &h, &m, &mut refused),
+        Model::Odometry2d => windows(&fitted, o, (&h, &m), (&exempt.0, exempt.1), &mut refused),
         Model::Unicycle2d => (Vec::new(), Vec::new()),
     };
-    let gaps = (0..run.steps())
-        .filter(|&i| {
-            let known = |k: usize| {
-                truth.positions[k].is_some() && (!truth.has_heading || truth.headings[k].is_some())
-            };
-            !(known(i) && known(i + 1))
-        })
-        .count();
+    let gaps = gap_step.iter().filter(|&&g| g).count();
+    let gaps = if complete {
+        gaps
+    } else {
+        (0..run.steps())
+            .filter(|&i| {
+                let known = |k: usize| {
+                    truth.positions[k].is_some()
+                        && (!truth.has_heading || truth.headings[k].is_some())
+                };
+                !(known(i) && known(i + 1))
+            })
+            .count()
+    };
     let model = SensorModel {
         format: FORMAT.into(),
         model: run.model.name().into(),
@@ -471,12 +707,59 @@ pub fn calibrate(run: &Run, o: &Options) -> Result<SensorModel, ImportError> {
         bearing,
         sensor_offset: o.sensor_offset,
         refused,
+        flagged,
     };
     // Readings so large that a fit overflows give no bound.
     model
         .check_numbers()
         .map_err(|e| no_model(run, format!("{e} (readings too large for a bound?)")))?;
     Ok(model)
+}
+
+/// The flagged steps of a same-run calibration ([`Flagged`]), the steps
+/// touching a gap of a completed truth among them (heading bound at least
+/// the largest ordinary one + [`GAP_HEADING_MARGIN`]), and the steps the
+/// heading windows exempt with their threshold: those whose heading bound
+/// is above the largest ordinary one.
+fn flagged_steps(
+    run: &Run,
+    o: &Options,
+    h: &Bound,
+    (mut heading, motion): (StepBounds, StepBounds),
+    gap_step: &[bool],
+) -> (Option<Flagged>, (Vec<usize>, f64)) {
+    let Some(f) = o.flag else {
+        return (None, (Vec::new(), 0.0));
+    };
+    let turn = |i: usize| res::step_turn(run, i);
+    let ordinary = (0..run.steps()).map(|i| h.at(turn(i))).fold(0.0, f64::max);
+    if run.model == Model::Odometry2d {
+        let gap = ordinary + GAP_HEADING_MARGIN;
+        for (i, _) in gap_step.iter().enumerate().filter(|g| *g.1) {
+            match heading.iter_mut().find(|x| x.0 == i) {
+                Some(x) => x.1 = x.1.max(gap),
+                None => heading.push((i, h.at(turn(i)).max(gap))),
+            }
+        }
+    }
+    heading.sort_by_key(|x| x.0);
+    let exempt: Vec<usize> = heading
+        .iter()
+        .filter(|x| x.1 > ordinary)
+        .map(|x| x.0)
+        .collect();
+    let flagged = Flagged {
+        method: "a step whose residual (of the truth, completed across its gaps when complete_gaps) is above the threshold gets its own bound, residual x factor + margin; the per-step bound is fitted on the other steps; a step touching a gap gets a heading bound at least the largest ordinary one + gap_heading_margin: the heading windows exempt the steps whose bound is above the largest ordinary one".into(),
+        heading_above: f.heading_above,
+        motion_above: f.motion_above,
+        factor: f.factor,
+        margin: f.margin,
+        complete_gaps: f.complete_gaps,
+        gap_heading_margin: GAP_HEADING_MARGIN,
+        heading,
+        motion,
+    };
+    (Some(flagged), (exempt, ordinary))
 }
 
 /// How a model holds on a run with truth: per bound, the samples and how
@@ -514,6 +797,7 @@ fn count(bound: String, excess: impl Iterator<Item = f64>) -> Coverage {
 /// outside, bound by bound (the same residuals the calibration fits).
 pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
     let mut out = Vec::new();
+    let same = model.calibration.fingerprint == run.fingerprint();
     let h = &model.heading;
     if h.fit.method.starts_with("assumed") || run.truth.as_ref().is_some_and(|t| t.has_heading) {
         let ex: Vec<f64> = match run.model {
@@ -523,7 +807,7 @@ pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
                 .collect(),
             Model::Odometry2d => res::heading_steps(run)
                 .iter()
-                .map(|p| p.1.abs() - h.at(p.0))
+                .map(|p| p.2.abs() - model.heading_error_at(p.0, p.1, same))
                 .collect(),
         };
         out.push(count("heading".into(), ex.into_iter()));
@@ -535,17 +819,32 @@ pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
     };
     let s = &model.speed;
     let pts = res::motion_steps(run, &|x| s.error.at(x), s.sign_unknown_below, eh);
-    let m = &model.motion_error;
     out.push(count(
         "motion_error".into(),
-        pts.iter().map(|p| p.2 - m.at_step(p.0, p.1)),
+        pts.iter()
+            .map(|p| p.3 - model.motion_error_at(p.0, p.1, p.2, same)),
     ));
     let turn = res::prefix_turn(run);
+    // An exempt window's statement, as the mission's: |th(i+k) - th(i) -
+    // S| <= error + the exempt steps' own bounds in the window.
+    let exempt_sum = |t: f64| -> Vec<f64> {
+        let mut p = vec![0.0];
+        for i in 0..run.steps() {
+            let e = model.heading_error_at(i, res::step_turn(run, i), same);
+            p.push(p[i] + if e > t { e } else { 0.0 });
+        }
+        p
+    };
     for w in &model.heading_drift {
-        let r = res::heading_window(run, &turn, w.steps);
+        let k = w.steps;
+        let slack = w.exempt_above.map(exempt_sum);
+        let r: Vec<f64> = res::heading_window_at(run, &turn, k)
+            .into_iter()
+            .map(|(i, r)| r.abs() - slack.as_ref().map_or(0.0, |x| x[i + k] - x[i]))
+            .collect();
         out.push(count(
             format!("heading_drift[k={}]", w.steps),
-            r.iter().map(|x| x.abs() - w.error),
+            r.iter().map(|x| x - w.error),
         ));
     }
     let prefix = res::prefix_motion(run);
@@ -572,4 +871,64 @@ pub fn verify(model: &SensorModel, run: &Run) -> Vec<Coverage> {
         ));
     }
     out
+}
+
+/// The relative margins tried by [`holdout`], in order.
+pub const HOLDOUT_LADDER: [f64; 8] = [0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0];
+
+/// The margins a held-out part of the calibration run asks for: the run's
+/// steps before `1 - fraction` of them calibrate a model, checked
+/// ([`verify`]) on the rest; each bound the rest breaks gets the next
+/// margin of [`HOLDOUT_LADDER`] above its own, until the check is clean or
+/// the ladder ends. Returns the margins (every bound's F, the raised ones
+/// included) and the last check. A rule a user can apply without the truth
+/// of the run they solve (docs/calibration.md, step 3).
+pub fn holdout(
+    run: &Run,
+    o: &Options,
+    fraction: f64,
+) -> Result<(Options, Vec<Coverage>), ImportError> {
+    if !(fraction > 0.0 && fraction < 1.0) {
+        return Err(ImportError::setting(
+            "holdout",
+            format!("--holdout must be in (0, 1), found {fraction}"),
+        ));
+    }
+    let n = run.steps();
+    let cut = ((1.0 - fraction) * n as f64).round() as usize;
+    if cut < 2 || n - cut < 2 {
+        return Err(ImportError::setting(
+            "holdout",
+            format!("--holdout {fraction}: {n} steps leave fewer than 2 on a side"),
+        ));
+    }
+    let (fit_part, check_part) = (run.steps_between(0, cut), run.steps_between(cut, n));
+    let mut o = o.clone();
+    loop {
+        let model = calibrate(&fit_part, &o)?;
+        let cov = verify(&model, &check_part);
+        let broken: Vec<&str> = BOUND_NAMES
+            .iter()
+            .copied()
+            .filter(|name| {
+                cov.iter()
+                    .any(|c| c.outside > 0 && bound_name(&c.bound) == *name)
+            })
+            .collect();
+        let mut raised = false;
+        for name in broken {
+            if let Some(&f) = HOLDOUT_LADDER.iter().find(|&&f| f > o.margin(name)) {
+                o.bound_margins.push((name.to_string(), f));
+                raised = true;
+            }
+        }
+        if !raised {
+            return Ok((o, cov));
+        }
+    }
+}
+
+/// The bound of a coverage line (`heading_drift[k=30]` is `heading_drift`).
+fn bound_name(line: &str) -> &str {
+    line.split('[').next().unwrap_or(line)
 }

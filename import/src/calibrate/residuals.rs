@@ -30,9 +30,9 @@ pub fn heading_channel(run: &Run) -> Vec<(usize, f64)> {
         .collect()
 }
 
-/// `odometry2d`: (|turn_rate|·dt, th(i+1) - th(i) - dt·turn_rate(i)) at the
-/// steps whose two ends have a true heading.
-pub fn heading_steps(run: &Run) -> Vec<(f64, f64)> {
+/// `odometry2d`: (step, |turn_rate|·dt, th(i+1) - th(i) - dt·turn_rate(i))
+/// at the steps whose two ends have a true heading.
+pub fn heading_steps(run: &Run) -> Vec<(usize, f64, f64)> {
     let t = truth(run);
     (0..run.steps())
         .filter_map(|i| {
@@ -41,7 +41,7 @@ pub fn heading_steps(run: &Run) -> Vec<(f64, f64)> {
                 t.headings.get(i + 1).copied()??,
             );
             let turn = run.dt * run.rotation[i];
-            Some((turn.abs(), b - a - turn))
+            Some((i, turn.abs(), b - a - turn))
         })
         .collect()
 }
@@ -120,8 +120,8 @@ pub fn step_turn(run: &Run, i: usize) -> f64 {
     }
 }
 
-/// (|speed|·dt, the step's turn ([`step_turn`]), per-axis residual) of
-/// each step whose ends have a true
+/// (step, |speed|·dt, the step's turn ([`step_turn`]), per-axis residual)
+/// of each step whose ends have a true
 /// position (and a heading): the distance, per axis, from the true
 /// displacement to the hull of `dt·s·(cos h, sin h)` over the step's
 /// speed interval and heading interval (unicycle2d: the measured heading
@@ -131,7 +131,7 @@ pub fn motion_steps(
     speed_error: &dyn Fn(f64) -> f64,
     sign_unknown_below: Option<f64>,
     heading_error: f64,
-) -> Vec<(f64, f64, f64)> {
+) -> Vec<(usize, f64, f64, f64)> {
     let t = truth(run);
     (0..run.steps())
         .filter_map(|i| {
@@ -145,15 +145,25 @@ pub fn motion_steps(
             let r = (0..2)
                 .map(|k| (box_[k][0] - d[k]).max(d[k] - box_[k][1]).max(0.0))
                 .fold(0.0, f64::max);
-            Some((dist, step_turn(run, i), r))
+            Some((i, dist, step_turn(run, i), r))
         })
         .collect()
 }
 
 /// The heading drift residuals of windows of k steps (odometry2d): the
 /// pairs (i, i + k) with both headings true,
-/// `th(i+k) - th(i) - sum dt·turn_rate`.
+/// `th(i+k) - th(i) - sum dt·turn_rate`; `prefix_turn` may also hold the
+/// exempt steps' residuals ([`prefix_turn_exempting`]), which the window
+/// then leaves out.
 pub fn heading_window(run: &Run, prefix_turn: &[f64], k: usize) -> Vec<f64> {
+    heading_window_at(run, prefix_turn, k)
+        .into_iter()
+        .map(|x| x.1)
+        .collect()
+}
+
+/// [`heading_window`] with each window's first step: `(i, residual)`.
+pub fn heading_window_at(run: &Run, prefix_turn: &[f64], k: usize) -> Vec<(usize, f64)> {
     let t = truth(run);
     let n = run.steps();
     if k > n {
@@ -162,16 +172,31 @@ pub fn heading_window(run: &Run, prefix_turn: &[f64], k: usize) -> Vec<f64> {
     (0..=n - k)
         .filter_map(|i| {
             let (a, b) = (t.headings[i]?, t.headings[i + k]?);
-            Some(b - a - (prefix_turn[i + k] - prefix_turn[i]))
+            Some((i, b - a - (prefix_turn[i + k] - prefix_turn[i])))
         })
         .collect()
 }
 
 /// Prefix sums of dt·turn_rate (N + 1).
 pub fn prefix_turn(run: &Run) -> Vec<f64> {
+    prefix_turn_exempting(run, &[])
+}
+
+/// Prefix sums of dt·turn_rate plus, at the `exempt` steps (sorted), the
+/// truth's own step residual th(j+1) - th(j) - dt·turn_rate(j): a window
+/// over them leaves those steps' residuals out (each bounded by its own
+/// heading error instead). An exempt step needs its two true headings.
+pub fn prefix_turn_exempting(run: &Run, exempt: &[usize]) -> Vec<f64> {
+    let t = truth(run);
     let mut p = vec![0.0];
-    for &w in &run.rotation {
-        p.push(p[p.len() - 1] + run.dt * w);
+    for (j, &w) in run.rotation.iter().enumerate() {
+        let mut s = run.dt * w;
+        if exempt.binary_search(&j).is_ok() {
+            if let (Some(a), Some(b)) = (t.headings[j], t.headings[j + 1]) {
+                s = b - a;
+            }
+        }
+        p.push(p[j] + s);
     }
     p
 }
@@ -234,10 +259,22 @@ pub fn motion_window(
 }
 
 /// One detection's residuals against the truth: (measured range,
-/// measured - true range, measured - true bearing wrapped). The sensor
-/// sits at `p + R(th)·offset`, th the true heading (or, for unicycle2d
-/// without one, the measured heading).
+/// measured - true range, measured - true bearing wrapped) ([`true_reading`]).
 pub fn detection(run: &Run, j: usize, offset: [f64; 2]) -> Option<(f64, f64, Option<f64>)> {
+    let (range, bearing) = true_reading(run, j, offset)?;
+    let d = &run.detections[j];
+    Some((
+        d.range,
+        d.range - range,
+        d.bearing.zip(bearing).map(|(m, t)| wrap(m - t)),
+    ))
+}
+
+/// The true range and bearing of detection j, from the true pose at its
+/// step to its true landmark, when both are known: the sensor sits at
+/// `p + R(th)·offset`, th the true heading (or, for unicycle2d without
+/// one, the measured heading); the bearing `atan2 - th`, unwrapped.
+pub fn true_reading(run: &Run, j: usize, offset: [f64; 2]) -> Option<(f64, Option<f64>)> {
     let t = run.truth.as_ref()?;
     let d = &run.detections[j];
     let p = t.positions.get(d.step).copied()??;
@@ -252,6 +289,5 @@ pub fn detection(run: &Run, j: usize, offset: [f64; 2]) -> Option<(f64, f64, Opt
     let sx = p[0] + c * offset[0] - s * offset[1];
     let sy = p[1] + s * offset[0] + c * offset[1];
     let (dx, dy) = (l[0] - sx, l[1] - sy);
-    let bearing = d.bearing.map(|b| wrap(b - (dy.atan2(dx) - h)));
-    Some((d.range, d.range - dx.hypot(dy), bearing))
+    Some((dx.hypot(dy), d.bearing.map(|_| dy.atan2(dx) - h)))
 }

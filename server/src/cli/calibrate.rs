@@ -43,6 +43,50 @@ pub struct Args {
     /// truth whose heading cannot calibrate it).
     #[arg(long, value_name = "NAME=E")]
     assume: Vec<String>,
+    /// The zero-velocity class of the motion error: the steps reporting a
+    /// distance |speed|·dt below D (m) get their own bound, fitted on
+    /// theirs (docs/calibration.md, "Methods").
+    #[arg(long, value_name = "D")]
+    still_below: Option<f64>,
+    /// The per-step bounds (heading, motion error) constant, the largest
+    /// residual, instead of affine in the step's distance and turn.
+    #[arg(long)]
+    constant_steps: bool,
+    /// The share P of the residuals each band (range, bearing) leaves out,
+    /// 0 <= P < 0.5 (docs/outliers.md).
+    #[arg(
+        long,
+        value_name = "P",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    outlier_share: f64,
+    /// A same-run calibration (the oracle): the model is for this run
+    /// alone (no sample rule, F may be 0, steps may be flagged); applied
+    /// to another run it is no guarantee, with --flag it is refused.
+    #[arg(long)]
+    same_run: bool,
+    /// With --same-run: a step whose residual is above T gets its own
+    /// bound, NAME=T (heading in rad, motion_error in m per axis). Repeat
+    /// for both.
+    #[arg(long, value_name = "NAME=T", requires = "same_run")]
+    flag: Vec<String>,
+    /// With --flag: a flagged step's bound is its residual x FACTOR +
+    /// MARGIN (default 1.5,0.01).
+    #[arg(long, value_name = "FACTOR,MARGIN")]
+    flag_bound: Option<String>,
+    /// With --same-run: fit the per-step bounds and the windows on the
+    /// truth completed across its gaps (linear interpolation), the steps
+    /// touching a gap exempt from the heading windows.
+    #[arg(long, requires = "same_run")]
+    complete_gaps: bool,
+    /// Choose the margins on a held-out part of this run: fit on its steps
+    /// before 1 - FRACTION of them, check on the rest, raise the margin of
+    /// each bound broken (0.1, 0.25, 0.5, 0.75, 1, 1.5, 2, 3) until the
+    /// check is clean; then fit the whole run with those margins
+    /// (docs/calibration.md, step 3). The margins chosen are printed.
+    #[arg(long, value_name = "FRACTION")]
+    holdout: Option<f64>,
     /// Instead of fitting: how a model holds on this run (the samples it
     /// leaves outside, bound by bound), as JSON; exit 1 when any.
     #[arg(long, value_name = "SENSOR.json")]
@@ -133,6 +177,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
             run.t[run.steps() - 1],
             run.steps()
         ),
+        same_run: a.same_run,
+        flag: flag(&a)?,
+        still_below: a.still_below,
+        constant_steps: a.constant_steps,
+        outlier_share: a.outlier_share,
+    };
+    let options = match a.holdout {
+        Some(f) => held_out(&run, options, f)?,
+        None => options,
     };
     let sensor = calibrate::calibrate(&run, &options)?;
     for r in &sensor.refused {
@@ -140,6 +193,63 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let text = serde_json::to_string_pretty(&sensor)?;
     write_text(&text, a.out.as_deref())
+}
+
+/// `--holdout FRACTION`: the margins the held-out part asks for, said on
+/// standard error.
+fn held_out(
+    run: &data::Run,
+    o: calibrate::Options,
+    fraction: f64,
+) -> Result<calibrate::Options, CliError> {
+    let (chosen, cov) = calibrate::holdout(run, &o, fraction)?;
+    let margins: Vec<String> = calibrate::BOUND_NAMES
+        .iter()
+        .map(|n| format!("{n}={}", chosen.margin(n)))
+        .collect();
+    let outside: usize = cov.iter().map(|c| c.outside).sum();
+    say!(
+        "nvector calibrate: --holdout {fraction}: margins {} ({outside} sample(s) of the held-out part outside{})",
+        margins.join(" "),
+        if outside > 0 { ": the ladder ended" } else { "" }
+    );
+    Ok(chosen)
+}
+
+/// The `--flag NAME=T`, `--flag-bound` and `--complete-gaps` flags.
+fn flag(a: &Args) -> Result<Option<calibrate::Flag>, CliError> {
+    if a.flag.is_empty() && !a.complete_gaps {
+        return Ok(None);
+    }
+    let [factor, margin] = match &a.flag_bound {
+        Some(s) => pair(s, "--flag-bound")?,
+        None => [1.5, 0.01],
+    };
+    let mut f = calibrate::Flag {
+        heading_above: None,
+        motion_above: None,
+        factor,
+        margin,
+        complete_gaps: a.complete_gaps,
+    };
+    for s in &a.flag {
+        let t = |x: &str| {
+            x.parse::<f64>()
+                .ok()
+                .filter(|t| t.is_finite() && *t >= 0.0)
+                .ok_or_else(|| CliError(format!("--flag {s}: T must be a number >= 0")))
+        };
+        match s.split_once('=') {
+            Some(("heading", x)) => f.heading_above = Some(t(x)?),
+            Some(("motion_error", x)) => f.motion_above = Some(t(x)?),
+            _ => {
+                return Err(CliError(format!(
+                    "--flag {s}: expected heading=T or motion_error=T"
+                )))
+            }
+        }
+    }
+    Ok(Some(f))
 }
 
 /// The `--margin` flags: the default F (0.1 unless a bare F is given) and
