@@ -542,6 +542,99 @@ impl<'de> Deserialize<'de> for PointsIn {
     }
 }
 
+/// Writing: a value in the form it is read in, so that a document built
+/// from these types and serialized reads back as it was. Bounds,
+/// intervals and boxes are written as a result's are
+/// ([`super::result::BoundOut`]: a zero bound as `0.0`, never `-0.0`; an
+/// unbounded one as `"-inf"` / `"inf"`); finite numbers as serde_json
+/// writes an `f64`.
+mod write {
+    use super::*;
+    use crate::format::result::{BoundOut, BoxView, IntervalOut};
+    use serde::ser::{Error, Serialize, SerializeSeq, Serializer};
+
+    impl Serialize for Finite {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            s.serialize_f64(self.0)
+        }
+    }
+
+    impl Serialize for Integer {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            match self {
+                Integer::Value(x) => s.serialize_u64(*x),
+                Integer::Huge(x) => s.serialize_f64(*x),
+                Integer::Invalid(what) => Err(S::Error::custom(format!(
+                    "expected an integer, found {what}"
+                ))),
+            }
+        }
+    }
+
+    impl Serialize for IntervalIn {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            IntervalOut(self.0).serialize(s)
+        }
+    }
+
+    impl Serialize for BoxIn {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            BoxView(&self.0).serialize(s)
+        }
+    }
+
+    impl Serialize for Numbers {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            self.0.serialize(s)
+        }
+    }
+
+    impl Serialize for Bounds {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            s.collect_seq(self.0.iter().map(|&x| BoundOut(x)))
+        }
+    }
+
+    impl Serialize for PerStep {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            match self {
+                PerStep::One(x) => s.serialize_f64(*x),
+                PerStep::Each(v) => v.serialize(s),
+            }
+        }
+    }
+
+    /// The points in order, `null` at each index of `nulls`.
+    impl Serialize for PointsIn {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            let mut q = s.serialize_seq(Some(self.count))?;
+            let mut rows = self.flat.chunks(self.width.max(1));
+            let mut nulls = self.nulls.iter().peekable();
+            for i in 0..self.count {
+                if nulls.next_if_eq(&&i).is_some() {
+                    q.serialize_element(&())?;
+                } else {
+                    q.serialize_element(rows.next().unwrap_or(&[]))?;
+                }
+            }
+            q.end()
+        }
+    }
+}
+
+impl PointsIn {
+    /// Points of `W` coordinates each, every one known.
+    pub fn rows<const W: usize>(points: &[[f64; W]]) -> PointsIn {
+        PointsIn {
+            count: points.len(),
+            width: W,
+            flat: points.iter().flatten().copied().collect(),
+            mismatch: None,
+            nulls: Vec::new(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

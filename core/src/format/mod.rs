@@ -39,6 +39,18 @@ macro_rules! object_only {
     };
 }
 
+/// A derived `Serialize` of a struct with `#[serde(remote = "Self")]` as
+/// the trait (the derive then writes an inherent function).
+macro_rules! serialize_self {
+    ($t:ident) => {
+        impl serde::Serialize for $t {
+            fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+                $t::serialize(self, ser)
+            }
+        }
+    };
+}
+
 pub mod contract;
 pub mod leaf;
 #[cfg(feature = "openapi")]
@@ -104,6 +116,14 @@ pub fn from_value<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
     let track = tracked::Track::default();
     let r = T::deserialize(tracked::Tracked::root(v, &track));
     r.map_err(|e| data_error(track.path(), &e))
+}
+
+/// A document built from these types as a JSON value (keys in sorted
+/// order, as every `Value` of the project). The types write only JSON
+/// (a non-finite number as `null`, as serde_json does); the one value they
+/// refuse, an [`leaf::Integer::Invalid`], is never built, only read.
+pub fn to_value<T: serde::Serialize>(doc: &T) -> Value {
+    serde_json::to_value(doc).unwrap_or_else(|e| unreachable!("a document is JSON: {e}"))
 }
 
 /// [`from_value`] as it was before [`tracked`]: serde_path_to_error over
