@@ -5,6 +5,7 @@
 //! flag, which is also set when the client goes away. Either limit answers
 //! 422 with code `work_limit`.
 
+use super::error::shared::{MalformedJson, Unauthorized};
 use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
 use super::state::{AppState, Owner};
@@ -30,8 +31,8 @@ use std::time::Duration;
     request_body = ContractRequest,
     responses(
         (status = 200, description = "The contraction", body = ContractResponse),
-        (status = 400, description = "Malformed JSON", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        MalformedJson,
+        Unauthorized,
         (status = 413, description = "More than 100000 boxes, or body too large", body = ErrorBody),
         (status = 422, description = "Invalid request, with the JSON path; or code `work_limit`: \
             the exact contractor ran out of its work budget or of this service's time limit \

@@ -3,6 +3,10 @@
 //! progress as Server-Sent Events, `/result` returns its result (JSON, CSV
 //! or SVG). The workers that run jobs are in `worker.rs`.
 
+use super::error::shared::{
+    BodyTooLarge, InvalidField, MalformedJson, NoSuchJob, NoSuchMission, QueueFull,
+    StorageUnavailable, Unauthorized,
+};
 use super::error::ErrorBody;
 use super::error::{parse_json_value, ApiResult, AppError, Body, RequestBody};
 use super::job_runner::JobKind;
@@ -337,13 +341,13 @@ fn job_json(j: &JobRow) -> String {
                 ("cancelJob" = (operation_id = "cancelJob", parameters(("id" = "$response.body#/id")),
                     description = "Cancel it"))
             )),
-        (status = 400, description = "Malformed JSON", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such mission", body = ErrorBody),
-        (status = 413, description = "Request body too large", body = ErrorBody),
-        (status = 422, description = "Invalid field, with its path", body = ErrorBody),
-        (status = 429, description = "Too many queued jobs (Retry-After)", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        MalformedJson,
+        Unauthorized,
+        NoSuchMission,
+        BodyTooLarge,
+        InvalidField,
+        QueueFull,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn post_job(
@@ -396,9 +400,9 @@ pub(super) async fn post_job(
                 ("jobEvents" = (operation_id = "jobEvents", parameters(("id" = "$response.body#/id")),
                     description = "Its progress as Server-Sent Events"))
             )),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn get_job(
@@ -423,10 +427,10 @@ pub(super) async fn get_job(
     params(("id" = String, Path, description = "The job's id")),
     responses(
         (status = 202, description = "Cancelled", body = JobQueued),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
         (status = 409, description = "The job has already ended", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        StorageUnavailable,
     )
 )]
 pub(super) async fn delete_job(
@@ -466,9 +470,9 @@ pub(super) async fn delete_job(
     responses(
         (status = 200, description = "text/event-stream: events `progress` and `end`, each data a Job object",
             content_type = "text/event-stream", body = JobEvent),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn job_events(
@@ -590,10 +594,10 @@ fn not_done(state: JobState) -> AppError {
                 (String = "image/svg+xml")
             )),
         (status = 400, description = "Unknown `format`", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
         (status = 409, description = "The job is not done", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        StorageUnavailable,
     )
 )]
 pub(super) async fn job_result(
