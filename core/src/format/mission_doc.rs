@@ -3,13 +3,16 @@
 //! (`slam::mission::Mission::from_doc`) can name a missing one by its path;
 //! `null` is absence for an optional field and refused for a required one
 //! (those read through [`present`]). Unknown fields are refused, naming
-//! the field, except inside `meta`.
+//! the field, except inside `meta`. The same types write a mission
+//! (`leaf::ToJson`, `format::to_value`: the simulators, `Mission::to_value`,
+//! the importers): a field absent is left out, but `final_position`, which
+//! is written `null`.
 
 use super::leaf::{Bounds, BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, PointsIn};
 #[cfg(feature = "openapi")]
 use super::openapi::mission as oa;
 use super::present;
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 use serde_json::Value;
 
 /// A mission (`nvector-mission/1`), the input of a SLAM job.
@@ -21,7 +24,7 @@ use serde_json::Value;
 /// for auv3d; `landmark < landmark_count`; the truth's sizes (see
 /// `Truth`). Numbers are JSON numbers; integers are written without a
 /// fraction or exponent.
-#[derive(Debug, Default, Deserialize, Serialize)]
+#[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[cfg_attr(feature = "openapi", schema(as = Mission, example = json!({
     "format": "nvector-mission/1",
@@ -42,15 +45,12 @@ pub struct MissionDoc {
     /// `"nvector-mission/1"` (any JSON, checked by the validation).
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::format, required = true))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub format: Option<Value>,
     /// A name (default `"mission"`).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// Motion model name (any JSON, checked by the validation).
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::model, required = true))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub model: Option<Value>,
     /// The time step (s).
     #[serde(default, deserialize_with = "present")]
@@ -58,7 +58,6 @@ pub struct MissionDoc {
         feature = "openapi",
         schema(value_type = f64, exclusive_minimum = 0, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub dt: Option<Finite>,
     /// N: there are N+1 positions and N input samples per channel.
     #[serde(default, deserialize_with = "present")]
@@ -66,7 +65,6 @@ pub struct MissionDoc {
         feature = "openapi",
         schema(value_type = u64, minimum = 1, maximum = 2000000, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub steps: Option<Integer>,
     /// The box of p(0).
     #[serde(default, deserialize_with = "present")]
@@ -74,29 +72,23 @@ pub struct MissionDoc {
         feature = "openapi",
         schema(schema_with = oa::initial_position, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub initial_position: Option<BoxIn>,
     /// The box of p(N), when known.
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::final_position))]
     pub final_position: Option<BoxIn>,
     /// odometry2d: interval of th(0). Rule: required for odometry2d, refused
     /// for the other models.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub initial_heading: Option<IntervalIn>,
     /// odometry2d: interval of th(N). Rule: odometry2d only.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub final_heading: Option<IntervalIn>,
     /// The input channels.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(value_type = InputsDoc, required = true))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub inputs: Option<InputsDoc>,
     /// The bound on the per-step integration error, per axis (default 0).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub motion_error: Option<PerStep>,
     /// odometry2d: per-step heading error (default 0). Rule: odometry2d
     /// only.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub heading_error: Option<PerStep>,
     /// odometry2d: bounds on the heading drift over windows of k steps
     /// (optional): for every window and every i with i + k <= N,
@@ -107,7 +99,6 @@ pub struct MissionDoc {
         feature = "openapi",
         schema(value_type = Option<Vec<DriftWindowDoc>>, max_items = 1000)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub heading_drift: Option<List<DriftWindowDoc>>,
     /// odometry2d: bounds on the position drift over windows of k steps
     /// (optional): for every window and every i with i + k <= N, the
@@ -118,7 +109,6 @@ pub struct MissionDoc {
         feature = "openapi",
         schema(value_type = Option<Vec<DriftWindowDoc>>, max_items = 1000)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub motion_drift: Option<List<DriftWindowDoc>>,
     /// Where the sensor sits in the body frame, `[forward, left]` metres
     /// (default `[0, 0]`). Rule: 2-D models only.
@@ -126,7 +116,6 @@ pub struct MissionDoc {
         feature = "openapi",
         schema(value_type = Option<Vec<f64>>, min_items = 2, max_items = 2)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub sensor_offset: Option<List<Finite>>,
     /// The detections, in any order.
     #[serde(default, deserialize_with = "present")]
@@ -134,36 +123,29 @@ pub struct MissionDoc {
         feature = "openapi",
         schema(value_type = Vec<DetectionDoc>, max_items = 100000, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub detections: Option<List<DetectionDoc>>,
     /// n, the known number of landmarks (enables atmost_nvector).
     #[cfg_attr(
         feature = "openapi",
         schema(value_type = Option<u32>, minimum = 1, maximum = 4294967295u32)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub landmark_count: Option<Integer>,
     /// A box that holds every landmark.
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::landmark_region))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub landmark_region: Option<BoxIn>,
     /// Distinct landmarks are at least this far apart (metres, default 0).
     #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub landmark_min_separation: Option<Finite>,
     /// At most this many detections may be false (default 0).
     #[cfg_attr(
         feature = "openapi",
         schema(value_type = Option<u32>, minimum = 0, maximum = 4294967295u32)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_outliers: Option<Integer>,
     /// Free-form metadata (an object, checked by the validation).
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::meta))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub meta: Option<Value>,
     /// Ground truth (never read by the solver).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub truth: Option<TruthDoc>,
 }
 
@@ -173,7 +155,7 @@ pub struct MissionDoc {
 /// unicycle2d; `roll`, `pitch`, `yaw`, `vx`, `vy`, `vz` for auv3d.
 // Read: every channel of every model (the validation refuses those of
 // another model, naming them).
-#[derive(Debug, Default, Deserialize, Serialize)]
+#[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[cfg_attr(feature = "openapi", schema(as = Inputs))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
@@ -181,47 +163,38 @@ pub struct InputsDoc {
     /// Speed (m/s), unicycle2d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub speed: Option<ChannelDoc>,
     /// Heading (rad), unicycle2d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub heading: Option<ChannelDoc>,
     /// Turn rate (rad/s), odometry2d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub turn_rate: Option<ChannelDoc>,
     /// Roll (rad), auv3d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub roll: Option<ChannelDoc>,
     /// Pitch (rad), auv3d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub pitch: Option<ChannelDoc>,
     /// Yaw (rad), auv3d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub yaw: Option<ChannelDoc>,
     /// Body-frame velocity x (m/s), auv3d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub vx: Option<ChannelDoc>,
     /// Body-frame velocity y (m/s), auv3d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub vy: Option<ChannelDoc>,
     /// Body-frame velocity z (m/s), auv3d.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(nullable = false))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub vz: Option<ChannelDoc>,
 }
 
@@ -283,21 +256,17 @@ impl InputsDoc {
 /// An input channel: `{"value", "error"}` or `{"lo", "hi"}` (the
 /// validation says which fields go together; its OpenAPI schema, the two
 /// shapes, is written by hand in `format::openapi`).
-#[derive(Debug, Default, Deserialize, Serialize)]
+#[derive(Debug, Default, Deserialize)]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
 #[allow(missing_docs)]
 pub struct ChannelDoc {
     #[serde(default, deserialize_with = "present")]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub value: Option<Numbers>,
     #[serde(default, deserialize_with = "present")]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<PerStep>,
     #[serde(default, deserialize_with = "present")]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub lo: Option<Bounds>,
     #[serde(default, deserialize_with = "present")]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub hi: Option<Bounds>,
 }
 
@@ -322,7 +291,7 @@ impl ChannelDoc {
 }
 
 /// One landmark detection.
-#[derive(Debug, Default, Deserialize, Serialize)]
+#[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[cfg_attr(feature = "openapi", schema(as = Detection))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
@@ -333,23 +302,18 @@ pub struct DetectionDoc {
         feature = "openapi",
         schema(value_type = u64, minimum = 0, maximum = 18446744073709551615u64, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub step: Option<Integer>,
     /// The measured range to the landmark.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::range, required = true))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub range: Option<IntervalIn>,
     /// The angle of the landmark relative to the heading (unicycle2d) or
     /// the yaw (auv3d), counter-clockwise, radians.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub bearing: Option<IntervalIn>,
     /// A box known to hold the landmark.
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::region))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub region: Option<BoxIn>,
     /// The landmark's z. Rule: auv3d only.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub depth: Option<IntervalIn>,
     /// The operator's matching: a 0-based landmark id. Rule: below
     /// `landmark_count` when that is given.
@@ -357,14 +321,12 @@ pub struct DetectionDoc {
         feature = "openapi",
         schema(value_type = Option<u32>, minimum = 0, maximum = 4294967295u32)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub landmark: Option<Integer>,
     /// The scan's index (detections of one scan see distinct landmarks).
     #[cfg_attr(
         feature = "openapi",
         schema(value_type = Option<u64>, minimum = 0, maximum = 18446744073709551615u64)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub scan: Option<Integer>,
 }
 
@@ -377,7 +339,7 @@ pub struct DetectionDoc {
 /// Euclidean norm of the position's against the displacement of speed
 /// and true heading, no per-step error (metres; an exempt step adds its
 /// `motion_error` × √2).
-#[derive(Debug, Default, Deserialize, Serialize)]
+#[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[cfg_attr(feature = "openapi", schema(as = DriftWindow))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
@@ -388,7 +350,6 @@ pub struct DriftWindowDoc {
         feature = "openapi",
         schema(value_type = u64, minimum = 1, maximum = 18446744073709551615u64, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub steps: Option<Integer>,
     /// The bound on the residual over the window (radians for
     /// `heading_drift`, metres for `motion_drift`). Rule: >= 0.
@@ -397,14 +358,12 @@ pub struct DriftWindowDoc {
         feature = "openapi",
         schema(value_type = f64, minimum = 0, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<Finite>,
     /// The steps whose per-step error (`heading_error`, `motion_error`) is
     /// above this are exempt: each adds its own (`motion_error` × √2 for
     /// `motion_drift`) to `error` instead of counting in it (default: none
     /// exempt). Rules: >= 0; at most 8 distinct values over the windows.
     #[cfg_attr(feature = "openapi", schema(value_type = Option<f64>, minimum = 0))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub exempt_above: Option<Finite>,
 }
 
@@ -413,7 +372,7 @@ pub struct DriftWindowDoc {
 /// Rules: `positions` has `steps + 1` points, `matching` one entry per
 /// detection, each `null` (a false detection) or below the number of
 /// `landmarks`.
-#[derive(Debug, Default, Deserialize, Serialize)]
+#[derive(Debug, Default, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[cfg_attr(feature = "openapi", schema(as = Truth))]
 #[serde(remote = "Self", deny_unknown_fields, expecting = "an object")]
@@ -421,12 +380,10 @@ pub struct TruthDoc {
     /// N+1 points, `null` where unknown.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::positions, required = true))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub positions: Option<PointsIn>,
     /// The true landmark positions.
     #[serde(default, deserialize_with = "present")]
     #[cfg_attr(feature = "openapi", schema(schema_with = oa::landmarks, required = true))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub landmarks: Option<PointsIn>,
     /// For each detection, its true landmark, or `null` for a false one.
     #[serde(default, deserialize_with = "present")]
@@ -434,12 +391,10 @@ pub struct TruthDoc {
         feature = "openapi",
         schema(value_type = Vec<Option<u32>>, required = true)
     )]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub matching: Option<List<Option<Integer>>>,
     /// odometry2d: N+1 headings, `null` where unknown. Rule: odometry2d
     /// only, `steps + 1` entries.
     #[cfg_attr(feature = "openapi", schema(value_type = Option<Vec<Option<f64>>>))]
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub headings: Option<List<Option<Finite>>>,
 }
 
@@ -466,14 +421,50 @@ impl utoipa::ToSchema for ChannelDoc {
 }
 
 object_only!(MissionDoc);
-serialize_self!(MissionDoc);
+to_json_fields!(MissionDoc {
+    format, name, model, dt, steps, initial_position, initial_heading, final_heading, inputs,
+    motion_error, heading_error, heading_drift, motion_drift, sensor_offset, detections,
+    landmark_count, landmark_region, landmark_min_separation, max_outliers, meta, truth
+} always { final_position });
 object_only!(InputsDoc);
-serialize_self!(InputsDoc);
+to_json_fields!(InputsDoc {
+    speed,
+    heading,
+    turn_rate,
+    roll,
+    pitch,
+    yaw,
+    vx,
+    vy,
+    vz
+});
 object_only!(ChannelDoc);
-serialize_self!(ChannelDoc);
+to_json_fields!(ChannelDoc {
+    value,
+    error,
+    lo,
+    hi
+});
 object_only!(DetectionDoc);
-serialize_self!(DetectionDoc);
+to_json_fields!(DetectionDoc {
+    step,
+    range,
+    bearing,
+    region,
+    depth,
+    landmark,
+    scan
+});
 object_only!(DriftWindowDoc);
-serialize_self!(DriftWindowDoc);
+to_json_fields!(DriftWindowDoc {
+    steps,
+    error,
+    exempt_above
+});
 object_only!(TruthDoc);
-serialize_self!(TruthDoc);
+to_json_fields!(TruthDoc {
+    positions,
+    landmarks,
+    matching,
+    headings
+});

@@ -51,6 +51,30 @@ macro_rules! serialize_self {
     };
 }
 
+/// [`leaf::ToJson`] for a document type: an object of its fields that are
+/// present (those after `always` written even when absent, as `null`),
+/// each named as serde reads it. Every field of the struct must be listed
+/// (the destructuring fails to compile otherwise).
+macro_rules! to_json_fields {
+    ($t:ident { $($f:ident),* } $(always { $($a:ident),* })?) => {
+        impl $crate::format::leaf::ToJson for $t {
+            fn to_json(&self) -> serde_json::Value {
+                let $t { $($f,)* $($($a,)*)? } = self;
+                let mut o = serde_json::Map::new();
+                $(
+                    if let Some(v) = $f {
+                        $crate::format::leaf::put(&mut o, stringify!($f), $crate::format::leaf::ToJson::to_json(v));
+                    }
+                )*
+                $($(
+                    $crate::format::leaf::put(&mut o, stringify!($a), $crate::format::leaf::ToJson::to_json($a));
+                )*)?
+                serde_json::Value::Object(o)
+            }
+        }
+    };
+}
+
 pub mod contract;
 pub mod leaf;
 #[cfg(feature = "openapi")]
@@ -119,11 +143,9 @@ pub fn from_value<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
 }
 
 /// A document built from these types as a JSON value (keys in sorted
-/// order, as every `Value` of the project). The types write only JSON
-/// (a non-finite number as `null`, as serde_json does); the one value they
-/// refuse, an [`leaf::Integer::Invalid`], is never built, only read.
-pub fn to_value<T: serde::Serialize>(doc: &T) -> Value {
-    serde_json::to_value(doc).unwrap_or_else(|e| unreachable!("a document is JSON: {e}"))
+/// order, as every `Value` of the project).
+pub fn to_value<T: leaf::ToJson>(doc: &T) -> Value {
+    doc.to_json()
 }
 
 /// [`from_value`] as it was before [`tracked`]: serde_path_to_error over

@@ -629,11 +629,8 @@ pub(super) async fn job_result(
     if JobKind::of(&job.mission) == JobKind::Tdoa && matches!(format, "csv" | "svg") {
         let v = parse_json_value(text.as_bytes())?;
         if format == "csv" {
-            return Ok((
-                [(header::CONTENT_TYPE, "text/csv")],
-                super::result_files::pulses_csv(&v),
-            )
-                .into_response());
+            let csv = super::result_files::pulses_csv(&v).map_err(unreadable)?;
+            return Ok(([(header::CONTENT_TYPE, "text/csv")], csv).into_response());
         }
         let problem_id = job.mission.clone();
         let problem = state
@@ -656,9 +653,10 @@ pub(super) async fn job_result(
                 .and_then(|b| serde_json::from_str(&b).ok())
                 .unwrap_or(Value::Null);
             Ok(if format == "csv" {
+                let result = nvector_core::format::result::read_value(&v).map_err(unreadable)?;
                 (
                     [(header::CONTENT_TYPE, "text/csv")],
-                    super::result_files::trajectory_csv(&v, &mission),
+                    super::result_files::trajectory_csv(&result, &mission),
                 )
                     .into_response()
             } else {
@@ -676,6 +674,16 @@ pub(super) async fn job_result(
         )
         .at("format")),
     }
+}
+
+/// A stored result that does not read as its format: the service's own
+/// fault (it wrote the result), named.
+fn unreadable(e: nvector_core::InputError) -> AppError {
+    AppError::new(
+        StatusCode::INTERNAL_SERVER_ERROR,
+        "internal",
+        format!("the stored result does not read: {e}"),
+    )
 }
 
 #[cfg(test)]

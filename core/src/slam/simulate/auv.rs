@@ -144,14 +144,18 @@ pub(super) fn auv(o: &SimulateOptions) -> Value {
     let (det_json, matching) = auv_detections(o, &mut rng, &positions, (sonar_range, range_err));
     let gps = 2.0;
     let end = positions[steps];
-    let names = ["roll", "pitch", "yaw", "vx", "vy", "vz"];
     let errs = [angle_err, angle_err, yaw_err, vel_err, vel_err, vel_err];
-    let inputs = (0..6).map(|a| {
-        (
-            names[a],
-            ChannelDoc::measured(ch[a].clone(), errs[a] + MARGIN),
-        )
-    });
+    let [roll, pitch, yaw, vx, vy, vz] =
+        std::array::from_fn(|a| Some(ChannelDoc::measured(ch[a].clone(), errs[a] + MARGIN)));
+    let inputs = InputsDoc {
+        roll,
+        pitch,
+        yaw,
+        vx,
+        vy,
+        vz,
+        ..InputsDoc::default()
+    };
     let around = |c: [f64; 3], r: f64, dz: f64| {
         Some(boxed(&[
             [c[0] - r, c[0] + r],
@@ -162,14 +166,14 @@ pub(super) fn auv(o: &SimulateOptions) -> Value {
     let mission = MissionDoc {
         initial_position: around(start, gps, 0.5),
         final_position: around(end, gps, 0.5),
-        inputs: Some(InputsDoc::of(inputs)),
+        inputs: Some(inputs),
         motion_error: Some(PerStep::One(MARGIN)),
         detections: Some(List(det_json)),
         landmark_count: Some(int(SEAMARKS.len())),
         meta: Some(json!({"scenario": "auv", "seed": o.seed, "generator": "nvector simulate"})),
         truth: Some(TruthDoc {
-            positions: Some(PointsIn::rows(&positions)),
-            landmarks: Some(PointsIn::rows(&SEAMARKS)),
+            positions: Some(PointsIn::rows(3, positions.as_flattened())),
+            landmarks: Some(PointsIn::rows(3, SEAMARKS.as_flattened())),
             matching: Some(List(matching.into_iter().map(|j| Some(int(j))).collect())),
             headings: None,
         }),

@@ -530,7 +530,11 @@ pub fn simulate_woods_with(o: &WoodsOptions, false_detections: usize) -> Value {
             [-INITIAL_ERROR, INITIAL_ERROR],
         ])),
         initial_heading: Some(interval(d.th[0] - INITIAL_ERROR, d.th[0] + INITIAL_ERROR)),
-        inputs: Some(InputsDoc::of([("speed", speed), ("turn_rate", turn_rate)])),
+        inputs: Some(InputsDoc {
+            speed: Some(speed),
+            turn_rate: Some(turn_rate),
+            ..InputsDoc::default()
+        }),
         heading_error: Some(PerStep::One(HEADING_NOISE + MARGIN)),
         motion_error: Some(PerStep::One(MOTION_NOISE + MARGIN)),
         sensor_offset: Some(List(vec![Finite(OFFSET), Finite(0.0)])),
@@ -540,9 +544,9 @@ pub fn simulate_woods_with(o: &WoodsOptions, false_detections: usize) -> Value {
         max_outliers: (k > 0).then(|| int(k)),
         meta: Some(meta),
         truth: Some(TruthDoc {
-            positions: Some(PointsIn::rows(&d.p)),
+            positions: Some(PointsIn::rows(2, d.p.as_flattened())),
             headings: Some(List(d.th.into_iter().map(|h| Some(Finite(h))).collect())),
-            landmarks: Some(PointsIn::rows(&landmarks)),
+            landmarks: Some(PointsIn::rows(2, landmarks.as_flattened())),
             matching: Some(List(matching.into_iter().map(|j| j.map(int)).collect())),
         }),
         ..mission_head(format!("{name}-{}", o.seed), "odometry2d", DT, n)

@@ -355,15 +355,19 @@ pub(super) fn paper(o: &SimulateOptions) -> Value {
     let heading = ChannelDoc::measured(drive.heading_meas, err.heading + MARGIN);
     let mission = MissionDoc {
         initial_position: Some(boxed(&[[-e0, e0], [-e0, e0]])),
-        inputs: Some(InputsDoc::of([("speed", speed), ("heading", heading)])),
+        inputs: Some(InputsDoc {
+            speed: Some(speed),
+            heading: Some(heading),
+            ..InputsDoc::default()
+        }),
         motion_error: Some(PerStep::One(MARGIN)),
         detections: Some(List(det_json)),
         landmark_count: Some(int(n_landmarks)),
         max_outliers: (o.false_detections > 0).then(|| int(o.false_detections)),
         meta: Some(meta),
         truth: Some(TruthDoc {
-            positions: Some(PointsIn::rows(&drive.positions)),
-            landmarks: Some(PointsIn::rows(&landmarks)),
+            positions: Some(PointsIn::rows(2, drive.positions.as_flattened())),
+            landmarks: Some(PointsIn::rows(2, landmarks.as_flattened())),
             matching: Some(List(matching)),
             headings: None,
         }),
