@@ -5,9 +5,9 @@
 //! flag, which is also set when the client goes away. Either limit answers
 //! 422 with code `work_limit`.
 
-use super::error::shared::{MalformedJson, Unauthorized};
 use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
+use super::error::{MalformedJson, Unauthorized};
 use super::state::{AppState, Owner};
 use axum::body::Bytes;
 use axum::extract::State;

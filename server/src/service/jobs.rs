@@ -3,12 +3,12 @@
 //! progress as Server-Sent Events, `/result` returns its result (JSON, CSV
 //! or SVG). The workers that run jobs are in `worker.rs`.
 
-use super::error::shared::{
+use super::error::ErrorBody;
+use super::error::{parse_json_value, ApiResult, AppError, Body, RequestBody};
+use super::error::{
     BodyTooLarge, InvalidField, MalformedJson, NoSuchJob, NoSuchMission, QueueFull,
     StorageUnavailable, Unauthorized,
 };
-use super::error::ErrorBody;
-use super::error::{parse_json_value, ApiResult, AppError, Body, RequestBody};
 use super::job_runner::JobKind;
 use super::state::{AppState, Owner};
 use super::store::{JobErrorCode, JobRow, JobState, QueuePolicy, Queued};

@@ -2,8 +2,8 @@
 //! `/metrics` (OpenMetrics text of the families in `meters`) and the
 //! middleware that counts and times requests.
 
-use super::error::shared::StorageUnavailable;
 use super::error::ApiResult;
+use super::error::StorageUnavailable;
 use super::meters::{RequestLabels, StateLabel};
 use super::state::AppState;
 use super::store::JobState;

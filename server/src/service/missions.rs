@@ -4,9 +4,9 @@
 //! its document schema is core's `format::mission_doc::MissionDoc` (named `Mission`).
 
 use super::config::Config;
-use super::error::shared::{NoSuchMission, StorageUnavailable, Unauthorized};
 use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
+use super::error::{NoSuchMission, StorageUnavailable, Unauthorized};
 use super::state::{AppState, Owner};
 use super::store;
 use super::worker::now_ms;

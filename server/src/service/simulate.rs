@@ -8,10 +8,8 @@
 //! request whose mission could hold more detections than this service's
 //! limit is refused before it is simulated (413).
 
-use super::error::shared::{
-    BodyTooLarge, InvalidField, MalformedJson, StorageUnavailable, Unauthorized,
-};
 use super::error::{ApiResult, AppError, Body, RequestBody};
+use super::error::{BodyTooLarge, InvalidField, MalformedJson, StorageUnavailable, Unauthorized};
 use super::missions::{mission_summary, store_mission, MissionSummary};
 use super::state::{AppState, Owner};
 use axum::extract::State;

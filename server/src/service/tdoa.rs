@@ -10,9 +10,9 @@
 //! /missions/{id}`, but not listed by `GET /missions`. Its queue cost is
 //! pulses x arrivals, as a mission's is steps x detections.
 
-use super::error::shared::{QueueFull, StorageUnavailable, Unauthorized};
 use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
+use super::error::{QueueFull, StorageUnavailable, Unauthorized};
 use super::jobs::{contractor_names, enqueue, new_job, or_list};
 use super::state::{AppState, Owner};
 use super::store::{JobState, MissionRow};
