@@ -161,7 +161,11 @@ FIGURES_BROTLI_BUDGET=75300
 SLAM_BROTLI_BUDGET=160000
 # The simulators' 88,955 with the woods phantoms (branch woodsfalse), 89,229
 # once merged with the other branches of 2026-11-25 (third session).
-SIM_BROTLI_BUDGET=91000
+# 2026-11-29: the simulators write their missions through the mission
+# document types (core's format::mission_doc, leaf::ToJson) instead of
+# json! trees: 90,182 -> 91,483 (serde's derived Serialize would have
+# cost 92,956); the budget follows, about 0.5 % above.
+SIM_BROTLI_BUDGET=92000
 # The radar module (web-radar, loaded by the radar demo only): core's TDOA
 # solver, its format reader and atmost_nvector: 114,733 bytes when it was
 # made, 119,703 with the pulses' hyperbolic shells, 113,991 with core's
@@ -171,7 +175,10 @@ SIM_BROTLI_BUDGET=91000
 # module the same size (324,634 -> 324,630 bytes) but made it less
 # compressible: 115,856 -> 117,350 bytes with brotli (gzip alike); the
 # budget follows, about 0.5 % above.
-RADAR_BROTLI_BUDGET=118000
+# 2026-11-29: the radar scenario writes its problem through the TDOA
+# document types (core's format::tdoa, leaf::ToJson): 117,353 -> 118,139;
+# the budget follows, about 0.5 % above.
+RADAR_BROTLI_BUDGET=118600
 
 # One module against its budget.
 within() {

@@ -43,3 +43,12 @@ impl Rng {
         a * (2.0 * self.unit() - 1.0)
     }
 }
+
+/// FNV-1a over bytes: the one fingerprint of the project (a whole
+/// mission's text in the generators' tests, a log's numbers in the
+/// calibration's sensor model), the same on every platform.
+pub fn fnv1a(bytes: impl IntoIterator<Item = u8>) -> u64 {
+    bytes.into_iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}

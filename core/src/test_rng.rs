@@ -1,7 +1,7 @@
 //! What core's unit tests share: a small deterministic generator (the
 //! MMIX linear congruential generator), so that each test's cases are the
-//! same on every run and every platform, and the one fingerprint of a
-//! text ([`fnv`]).
+//! same on every run and every platform (the fingerprint of a text is
+//! `rng::fnv1a`).
 
 /// The generator state.
 pub struct Lcg(u64);
@@ -25,12 +25,4 @@ impl Lcg {
     pub fn unit(&mut self) -> f64 {
         self.bits() as f64 / (1u64 << 53) as f64
     }
-}
-
-/// FNV-1a over a text: a fingerprint of a whole mission's JSON, so that a
-/// test can hold a generator's output to what it was.
-pub fn fnv(s: &str) -> u64 {
-    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
-    })
 }

@@ -19,6 +19,10 @@
 
 use crate::ImportError;
 use nalgebra::{Matrix3, Vector3};
+use nvector_core::format::leaf::{BoxIn, Finite, Integer, IntervalIn, List};
+use nvector_core::format::tdoa::TdoaTruthDoc;
+use nvector_core::format::tdoa::{ArrivalDoc, DistanceFromDoc, PulseDoc, ReceiverDoc, TdoaDoc};
+use nvector_core::Interval;
 use serde_json::{json, Value};
 use std::collections::HashMap;
 use std::path::Path;
@@ -250,12 +254,15 @@ pub fn locards(dir: &Path, set: u32) -> Result<Value, ImportError> {
     let w = MARGIN * worst + SLACK_S + ROUNDING_S;
     let (alt, lats) = altitude_bounds(set, &messages, &geo)?;
     let cuts = altitude_cuts(&messages, &frame, &lats, alt);
-    let mut p = problem(set, &messages, &rx, &index, &truths, w, &sorted, o);
-    for (pulse, c) in p["pulses"].as_array_mut().into_iter().flatten().zip(cuts) {
-        pulse["distance_from"] = c;
+    let mut doc = problem(set, &messages, &rx, &index, &truths, w, &sorted, o);
+    for (pulse, c) in doc.pulses.iter_mut().flat_map(|p| &mut p.0).zip(cuts) {
+        pulse.distance_from = Some(c);
     }
-    p["meta"]["altitude_bound_m"] = alt.into();
-    p["meta"]["altitude_rule"] = "baroAltitude +- (1.1 x the largest |baro - geo| + 10 m), as a distance from the Earth's centre over the message's sensors' latitudes +- 4 degrees".into();
+    if let Some(meta) = doc.meta.as_mut() {
+        meta["altitude_bound_m"] = alt.into();
+        meta["altitude_rule"] = "baroAltitude +- (1.1 x the largest |baro - geo| + 10 m), as a distance from the Earth's centre over the message's sensors' latitudes +- 4 degrees".into();
+    }
+    let p = nvector_core::format::to_value(&doc);
     // Whatever was built must be a valid problem.
     nvector_core::tdoa::problem::TdoaProblem::from_value(&p).map_err(ImportError::InvalidTdoa)?;
     Ok(p)
@@ -297,6 +304,15 @@ fn altitude_bounds(
     Ok((alt, lats))
 }
 
+/// A point as a box widened by the rounding of its coordinates.
+fn widened(p: [f64; 3]) -> BoxIn {
+    BoxIn(
+        p.iter()
+            .map(|&c| Interval::new(c - ROUNDING_M, c + ROUNDING_M))
+            .collect(),
+    )
+}
+
 /// Distance from the Earth's centre of a point at geodetic latitude
 /// `lat` (degrees) and height `h`.
 fn geocentric(lat: f64, h: f64) -> f64 {
@@ -307,7 +323,12 @@ fn geocentric(lat: f64, h: f64) -> f64 {
 /// The altitude cut of each message: its barometric altitude +- `m`, as a
 /// distance from the Earth's centre over the latitudes `lats` (the radius
 /// decreases with |latitude| in [0, 90]), widened by 1 m for rounding.
-fn altitude_cuts(messages: &[Message], frame: &Frame, lats: &[[f64; 2]], m: f64) -> Vec<Value> {
+fn altitude_cuts(
+    messages: &[Message],
+    frame: &Frame,
+    lats: &[[f64; 2]],
+    m: f64,
+) -> Vec<DistanceFromDoc> {
     let c = frame.centre();
     messages
         .iter()
@@ -315,7 +336,10 @@ fn altitude_cuts(messages: &[Message], frame: &Frame, lats: &[[f64; 2]], m: f64)
         .map(|(msg, lats)| {
             let lo = geocentric(lats[1], msg.baro_alt - m) - 1.0;
             let hi = geocentric(lats[0], msg.baro_alt + m) + 1.0;
-            json!({"point": c.map(|x| [x - ROUNDING_M, x + ROUNDING_M]), "range": [lo, hi]})
+            DistanceFromDoc {
+                point: Some(widened(c)),
+                range: Some(IntervalIn(Interval::new(lo, hi))),
+            }
         })
         .collect()
 }
@@ -330,24 +354,33 @@ fn problem(
     w: f64,
     sorted: &[f64],
     origin: [f64; 3],
-) -> Value {
-    let receivers: Vec<Value> = rx
+) -> TdoaDoc {
+    let receivers = rx
         .iter()
-        .map(|p| json!({"position": p.map(|c| [c - ROUNDING_M, c + ROUNDING_M]), "clock_bias": [0.0, 0.0]}))
+        .map(|&p| ReceiverDoc {
+            position: Some(widened(p)),
+            clock_bias: Some(IntervalIn(Interval::new(0.0, 0.0))),
+        })
         .collect();
-    let pulses: Vec<Value> = messages
+    let pulses = messages
         .iter()
         .map(|m| {
             let t0 = m.arrivals.iter().map(|a| a.1).min().unwrap_or(0);
-            let arrivals: Vec<Value> = m
+            let arrivals = m
                 .arrivals
                 .iter()
                 .map(|a| {
                     let t = (a.1 - t0) as f64 * 1e-9;
-                    json!({"receiver": index[&a.0], "time": [t - w, t + w]})
+                    ArrivalDoc {
+                        receiver: Some(Integer::Value(index[&a.0] as u64)),
+                        time: Some(IntervalIn(Interval::new(t - w, t + w))),
+                    }
                 })
                 .collect();
-            json!({"arrivals": arrivals})
+            PulseDoc {
+                arrivals: Some(List(arrivals)),
+                ..PulseDoc::default()
+            }
         })
         .collect();
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -371,14 +404,22 @@ fn problem(
             .copied()
             .unwrap_or(0.0)
     };
-    json!({
-        "format": "nvector-tdoa/1",
-        "name": format!("locards-set-{set}"),
-        "propagation_speed": SPEED,
-        "receivers": receivers,
-        "pulses": pulses,
-        "emitter_region": [[lo[0] - 6e5, hi[0] + 6e5], [lo[1] - 6e5, hi[1] + 6e5], [z_lo, 2e4]],
-        "meta": {
+    let point = |p: &[f64; 3]| Some(List(p.map(Finite).to_vec()));
+    let region = [
+        [lo[0] - 6e5, hi[0] + 6e5],
+        [lo[1] - 6e5, hi[1] + 6e5],
+        [z_lo, 2e4],
+    ];
+    TdoaDoc {
+        format: Some(nvector_core::tdoa::problem::FORMAT.into()),
+        name: Some(format!("locards-set-{set}")),
+        propagation_speed: Some(IntervalIn(Interval::new(SPEED[0], SPEED[1]))),
+        receivers: Some(List(receivers)),
+        pulses: Some(List(pulses)),
+        emitter_region: Some(BoxIn(
+            region.iter().map(|&[a, b]| Interval::new(a, b)).collect(),
+        )),
+        meta: Some(json!({
             "source": format!("LocaRDS set_{set}.csv (data/locards-mlat of the nvector repository)"),
             "message_ids": messages.iter().map(|m| m.id).collect::<Vec<_>>(),
             "frame": {"origin_lat_lon_h": origin, "axes": "ENU (x east, y north, z up) at the sensor nearest the sensors' mean"},
@@ -387,7 +428,11 @@ fn problem(
             "residual_half_range_s": {"median": q(0.5), "p90": q(0.9), "p99": q(0.99), "max": q(1.0)},
             "nominal_speed": C0,
             "receiver_widening_m": ROUNDING_M,
-        },
-        "truth": {"positions": truths},
-    })
+        })),
+        truth: Some(TdoaTruthDoc {
+            positions: Some(List(truths.iter().map(point).collect())),
+            ..TdoaTruthDoc::default()
+        }),
+        ..TdoaDoc::default()
+    }
 }

@@ -8,6 +8,7 @@ use crate::error::InputError;
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use serde::de::{self, Deserialize, Deserializer, IgnoredAny, SeqAccess, Unexpected, Visitor};
+use serde_json::Value;
 use std::fmt;
 use std::marker::PhantomData;
 
@@ -539,6 +540,163 @@ impl<'de> Visitor<'de> for PointsVisitor {
 impl<'de> Deserialize<'de> for PointsIn {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<PointsIn, D::Error> {
         d.deserialize_seq(PointsVisitor)
+    }
+}
+
+/// A value of the formats written as JSON, in the form it is read in
+/// (so that a document built from these types and written reads back as
+/// it was): finite numbers as serde_json writes an `f64`; bounds,
+/// intervals and boxes as a result's are (`super::result::BoundOut`: a
+/// zero bound as `0.0`, never `-0.0`; an unbounded one as `"-inf"` /
+/// `"inf"`). Written by hand, not by serde's `Serialize`: serde's writer,
+/// instantiated per field type, costs the page's simulators' module
+/// (scripts/web.sh) about 2 KB of brotli more than these functions.
+pub trait ToJson {
+    /// The value as JSON.
+    fn to_json(&self) -> Value;
+}
+
+/// Inserts `key: value` into `o` (one copy of the map's insertion for
+/// every field of every document, not one per field).
+#[inline(never)]
+pub fn put(o: &mut serde_json::Map<String, Value>, key: &str, value: Value) {
+    o.insert(key.into(), value);
+}
+
+/// A bound: the number (a zero as `0.0`), or `"-inf"` / `"inf"`.
+fn bound_json(x: f64) -> Value {
+    if x.is_finite() {
+        Value::from(x + 0.0)
+    } else if x > 0.0 {
+        Value::from("inf")
+    } else {
+        Value::from("-inf")
+    }
+}
+
+/// An interval: `[lo, hi]`, or `"empty"`.
+fn interval_json(x: Interval) -> Value {
+    if x.is_empty() {
+        Value::from("empty")
+    } else {
+        Value::Array(vec![bound_json(x.lo()), bound_json(x.hi())])
+    }
+}
+
+/// Numbers as an array (a non-finite one as `null`, as serde_json
+/// writes it).
+fn numbers_json(x: &[f64]) -> Value {
+    Value::Array(x.iter().map(|&x| Value::from(x)).collect())
+}
+
+impl ToJson for Finite {
+    fn to_json(&self) -> Value {
+        Value::from(self.0)
+    }
+}
+
+/// A whole number as itself (only values are ever written: `Huge` as its
+/// float, `Invalid` as `null`).
+impl ToJson for Integer {
+    fn to_json(&self) -> Value {
+        match self {
+            Integer::Value(x) => Value::from(*x),
+            Integer::Huge(x) => Value::from(*x),
+            Integer::Invalid(_) => Value::Null,
+        }
+    }
+}
+
+impl ToJson for IntervalIn {
+    fn to_json(&self) -> Value {
+        interval_json(self.0)
+    }
+}
+
+/// The axes, or `"empty"` when one is.
+impl ToJson for BoxIn {
+    fn to_json(&self) -> Value {
+        if self.0.iter().any(|x| x.is_empty()) {
+            return Value::from("empty");
+        }
+        Value::Array(self.0.iter().map(|&x| interval_json(x)).collect())
+    }
+}
+
+impl ToJson for Numbers {
+    fn to_json(&self) -> Value {
+        numbers_json(&self.0)
+    }
+}
+
+impl ToJson for Bounds {
+    fn to_json(&self) -> Value {
+        Value::Array(self.0.iter().map(|&x| bound_json(x)).collect())
+    }
+}
+
+impl ToJson for PerStep {
+    fn to_json(&self) -> Value {
+        match self {
+            PerStep::One(x) => Value::from(*x),
+            PerStep::Each(v) => numbers_json(v),
+        }
+    }
+}
+
+/// The points in order, `null` at each index of `nulls`.
+impl ToJson for PointsIn {
+    fn to_json(&self) -> Value {
+        let mut rows = self.flat.chunks(self.width.max(1));
+        let mut nulls = self.nulls.iter().peekable();
+        Value::Array(
+            (0..self.count)
+                .map(|i| match nulls.next_if_eq(&&i) {
+                    Some(_) => Value::Null,
+                    None => numbers_json(rows.next().unwrap_or(&[])),
+                })
+                .collect(),
+        )
+    }
+}
+
+impl<T: ToJson> ToJson for List<T> {
+    fn to_json(&self) -> Value {
+        Value::Array(self.0.iter().map(ToJson::to_json).collect())
+    }
+}
+
+/// `null` for `None`.
+impl<T: ToJson> ToJson for Option<T> {
+    fn to_json(&self) -> Value {
+        self.as_ref().map_or(Value::Null, ToJson::to_json)
+    }
+}
+
+impl ToJson for Value {
+    fn to_json(&self) -> Value {
+        self.clone()
+    }
+}
+
+impl ToJson for String {
+    fn to_json(&self) -> Value {
+        Value::from(self.as_str())
+    }
+}
+
+impl PointsIn {
+    /// Known points of `width` coordinates each, given point after point
+    /// (`flat.len()` a multiple of `width`; `as_flattened` of an array of
+    /// points).
+    pub fn rows(width: usize, flat: &[f64]) -> PointsIn {
+        PointsIn {
+            count: flat.len().checked_div(width).unwrap_or(0),
+            width,
+            flat: flat.to_vec(),
+            mismatch: None,
+            nulls: Vec::new(),
+        }
     }
 }
 

@@ -3,7 +3,10 @@
 //! (`slam::mission::Mission::from_doc`) can name a missing one by its path;
 //! `null` is absence for an optional field and refused for a required one
 //! (those read through [`present`]). Unknown fields are refused, naming
-//! the field, except inside `meta`.
+//! the field, except inside `meta`. The same types write a mission
+//! (`leaf::ToJson`, `format::to_value`: the simulators, `Mission::to_value`,
+//! the importers): a field absent is left out, but `final_position`, which
+//! is written `null`.
 
 use super::leaf::{Bounds, BoxIn, Finite, Integer, IntervalIn, List, Numbers, PerStep, PointsIn};
 #[cfg(feature = "openapi")]
@@ -196,21 +199,39 @@ pub struct InputsDoc {
 }
 
 impl InputsDoc {
+    /// The place of the channel named `name` (`None` when not a channel
+    /// name).
+    pub fn slot(&mut self, name: &str) -> Option<&mut Option<ChannelDoc>> {
+        Some(match name {
+            "speed" => &mut self.speed,
+            "heading" => &mut self.heading,
+            "turn_rate" => &mut self.turn_rate,
+            "roll" => &mut self.roll,
+            "pitch" => &mut self.pitch,
+            "yaw" => &mut self.yaw,
+            "vx" => &mut self.vx,
+            "vy" => &mut self.vy,
+            "vz" => &mut self.vz,
+            _ => return None,
+        })
+    }
+
     /// The channel named `name`, taken out (`None` when absent or not a
     /// channel name).
     pub fn take(&mut self, name: &str) -> Option<ChannelDoc> {
-        match name {
-            "speed" => self.speed.take(),
-            "heading" => self.heading.take(),
-            "turn_rate" => self.turn_rate.take(),
-            "roll" => self.roll.take(),
-            "pitch" => self.pitch.take(),
-            "yaw" => self.yaw.take(),
-            "vx" => self.vx.take(),
-            "vy" => self.vy.take(),
-            "vz" => self.vz.take(),
-            _ => None,
+        self.slot(name).and_then(Option::take)
+    }
+
+    /// The inputs from named channels (a name that is no channel's is
+    /// left out).
+    pub fn of(channels: impl IntoIterator<Item = (&'static str, ChannelDoc)>) -> InputsDoc {
+        let mut inputs = InputsDoc::default();
+        for (name, ch) in channels {
+            if let Some(slot) = inputs.slot(name) {
+                *slot = Some(ch);
+            }
         }
+        inputs
     }
 
     /// The names of the channels present, in the spec's order.
@@ -247,6 +268,26 @@ pub struct ChannelDoc {
     pub lo: Option<Bounds>,
     #[serde(default, deserialize_with = "present")]
     pub hi: Option<Bounds>,
+}
+
+impl ChannelDoc {
+    /// `{"value", "error"}`: measured values within one error.
+    pub fn measured(value: Vec<f64>, error: f64) -> ChannelDoc {
+        ChannelDoc {
+            value: Some(Numbers(value)),
+            error: Some(PerStep::One(error)),
+            ..ChannelDoc::default()
+        }
+    }
+
+    /// `{"lo", "hi"}`: the bounds of each sample.
+    pub fn bounds(lo: Vec<f64>, hi: Vec<f64>) -> ChannelDoc {
+        ChannelDoc {
+            lo: Some(Bounds(lo)),
+            hi: Some(Bounds(hi)),
+            ..ChannelDoc::default()
+        }
+    }
 }
 
 /// One landmark detection.
@@ -380,8 +421,50 @@ impl utoipa::ToSchema for ChannelDoc {
 }
 
 object_only!(MissionDoc);
+to_json_fields!(MissionDoc {
+    format, name, model, dt, steps, initial_position, initial_heading, final_heading, inputs,
+    motion_error, heading_error, heading_drift, motion_drift, sensor_offset, detections,
+    landmark_count, landmark_region, landmark_min_separation, max_outliers, meta, truth
+} always { final_position });
 object_only!(InputsDoc);
+to_json_fields!(InputsDoc {
+    speed,
+    heading,
+    turn_rate,
+    roll,
+    pitch,
+    yaw,
+    vx,
+    vy,
+    vz
+});
 object_only!(ChannelDoc);
+to_json_fields!(ChannelDoc {
+    value,
+    error,
+    lo,
+    hi
+});
 object_only!(DetectionDoc);
+to_json_fields!(DetectionDoc {
+    step,
+    range,
+    bearing,
+    region,
+    depth,
+    landmark,
+    scan
+});
 object_only!(DriftWindowDoc);
+to_json_fields!(DriftWindowDoc {
+    steps,
+    error,
+    exempt_above
+});
 object_only!(TruthDoc);
+to_json_fields!(TruthDoc {
+    positions,
+    landmarks,
+    matching,
+    headings
+});

@@ -39,6 +39,42 @@ macro_rules! object_only {
     };
 }
 
+/// A derived `Serialize` of a struct with `#[serde(remote = "Self")]` as
+/// the trait (the derive then writes an inherent function).
+macro_rules! serialize_self {
+    ($t:ident) => {
+        impl serde::Serialize for $t {
+            fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+                $t::serialize(self, ser)
+            }
+        }
+    };
+}
+
+/// [`leaf::ToJson`] for a document type: an object of its fields that are
+/// present (those after `always` written even when absent, as `null`),
+/// each named as serde reads it. Every field of the struct must be listed
+/// (the destructuring fails to compile otherwise).
+macro_rules! to_json_fields {
+    ($t:ident { $($f:ident),* } $(always { $($a:ident),* })?) => {
+        impl $crate::format::leaf::ToJson for $t {
+            fn to_json(&self) -> serde_json::Value {
+                let $t { $($f,)* $($($a,)*)? } = self;
+                let mut o = serde_json::Map::new();
+                $(
+                    if let Some(v) = $f {
+                        $crate::format::leaf::put(&mut o, stringify!($f), $crate::format::leaf::ToJson::to_json(v));
+                    }
+                )*
+                $($(
+                    $crate::format::leaf::put(&mut o, stringify!($a), $crate::format::leaf::ToJson::to_json($a));
+                )*)?
+                serde_json::Value::Object(o)
+            }
+        }
+    };
+}
+
 pub mod contract;
 pub mod leaf;
 #[cfg(feature = "openapi")]
@@ -104,6 +140,12 @@ pub fn from_value<T: DeserializeOwned>(v: &Value) -> Result<T, InputError> {
     let track = tracked::Track::default();
     let r = T::deserialize(tracked::Tracked::root(v, &track));
     r.map_err(|e| data_error(track.path(), &e))
+}
+
+/// A document built from these types as a JSON value (keys in sorted
+/// order, as every `Value` of the project).
+pub fn to_value<T: leaf::ToJson>(doc: &T) -> Value {
+    doc.to_json()
 }
 
 /// [`from_value`] as it was before [`tracked`]: serde_path_to_error over

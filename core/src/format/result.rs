@@ -22,18 +22,6 @@ use std::fmt;
 /// The `format` of a result.
 pub const FORMAT: &str = "nvector-result/1";
 
-/// A derived `Serialize` of a struct with `#[serde(remote = "Self")]` as
-/// the trait (the derive then writes an inherent function).
-macro_rules! serialize_self {
-    ($t:ident) => {
-        impl Serialize for $t {
-            fn serialize<S: Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-                $t::serialize(self, ser)
-            }
-        }
-    };
-}
-
 /// A bound written: a number (one zero: `-0.0` is written `0.0`), or
 /// `"inf"` / `"-inf"`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -2,7 +2,8 @@
 //! what each field looks like. As for missions every field is optional
 //! here so that the validation (`tdoa::problem::TdoaProblem::from_doc`)
 //! names a missing one by its path; unknown fields are refused, naming the
-//! field, except inside `meta`.
+//! field, except inside `meta`. The same types write a problem
+//! (`leaf::ToJson`: the radar scenario), absent fields left out.
 
 use super::leaf::{BoxIn, Finite, Integer, IntervalIn, List};
 use super::present;
@@ -135,8 +136,38 @@ pub struct TdoaTruthDoc {
 }
 
 object_only!(TdoaDoc);
+to_json_fields!(TdoaDoc {
+    format,
+    name,
+    propagation_speed,
+    receivers,
+    pulses,
+    emitter_count,
+    emitter_region,
+    max_outliers,
+    meta,
+    truth
+});
 object_only!(ReceiverDoc);
+to_json_fields!(ReceiverDoc {
+    position,
+    clock_bias
+});
 object_only!(PulseDoc);
+to_json_fields!(PulseDoc {
+    arrivals,
+    altitude,
+    region,
+    emitter,
+    distance_from
+});
 object_only!(ArrivalDoc);
+to_json_fields!(ArrivalDoc { receiver, time });
 object_only!(DistanceFromDoc);
+to_json_fields!(DistanceFromDoc { point, range });
 object_only!(TdoaTruthDoc);
+to_json_fields!(TdoaTruthDoc {
+    positions,
+    emitters,
+    matching
+});

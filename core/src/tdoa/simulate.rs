@@ -9,8 +9,34 @@
 //! constraint except the false arrivals.
 
 use crate::error::InputError;
+use crate::format::leaf::{BoxIn, Finite, Integer, IntervalIn, List};
+use crate::format::tdoa::{ArrivalDoc, PulseDoc, ReceiverDoc, TdoaDoc, TdoaTruthDoc};
 use crate::slam::simulate::Rng;
+use crate::Interval;
 use serde_json::{json, Value};
+
+/// `[lo, hi]` as a document's interval.
+fn interval(lo: f64, hi: f64) -> IntervalIn {
+    IntervalIn(Interval::new(lo, hi))
+}
+
+/// A box of three axes as a document's.
+fn boxed(axes: [[f64; 2]; 3]) -> BoxIn {
+    BoxIn(axes.iter().map(|&[lo, hi]| Interval::new(lo, hi)).collect())
+}
+
+/// A count or an index as a document's integer.
+fn int(n: usize) -> Integer {
+    Integer::Value(n as u64)
+}
+
+/// An arrival at receiver `i` within `[lo, hi]`.
+fn arrival(i: usize, lo: f64, hi: f64) -> ArrivalDoc {
+    ArrivalDoc {
+        receiver: Some(int(i)),
+        time: Some(interval(lo, hi)),
+    }
+}
 
 /// Options of the radar scenario.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -129,7 +155,7 @@ fn pulses(
     o: &RadarOptions,
     em: &[[f64; 3]],
     rx: &[([f64; 3], [f64; 3], f64)],
-) -> (Vec<Value>, Vec<usize>) {
+) -> (Vec<PulseDoc>, Vec<usize>) {
     let mut out = Vec::with_capacity(o.pulses);
     let mut who = Vec::with_capacity(o.pulses);
     for k in 0..o.pulses {
@@ -142,14 +168,15 @@ fn pulses(
             }
             let t = tau + dist(em[e], *p) / C_TRUE + b + rng.sym(TIME_ERR);
             let w = TIME_ERR + MARGIN_T;
-            arrivals.push(json!({"receiver": i, "time": [t - w, t + w]}));
+            arrivals.push(arrival(i, t - w, t + w));
         }
         let z = em[e][2];
-        let mut pulse = json!({"arrivals": arrivals, "altitude": [z - 20.0, z + 20.0]});
-        if o.operator {
-            pulse["emitter"] = e.into();
-        }
-        out.push(pulse);
+        out.push(PulseDoc {
+            arrivals: Some(List(arrivals)),
+            altitude: Some(interval(z - 20.0, z + 20.0)),
+            emitter: o.operator.then(|| int(e)),
+            ..PulseDoc::default()
+        });
         who.push(e);
     }
     (out, who)
@@ -167,31 +194,49 @@ pub fn simulate_radar(o: &RadarOptions) -> Result<Value, InputError> {
         let k = (rng.next_u64() % o.pulses as u64) as usize;
         let i = (rng.next_u64() % o.receivers as u64) as usize;
         let t = k as f64 * PRI + 0.5 * PRI * rng.unit();
-        let list = ps[k]["arrivals"].as_array_mut().expect("an array");
-        false_list.push(json!([k, list.len()]));
-        list.push(json!({"receiver": i, "time": [t - TIME_ERR, t + TIME_ERR]}));
+        if let Some(List(list)) = &mut ps[k].arrivals {
+            false_list.push(json!([k, list.len()]));
+            list.push(arrival(i, t - TIME_ERR, t + TIME_ERR));
+        }
     }
-    let receivers: Vec<Value> = rx
+    let receivers = rx
         .iter()
         .map(|(_, s, _)| {
             let w = SURVEY + MARGIN_X;
-            json!({"position": [[s[0] - w, s[0] + w], [s[1] - w, s[1] + w], [s[2] - w, s[2] + w]],
-                   "clock_bias": [-BIAS - MARGIN_T, BIAS + MARGIN_T]})
+            ReceiverDoc {
+                position: Some(boxed([
+                    [s[0] - w, s[0] + w],
+                    [s[1] - w, s[1] + w],
+                    [s[2] - w, s[2] + w],
+                ])),
+                clock_bias: Some(interval(-BIAS - MARGIN_T, BIAS + MARGIN_T)),
+            }
         })
         .collect();
-    let positions: Vec<Value> = who.iter().map(|&e| json!(em[e])).collect();
-    Ok(json!({
-        "format": super::problem::FORMAT,
-        "name": format!("radar-{}-emitters-seed-{}", o.emitters, o.seed),
-        "propagation_speed": C_BOUNDS,
-        "receivers": receivers,
-        "pulses": ps,
-        "emitter_count": o.emitters,
-        "emitter_region": [[-HALF - 1.0, HALF + 1.0], [-HALF - 1.0, HALF + 1.0], [0.0, 1000.0]],
-        "max_outliers": o.false_arrivals,
-        "meta": {"scenario": "radar", "seed": o.seed, "missing": o.missing,
+    let point = |p: [f64; 3]| List(p.map(Finite).to_vec());
+    let doc = TdoaDoc {
+        format: Some(super::problem::FORMAT.into()),
+        name: Some(format!("radar-{}-emitters-seed-{}", o.emitters, o.seed)),
+        propagation_speed: Some(interval(C_BOUNDS[0], C_BOUNDS[1])),
+        receivers: Some(List(receivers)),
+        pulses: Some(List(ps)),
+        emitter_count: Some(int(o.emitters)),
+        emitter_region: Some(boxed([
+            [-HALF - 1.0, HALF + 1.0],
+            [-HALF - 1.0, HALF + 1.0],
+            [0.0, 1000.0],
+        ])),
+        max_outliers: Some(int(o.false_arrivals)),
+        meta: Some(
+            json!({"scenario": "radar", "seed": o.seed, "missing": o.missing,
                  "false_arrivals": false_list, "time_error_s": TIME_ERR,
-                 "clock_bias_s": BIAS, "survey_error_m": SURVEY},
-        "truth": {"positions": positions, "emitters": em, "matching": who},
-    }))
+                 "clock_bias_s": BIAS, "survey_error_m": SURVEY}),
+        ),
+        truth: Some(TdoaTruthDoc {
+            positions: Some(List(who.iter().map(|&e| Some(point(em[e]))).collect())),
+            emitters: Some(List(em.iter().map(|&e| point(e)).collect())),
+            matching: Some(List(who.iter().map(|&e| Some(int(e))).collect())),
+        }),
+    };
+    Ok(crate::format::to_value(&doc))
 }

@@ -125,13 +125,8 @@ impl Run {
     /// A digest of the log's numbers (FNV-1a over their bits): equal for
     /// the same log, whatever its file is called.
     pub fn fingerprint(&self) -> String {
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for x in self.t.iter().chain(&self.speed).chain(&self.rotation) {
-            for b in x.to_bits().to_le_bytes() {
-                h ^= u64::from(b);
-                h = h.wrapping_mul(0x0100_0000_01b3);
-            }
-        }
+        let numbers = self.t.iter().chain(&self.speed).chain(&self.rotation);
+        let h = nvector_core::rng::fnv1a(numbers.flat_map(|x| x.to_bits().to_le_bytes()));
         format!("{}:{h:016x}", self.model.name())
     }
 

@@ -7,6 +7,7 @@
 
 use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
+use super::error::{MalformedJson, Unauthorized};
 use super::state::{AppState, Owner};
 use axum::body::Bytes;
 use axum::extract::State;
@@ -30,8 +31,8 @@ use std::time::Duration;
     request_body = ContractRequest,
     responses(
         (status = 200, description = "The contraction", body = ContractResponse),
-        (status = 400, description = "Malformed JSON", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        MalformedJson,
+        Unauthorized,
         (status = 413, description = "More than 100000 boxes, or body too large", body = ErrorBody),
         (status = 422, description = "Invalid request, with the JSON path; or code `work_limit`: \
             the exact contractor ran out of its work budget or of this service's time limit \

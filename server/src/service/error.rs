@@ -10,7 +10,7 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use serde::Serialize;
 use serde_json::Value;
-use utoipa::ToSchema;
+use utoipa::{IntoResponses, ToSchema};
 
 /// A client or service error, as the spec's JSON error body.
 #[derive(Debug)]
@@ -85,6 +85,50 @@ pub struct ErrorDetail {
     /// The JSON path (or query parameter) of the bad value; "" when none.
     pub path: String,
 }
+
+// The error answers that several operations share, each one response
+// for `#[utoipa::path(responses(...))]` (beside the operation's own
+// tuples): one wording per answer in the OpenAPI document.
+
+/// 401: the key is missing or unknown.
+#[derive(IntoResponses)]
+#[response(status = 401, description = "Missing or unknown API key")]
+pub struct Unauthorized(#[allow(dead_code)] ErrorBody);
+
+/// 503: the storage did not answer.
+#[derive(IntoResponses)]
+#[response(status = 503, description = "Storage unavailable")]
+pub struct StorageUnavailable(#[allow(dead_code)] ErrorBody);
+
+/// 400: the body is not JSON.
+#[derive(IntoResponses)]
+#[response(status = 400, description = "Malformed JSON")]
+pub struct MalformedJson(#[allow(dead_code)] ErrorBody);
+
+/// 404: no job of this key has this id.
+#[derive(IntoResponses)]
+#[response(status = 404, description = "No such job")]
+pub struct NoSuchJob(#[allow(dead_code)] ErrorBody);
+
+/// 404: no mission of this key has this id.
+#[derive(IntoResponses)]
+#[response(status = 404, description = "No such mission")]
+pub struct NoSuchMission(#[allow(dead_code)] ErrorBody);
+
+/// 413: the body is above the service's limit.
+#[derive(IntoResponses)]
+#[response(status = 413, description = "Request body too large")]
+pub struct BodyTooLarge(#[allow(dead_code)] ErrorBody);
+
+/// 422: a field is invalid, named by its path.
+#[derive(IntoResponses)]
+#[response(status = 422, description = "Invalid field, with its path")]
+pub struct InvalidField(#[allow(dead_code)] ErrorBody);
+
+/// 429: the queue is full.
+#[derive(IntoResponses)]
+#[response(status = 429, description = "Too many queued jobs (Retry-After)")]
+pub struct QueueFull(#[allow(dead_code)] ErrorBody);
 
 impl IntoResponse for AppError {
     fn into_response(self) -> Response {

@@ -5,6 +5,10 @@
 
 use super::error::ErrorBody;
 use super::error::{parse_json_value, ApiResult, AppError, Body, RequestBody};
+use super::error::{
+    BodyTooLarge, InvalidField, MalformedJson, NoSuchJob, NoSuchMission, QueueFull,
+    StorageUnavailable, Unauthorized,
+};
 use super::job_runner::JobKind;
 use super::state::{AppState, Owner};
 use super::store::{JobErrorCode, JobRow, JobState, QueuePolicy, Queued};
@@ -337,13 +341,13 @@ fn job_json(j: &JobRow) -> String {
                 ("cancelJob" = (operation_id = "cancelJob", parameters(("id" = "$response.body#/id")),
                     description = "Cancel it"))
             )),
-        (status = 400, description = "Malformed JSON", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such mission", body = ErrorBody),
-        (status = 413, description = "Request body too large", body = ErrorBody),
-        (status = 422, description = "Invalid field, with its path", body = ErrorBody),
-        (status = 429, description = "Too many queued jobs (Retry-After)", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        MalformedJson,
+        Unauthorized,
+        NoSuchMission,
+        BodyTooLarge,
+        InvalidField,
+        QueueFull,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn post_job(
@@ -396,9 +400,9 @@ pub(super) async fn post_job(
                 ("jobEvents" = (operation_id = "jobEvents", parameters(("id" = "$response.body#/id")),
                     description = "Its progress as Server-Sent Events"))
             )),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn get_job(
@@ -423,10 +427,10 @@ pub(super) async fn get_job(
     params(("id" = String, Path, description = "The job's id")),
     responses(
         (status = 202, description = "Cancelled", body = JobQueued),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
         (status = 409, description = "The job has already ended", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        StorageUnavailable,
     )
 )]
 pub(super) async fn delete_job(
@@ -466,9 +470,9 @@ pub(super) async fn delete_job(
     responses(
         (status = 200, description = "text/event-stream: events `progress` and `end`, each data a Job object",
             content_type = "text/event-stream", body = JobEvent),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn job_events(
@@ -590,10 +594,10 @@ fn not_done(state: JobState) -> AppError {
                 (String = "image/svg+xml")
             )),
         (status = 400, description = "Unknown `format`", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such job", body = ErrorBody),
+        Unauthorized,
+        NoSuchJob,
         (status = 409, description = "The job is not done", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        StorageUnavailable,
     )
 )]
 pub(super) async fn job_result(
@@ -625,11 +629,8 @@ pub(super) async fn job_result(
     if JobKind::of(&job.mission) == JobKind::Tdoa && matches!(format, "csv" | "svg") {
         let v = parse_json_value(text.as_bytes())?;
         if format == "csv" {
-            return Ok((
-                [(header::CONTENT_TYPE, "text/csv")],
-                super::result_files::pulses_csv(&v),
-            )
-                .into_response());
+            let csv = super::result_files::pulses_csv(&v).map_err(unreadable)?;
+            return Ok(([(header::CONTENT_TYPE, "text/csv")], csv).into_response());
         }
         let problem_id = job.mission.clone();
         let problem = state
@@ -652,9 +653,10 @@ pub(super) async fn job_result(
                 .and_then(|b| serde_json::from_str(&b).ok())
                 .unwrap_or(Value::Null);
             Ok(if format == "csv" {
+                let result = nvector_core::format::result::read_value(&v).map_err(unreadable)?;
                 (
                     [(header::CONTENT_TYPE, "text/csv")],
-                    super::result_files::trajectory_csv(&v, &mission),
+                    super::result_files::trajectory_csv(&result, &mission),
                 )
                     .into_response()
             } else {
@@ -672,6 +674,16 @@ pub(super) async fn job_result(
         )
         .at("format")),
     }
+}
+
+/// A stored result that does not read as its format: the service's own
+/// fault (it wrote the result), named.
+fn unreadable(e: nvector_core::InputError) -> AppError {
+    AppError::new(
+        StatusCode::INTERNAL_SERVER_ERROR,
+        "internal",
+        format!("the stored result does not read: {e}"),
+    )
 }
 
 #[cfg(test)]

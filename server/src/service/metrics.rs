@@ -3,7 +3,7 @@
 //! middleware that counts and times requests.
 
 use super::error::ApiResult;
-use super::error::ErrorBody;
+use super::error::StorageUnavailable;
 use super::meters::{RequestLabels, StateLabel};
 use super::state::AppState;
 use super::store::JobState;
@@ -23,7 +23,7 @@ pub(super) async fn healthz() -> &'static str {
 #[utoipa::path(get, path = "/readyz", operation_id = "readyz", tag = "operations",
     responses(
         (status = 200, description = "`ready`", content_type = "text/plain", body = String),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        StorageUnavailable,
     ))]
 pub(super) async fn readyz(State(state): State<AppState>) -> ApiResult<&'static str> {
     state.db(|st| st.ping()).await?;
@@ -38,7 +38,7 @@ pub(super) async fn readyz(State(state): State<AppState>) -> ApiResult<&'static 
     responses(
         (status = 200, description = "OpenMetrics text 1.0.0 (Prometheus reads it)",
             content_type = "application/openmetrics-text", body = String),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        StorageUnavailable,
     ))]
 pub(super) async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
     let counts = state.db(|st| st.counts()).await?;

@@ -6,6 +6,7 @@
 use super::config::Config;
 use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
+use super::error::{NoSuchMission, StorageUnavailable, Unauthorized};
 use super::state::{AppState, Owner};
 use super::store;
 use super::worker::now_ms;
@@ -282,11 +283,11 @@ async fn insert_row(
                     description = "Delete it and its jobs"))
             )),
         (status = 400, description = "Malformed JSON or form", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        Unauthorized,
         (status = 413, description = "Body, steps or detections above this service's limits", body = ErrorBody),
         (status = 415, description = "Neither JSON nor a form", body = ErrorBody),
         (status = 422, description = "Invalid mission, with the JSON path", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        StorageUnavailable,
     )
 )]
 pub(super) async fn post_mission(
@@ -416,8 +417,8 @@ impl Page {
         (status = 200, description = "A page of missions", body = MissionList),
         (status = 400, description = "Bad `limit`", body = ErrorBody),
         (status = 404, description = "An `after` that was never a mission of this key", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        Unauthorized,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn list_missions(
@@ -471,9 +472,9 @@ pub(super) async fn list_missions(
     params(("id" = String, Path, description = "The mission's id")),
     responses(
         (status = 200, description = "The mission, as uploaded", body = MissionDoc),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such mission", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        Unauthorized,
+        NoSuchMission,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn get_mission(
@@ -497,9 +498,9 @@ pub(super) async fn get_mission(
     params(("id" = String, Path, description = "The mission's id")),
     responses(
         (status = 204, description = "Deleted"),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 404, description = "No such mission", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        Unauthorized,
+        NoSuchMission,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn delete_mission(

@@ -3,26 +3,40 @@
 //! as SVG (the SLAM figure is crate::render's). Pure functions of the
 //! stored result JSON, below the handlers of `jobs` and `tdoa`.
 
+use nvector_core::format::leaf::List;
+use nvector_core::format::result::{BoxOut, ResultDoc};
+use nvector_core::Interval;
 use serde_json::Value;
 
 /// The trajectory as CSV: `step,t,x_lo,x_hi,y_lo,y_hi[,z_lo,z_hi]`, `t`
 /// the time of the step in seconds (step times the mission's `dt`: the
 /// model's steps are `dt` apart from t = 0; empty when the mission has no
-/// positive finite `dt`), bounds as the JSON writes them.
-pub fn trajectory_csv(result: &Value, mission: &Value) -> String {
+/// positive finite `dt`), bounds as the JSON writes them. The result is
+/// read through its types ([`ResultDoc`]).
+pub fn trajectory_csv(result: &ResultDoc, mission: &Value) -> String {
     let dt = mission["dt"]
         .as_f64()
         .filter(|dt| dt.is_finite() && *dt > 0.0);
-    boxes_csv(&result["trajectory"], "step", Some(dt))
+    boxes_csv(&result.trajectory.0, "step", Some(dt))
+}
+
+/// A bound as the JSON writes it (`BoundOut`): a number, `inf`, `-inf`.
+fn bound_text(x: f64) -> String {
+    match serde_json::Number::from_f64(x + 0.0) {
+        Some(n) => n.to_string(),
+        None if x > 0.0 => "inf".into(),
+        None => "-inf".into(),
+    }
 }
 
 /// Boxes as CSV rows: the index (column `index`), the time when `time` is
-/// given (`Some(dt)`: the index times dt, or empty), then the bounds.
-fn boxes_csv(boxes: &Value, index: &str, time: Option<Option<f64>>) -> String {
-    let boxes = boxes.as_array().map_or(&[][..], Vec::as_slice);
+/// given (`Some(dt)`: the index times dt, or empty), then the bounds (an
+/// empty box, or an axis it lacks, `empty`); as many axes as the first
+/// non-empty box has (at most 3; 2 when every box is empty).
+fn boxes_csv(boxes: &[BoxOut], index: &str, time: Option<Option<f64>>) -> String {
     let dim = boxes
         .iter()
-        .find_map(|b| b.as_array().map(Vec::len))
+        .find_map(|b| b.axes().map(<[Interval]>::len))
         .unwrap_or(2)
         .min(3);
     let names = ["x", "y", "z"];
@@ -42,12 +56,10 @@ fn boxes_csv(boxes: &Value, index: &str, time: Option<Option<f64>>) -> String {
             None => {}
         }
         for a in 0..dim {
-            let cell = |k: usize| match &b[a][k] {
-                Value::Number(n) => n.to_string(),
-                Value::String(s) => s.clone(),
-                _ => "empty".into(),
-            };
-            out.push_str(&format!(",{},{}", cell(0), cell(1)));
+            match b.axes().and_then(|x| x.get(a)) {
+                Some(x) => out.push_str(&format!(",{},{}", bound_text(x.lo()), bound_text(x.hi()))),
+                None => out.push_str(",empty,empty"),
+            }
         }
         out.push('\n');
     }
@@ -55,9 +67,15 @@ fn boxes_csv(boxes: &Value, index: &str, time: Option<Option<f64>>) -> String {
 }
 
 /// A TDOA result's pulse boxes as CSV (`GET /jobs/{id}/result?format=csv`):
-/// `pulse,x_lo,x_hi,y_lo,y_hi,z_lo,z_hi`, bounds as the JSON writes them.
-pub fn pulses_csv(result: &Value) -> String {
-    boxes_csv(&result["pulses"], "pulse", None)
+/// `pulse,x_lo,x_hi,y_lo,y_hi,z_lo,z_hi`, bounds as the JSON writes them;
+/// the boxes read as a result's ([`BoxOut`]).
+pub fn pulses_csv(result: &Value) -> Result<String, nvector_core::InputError> {
+    let List(pulses) = nvector_core::format::from_value::<List<BoxOut>>(&result["pulses"])
+        .map_err(|e| {
+            let sep = if e.path.starts_with('[') { "" } else { "." };
+            nvector_core::InputError::new(format!("pulses{sep}{}", e.path), e.message)
+        })?;
+    Ok(boxes_csv(&pulses, "pulse", None))
 }
 
 /// A TDOA result's figure (`?format=svg`), drawn from the result and the
@@ -189,4 +207,30 @@ fn pulses_by_group(result: &Value) -> Vec<(usize, [f64; 4])> {
         .enumerate()
         .filter_map(|(k, b)| Some((group[k], xy(b)?)))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Bounds as the result's JSON writes them: unbounded as `inf` /
+    /// `-inf`, a zero as `0.0`; an empty box `empty` on every axis.
+    #[test]
+    fn unbounded_and_empty_boxes_are_written_as_the_json_writes_them() {
+        let boxes = [
+            BoxOut::Axes(vec![
+                Interval::new(f64::NEG_INFINITY, 1.0),
+                Interval::new(-0.0, f64::INFINITY),
+            ]),
+            BoxOut::Empty,
+        ];
+        assert_eq!(
+            boxes_csv(&boxes, "step", Some(Some(0.5))),
+            "step,t,x_lo,x_hi,y_lo,y_hi\n0,0,-inf,1.0,0.0,inf\n1,0.5,empty,empty,empty,empty\n"
+        );
+        assert_eq!(
+            boxes_csv(&[BoxOut::Empty], "pulse", None),
+            "pulse,x_lo,x_hi,y_lo,y_hi\n0,empty,empty,empty,empty\n"
+        );
+    }
 }

@@ -8,8 +8,8 @@
 //! request whose mission could hold more detections than this service's
 //! limit is refused before it is simulated (413).
 
-use super::error::ErrorBody;
 use super::error::{ApiResult, AppError, Body, RequestBody};
+use super::error::{BodyTooLarge, InvalidField, MalformedJson, StorageUnavailable, Unauthorized};
 use super::missions::{mission_summary, store_mission, MissionSummary};
 use super::state::{AppState, Owner};
 use axum::extract::State;
@@ -57,11 +57,11 @@ impl RequestBody for Options {
                 ("deleteMission" = (operation_id = "deleteMission", parameters(("id" = "$response.body#/id")),
                     description = "Delete it"))
             )),
-        (status = 400, description = "Malformed JSON", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
-        (status = 413, description = "Request body too large", body = ErrorBody),
-        (status = 422, description = "Invalid field, with its path", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        MalformedJson,
+        Unauthorized,
+        BodyTooLarge,
+        InvalidField,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn post_simulate(

@@ -12,6 +12,7 @@
 
 use super::error::ErrorBody;
 use super::error::{parse_json, ApiResult, AppError};
+use super::error::{QueueFull, StorageUnavailable, Unauthorized};
 use super::jobs::{contractor_names, enqueue, new_job, or_list};
 use super::state::{AppState, Owner};
 use super::store::{JobState, MissionRow};
@@ -147,12 +148,12 @@ fn check_problem(v: &Value, max_arrivals: usize) -> ApiResult<TdoaProblem> {
                     description = "The stored problem"))
             )),
         (status = 400, description = "Malformed JSON, or a bad query parameter", body = ErrorBody),
-        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        Unauthorized,
         (status = 413, description = "Body or arrivals above this service's limits", body = ErrorBody),
         (status = 415, description = "Not JSON", body = ErrorBody),
         (status = 422, description = "Invalid problem, with the JSON path", body = ErrorBody),
-        (status = 429, description = "Too many queued jobs (Retry-After)", body = ErrorBody),
-        (status = 503, description = "Storage unavailable", body = ErrorBody),
+        QueueFull,
+        StorageUnavailable,
     )
 )]
 pub(super) async fn post_tdoa(

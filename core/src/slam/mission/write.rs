@@ -1,142 +1,131 @@
-//! A [`Mission`] written back in the spec's format
-//! (`Mission::from_value(&m.to_value()) == m`).
+//! A [`Mission`] written back in the spec's format through its document
+//! types (`format::mission_doc`; `Mission::from_value(&m.to_value()) ==
+//! m`).
 
-use super::{Detection, Mission, Model, Truth, FORMAT};
-use crate::json;
-use serde_json::{Map, Value};
+use super::{Detection, Mission, Model, Points, Truth, FORMAT};
+use crate::format::leaf::{BoxIn, Finite, Integer, IntervalIn, List, PerStep, PointsIn};
+use crate::format::mission_doc::{
+    ChannelDoc, DetectionDoc, DriftWindowDoc, InputsDoc, MissionDoc, TruthDoc,
+};
+use crate::ibox::IntervalBox;
+use crate::odometry::drift::DriftWindow;
+use serde_json::Value;
 
 impl Mission {
-    /// odometry2d's fields of [`Mission::to_value`]: `heading_error` and
-    /// the drift windows when there are any.
-    fn odometry_fields(&self, o: &mut Map<String, Value>) {
-        o.insert(
-            "heading_error".into(),
-            serde_json::json!(self.heading_error),
-        );
-        for (name, windows) in [
-            ("heading_drift", &self.heading_drift),
-            ("motion_drift", &self.motion_drift),
-        ] {
-            if windows.is_empty() {
-                continue;
-            }
-            let w: Vec<Value> = windows
-                .iter()
-                .map(|w| {
-                    let mut o = serde_json::json!({"steps": w.steps, "error": w.error});
-                    if let Some(t) = w.exempt_above {
-                        o["exempt_above"] = t.into();
-                    }
-                    o
-                })
-                .collect();
-            o.insert(name.into(), Value::Array(w));
-        }
-    }
-
     /// The mission in the spec's format (`from_value(to_value(m)) == m`).
     pub fn to_value(&self) -> Value {
-        let mut o = Map::new();
-        o.insert("format".into(), FORMAT.into());
-        o.insert("name".into(), self.name.clone().into());
-        o.insert("model".into(), self.model.name().into());
-        o.insert("dt".into(), self.dt.into());
-        o.insert("steps".into(), self.steps.into());
-        o.insert(
-            "initial_position".into(),
-            json::box_to_json(&self.initial_position),
-        );
-        o.insert(
-            "final_position".into(),
-            self.final_position
-                .as_ref()
-                .map_or(Value::Null, json::box_to_json),
-        );
-        let mut inputs = Map::new();
-        for (name, ch) in self.model.channels().iter().zip(&self.inputs) {
-            // Bounds, not bare floats: an unbounded input is "-inf" /
-            // "inf" (serde_json would write a non-finite float as null).
-            let lo: Vec<Value> = ch.iter().map(|x| json::bound_to_json(x.lo())).collect();
-            let hi: Vec<Value> = ch.iter().map(|x| json::bound_to_json(x.hi())).collect();
-            inputs.insert((*name).into(), serde_json::json!({"lo": lo, "hi": hi}));
+        crate::format::to_value(&self.to_doc())
+    }
+
+    /// The mission as its document: every field the validation reads back
+    /// into this mission (`final_position` and `meta` always, `null` when
+    /// absent; odometry2d's fields for odometry2d only; the defaults
+    /// `landmark_min_separation` 0 and `max_outliers` 0 left out).
+    pub fn to_doc(&self) -> MissionDoc {
+        let odometry = self.model == Model::Odometry2d;
+        let inputs = self
+            .model
+            .channels()
+            .iter()
+            .zip(&self.inputs)
+            .map(|(&name, ch)| {
+                let lo = ch.iter().map(|x| x.lo()).collect();
+                let hi = ch.iter().map(|x| x.hi()).collect();
+                (name, ChannelDoc::bounds(lo, hi))
+            });
+        MissionDoc {
+            format: Some(FORMAT.into()),
+            name: Some(self.name.clone()),
+            model: Some(self.model.name().into()),
+            dt: Some(Finite(self.dt)),
+            steps: Some(Integer::Value(self.steps as u64)),
+            initial_position: Some(box_doc(&self.initial_position)),
+            final_position: self.final_position.as_ref().map(box_doc),
+            initial_heading: self.initial_heading.map(IntervalIn),
+            final_heading: self.final_heading.map(IntervalIn),
+            inputs: Some(InputsDoc::of(inputs)),
+            motion_error: Some(PerStep::Each(self.motion_error.clone())),
+            heading_error: odometry.then(|| PerStep::Each(self.heading_error.clone())),
+            heading_drift: windows(odometry, &self.heading_drift),
+            motion_drift: windows(odometry, &self.motion_drift),
+            sensor_offset: self.sensor_offset.map(|s| List(s.map(Finite).to_vec())),
+            detections: Some(List(self.detections.iter().map(detection_doc).collect())),
+            landmark_count: self.landmark_count.map(|n| Integer::Value(n as u64)),
+            landmark_region: self.landmark_region.as_ref().map(box_doc),
+            landmark_min_separation: (self.landmark_min_separation > 0.0)
+                .then_some(Finite(self.landmark_min_separation)),
+            max_outliers: (self.max_outliers > 0)
+                .then_some(Integer::Value(self.max_outliers as u64)),
+            meta: Some(self.meta.clone()),
+            truth: self.truth.as_ref().map(truth_doc),
         }
-        o.insert("inputs".into(), Value::Object(inputs));
-        o.insert("motion_error".into(), serde_json::json!(self.motion_error));
-        if let Some(h) = self.initial_heading {
-            o.insert("initial_heading".into(), json::interval_to_json(h));
-        }
-        if let Some(h) = self.final_heading {
-            o.insert("final_heading".into(), json::interval_to_json(h));
-        }
-        if self.model == Model::Odometry2d {
-            self.odometry_fields(&mut o);
-        }
-        if let Some(s) = self.sensor_offset {
-            o.insert("sensor_offset".into(), serde_json::json!(s));
-        }
-        if self.landmark_min_separation > 0.0 {
-            o.insert(
-                "landmark_min_separation".into(),
-                self.landmark_min_separation.into(),
-            );
-        }
-        let dets: Vec<Value> = self.detections.iter().map(detection_json).collect();
-        o.insert("detections".into(), Value::Array(dets));
-        if let Some(n) = self.landmark_count {
-            o.insert("landmark_count".into(), n.into());
-        }
-        if let Some(r) = &self.landmark_region {
-            o.insert("landmark_region".into(), json::box_to_json(r));
-        }
-        if self.max_outliers > 0 {
-            o.insert("max_outliers".into(), self.max_outliers.into());
-        }
-        o.insert("meta".into(), self.meta.clone());
-        if let Some(t) = &self.truth {
-            o.insert("truth".into(), truth_json(t));
-        }
-        Value::Object(o)
     }
 }
 
-/// A detection in the spec's format (the optional fields when present).
-fn detection_json(d: &Detection) -> Value {
-    let mut m = Map::new();
-    m.insert("step".into(), d.step.into());
-    m.insert("range".into(), json::interval_to_json(d.range));
-    if let Some(b) = d.bearing {
-        m.insert("bearing".into(), json::interval_to_json(b));
-    }
-    if let Some(r) = &d.region {
-        m.insert("region".into(), json::box_to_json(r));
-    }
-    if let Some(z) = d.depth {
-        m.insert("depth".into(), json::interval_to_json(z));
-    }
-    if let Some(l) = d.landmark {
-        m.insert("landmark".into(), l.into());
-    }
-    if let Some(scan) = d.scan {
-        m.insert("scan".into(), scan.into());
-    }
-    Value::Object(m)
+/// A box as its document.
+pub(crate) fn box_doc(b: &IntervalBox) -> BoxIn {
+    BoxIn(b.axes().to_vec())
 }
 
-/// The truth in the spec's format (`null` for an unknown position).
-fn truth_json(t: &Truth) -> Value {
-    let positions = match &t.positions_known {
-        None => serde_json::json!(t.positions),
-        Some(known) => Value::Array(
-            t.positions
-                .iter()
-                .zip(known)
-                .map(|(p, &k)| if k { serde_json::json!(p) } else { Value::Null })
+/// The drift windows, when the model has them and there are any.
+fn windows(odometry: bool, w: &[DriftWindow]) -> Option<List<DriftWindowDoc>> {
+    (odometry && !w.is_empty()).then(|| {
+        List(
+            w.iter()
+                .map(|w| DriftWindowDoc {
+                    steps: Some(Integer::Value(w.steps)),
+                    error: Some(Finite(w.error)),
+                    exempt_above: w.exempt_above.map(Finite),
+                })
                 .collect(),
-        ),
-    };
-    let mut truth = serde_json::json!({"positions": positions, "landmarks": t.landmarks, "matching": t.matching});
-    if let Some(h) = &t.headings {
-        truth["headings"] = serde_json::json!(h);
+        )
+    })
+}
+
+/// A detection as its document (the optional fields when present).
+fn detection_doc(d: &Detection) -> DetectionDoc {
+    DetectionDoc {
+        step: Some(Integer::Value(d.step as u64)),
+        range: Some(IntervalIn(d.range)),
+        bearing: d.bearing.map(IntervalIn),
+        region: d.region.as_ref().map(box_doc),
+        depth: d.depth.map(IntervalIn),
+        landmark: d.landmark.map(|l| Integer::Value(l as u64)),
+        scan: d.scan.map(Integer::Value),
     }
-    truth
+}
+
+/// Points as their document, `null` where `known` says so.
+fn points_doc(p: &Points, known: Option<&[bool]>) -> PointsIn {
+    let mut out = PointsIn {
+        count: p.len(),
+        width: p.dim(),
+        ..PointsIn::default()
+    };
+    for (i, row) in p.iter().enumerate() {
+        if known.is_some_and(|k| !k[i]) {
+            out.nulls.push(i);
+        } else {
+            out.flat.extend_from_slice(row);
+        }
+    }
+    out
+}
+
+/// The truth as its document (`null` for an unknown position).
+fn truth_doc(t: &Truth) -> TruthDoc {
+    TruthDoc {
+        positions: Some(points_doc(&t.positions, t.positions_known.as_deref())),
+        landmarks: Some(points_doc(&t.landmarks, None)),
+        matching: Some(List(
+            t.matching
+                .iter()
+                .map(|m| m.map(|j| Integer::Value(j as u64)))
+                .collect(),
+        )),
+        headings: t
+            .headings
+            .as_ref()
+            .map(|h| List(h.iter().map(|x| x.map(Finite)).collect())),
+    }
 }

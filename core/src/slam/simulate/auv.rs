@@ -2,11 +2,12 @@
 //! seamarks (the module doc of [`super`]).
 
 use super::scenario::{
-    channel, closest_approaches, interval_json, wrap, SimulateOptions, AUV_STEPS, MARGIN,
+    boxed, closest_approaches, int, interval, mission_head, wrap, SimulateOptions, AUV_STEPS,
+    MARGIN,
 };
-use crate::json::box_to_json;
+use crate::format::leaf::{List, PerStep, PointsIn};
+use crate::format::mission_doc::{ChannelDoc, DetectionDoc, InputsDoc, MissionDoc, TruthDoc};
 use crate::rng::Rng;
-use crate::{Interval, IntervalBox};
 use serde_json::{json, Value};
 
 /// The six Redermor seamarks (x, y, depth), as the public Codac loader gives them.
@@ -96,7 +97,7 @@ fn auv_detections(
     rng: &mut Rng,
     positions: &[[f64; 3]],
     (sonar_range, range_err): (f64, f64),
-) -> (Vec<Value>, Vec<usize>) {
+) -> (Vec<DetectionDoc>, Vec<usize>) {
     let mut detections: Vec<(usize, usize)> = Vec::new();
     for (j, l) in SEAMARKS.iter().enumerate() {
         let dist: Vec<f64> = positions.iter().map(|q| distance3(q, l)).collect();
@@ -112,15 +113,16 @@ fn auv_detections(
         let l = SEAMARKS[j];
         let r = distance3(&q, &l);
         let r_meas = r + rng.sym(range_err);
-        let mut d = json!({
-            "step": s,
-            "range": interval_json((r_meas - range_err - MARGIN).max(0.0), r_meas + range_err + MARGIN),
-            "depth": interval_json(l[2] - 1.0, l[2] + 1.0),
+        det_json.push(DetectionDoc {
+            step: Some(int(s)),
+            range: Some(interval(
+                (r_meas - range_err - MARGIN).max(0.0),
+                r_meas + range_err + MARGIN,
+            )),
+            depth: Some(interval(l[2] - 1.0, l[2] + 1.0)),
+            landmark: o.operator.then(|| int(j)),
+            ..DetectionDoc::default()
         });
-        if o.operator {
-            d["landmark"] = json!(j);
-        }
-        det_json.push(d);
         matching.push(j);
     }
     (det_json, matching)
@@ -142,38 +144,42 @@ pub(super) fn auv(o: &SimulateOptions) -> Value {
     let (det_json, matching) = auv_detections(o, &mut rng, &positions, (sonar_range, range_err));
     let gps = 2.0;
     let end = positions[steps];
-    let names = ["roll", "pitch", "yaw", "vx", "vy", "vz"];
     let errs = [angle_err, angle_err, yaw_err, vel_err, vel_err, vel_err];
-    let mut inputs = serde_json::Map::new();
-    for a in 0..6 {
-        inputs.insert(names[a].into(), channel(&ch[a], errs[a] + MARGIN));
-    }
+    let [roll, pitch, yaw, vx, vy, vz] =
+        std::array::from_fn(|a| Some(ChannelDoc::measured(ch[a].clone(), errs[a] + MARGIN)));
+    let inputs = InputsDoc {
+        roll,
+        pitch,
+        yaw,
+        vx,
+        vy,
+        vz,
+        ..InputsDoc::default()
+    };
     let around = |c: [f64; 3], r: f64, dz: f64| {
-        box_to_json(&IntervalBox::new(&[
-            Interval::new(c[0] - r, c[0] + r),
-            Interval::new(c[1] - r, c[1] + r),
-            Interval::new(c[2] - dz, c[2] + dz),
+        Some(boxed(&[
+            [c[0] - r, c[0] + r],
+            [c[1] - r, c[1] + r],
+            [c[2] - dz, c[2] + dz],
         ]))
     };
-    json!({
-        "format": "nvector-mission/1",
-        "name": format!("auv-seed-{}", o.seed),
-        "model": "auv3d",
-        "dt": dt,
-        "steps": steps,
-        "initial_position": around(start, gps, 0.5),
-        "final_position": around(end, gps, 0.5),
-        "inputs": Value::Object(inputs),
-        "motion_error": MARGIN,
-        "detections": det_json,
-        "landmark_count": SEAMARKS.len(),
-        "meta": {"scenario": "auv", "seed": o.seed, "generator": "nvector simulate"},
-        "truth": {
-            "positions": positions,
-            "landmarks": SEAMARKS,
-            "matching": matching,
-        }
-    })
+    let mission = MissionDoc {
+        initial_position: around(start, gps, 0.5),
+        final_position: around(end, gps, 0.5),
+        inputs: Some(inputs),
+        motion_error: Some(PerStep::One(MARGIN)),
+        detections: Some(List(det_json)),
+        landmark_count: Some(int(SEAMARKS.len())),
+        meta: Some(json!({"scenario": "auv", "seed": o.seed, "generator": "nvector simulate"})),
+        truth: Some(TruthDoc {
+            positions: Some(PointsIn::rows(3, positions.as_flattened())),
+            landmarks: Some(PointsIn::rows(3, SEAMARKS.as_flattened())),
+            matching: Some(List(matching.into_iter().map(|j| Some(int(j))).collect())),
+            headings: None,
+        }),
+        ..mission_head(format!("auv-seed-{}", o.seed), "auv3d", dt, steps)
+    };
+    crate::format::to_value(&mission)
 }
 
 // The simulation options as the front ends give them (`POST /simulate`,

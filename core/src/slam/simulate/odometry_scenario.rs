@@ -33,6 +33,9 @@
 //! strictly exceeds the noise drawn by a margin (1e-9) that covers the f64
 //! rounding of the simulation, so the truth satisfies every constraint.
 
+use super::scenario::{boxed, int, interval, mission_head};
+use crate::format::leaf::{Finite, List, PerStep, PointsIn};
+use crate::format::mission_doc::{ChannelDoc, DetectionDoc, InputsDoc, MissionDoc, TruthDoc};
 use crate::rng::Rng;
 use crate::slam::mission::{MAX_LANDMARKS, MAX_STEPS};
 use serde_json::{json, Value};
@@ -185,7 +188,7 @@ fn drive(rng: &mut Rng, n: usize, hx: f64, hy: f64) -> Drive {
 /// The laser's detections along a drive, and their true landmarks.
 struct Scans {
     /// The mission's `detections`.
-    detections: Vec<Value>,
+    detections: Vec<DetectionDoc>,
     /// The true landmark of each detection (`truth.matching`).
     matching: Vec<usize>,
     /// The scans: their step and their count of detections, by scan
@@ -210,20 +213,18 @@ fn measured(
     (i, scan): (usize, usize),
     (r, beta): (f64, f64),
     landmark: Option<usize>,
-) -> Value {
+) -> DetectionDoc {
     let rm = r + rng.sym(RANGE_NOISE);
     let bm = wrap(beta + rng.sym(BEARING_NOISE));
     let (er, eb) = (RANGE_NOISE + MARGIN, BEARING_NOISE + MARGIN);
-    let mut det = json!({
-        "step": i,
-        "range": [(rm - er).max(0.0), rm + er],
-        "bearing": [bm - eb, bm + eb],
-        "scan": scan,
-    });
-    if let Some(j) = landmark {
-        det["landmark"] = json!(j);
+    DetectionDoc {
+        step: Some(int(i)),
+        range: Some(interval((rm - er).max(0.0), rm + er)),
+        bearing: Some(interval(bm - eb, bm + eb)),
+        landmark: landmark.map(int),
+        scan: Some(int(scan)),
+        ..DetectionDoc::default()
     }
-    det
 }
 
 /// A scan every `SCAN_EVERY` steps: each landmark in range and field of
@@ -291,7 +292,7 @@ const PHANTOM_STREAM: u64 = 0x5048_414E_544F_4D53;
 /// wasm already has: a vector of a new type brings its own code.)
 #[derive(Default)]
 struct Phantoms {
-    detections: Vec<Value>,
+    detections: Vec<DetectionDoc>,
     points: Vec<[f64; 2]>,
     scans: Vec<usize>,
 }
@@ -430,7 +431,7 @@ fn phantoms(seed: u64, k: usize, operator: bool, field: &Field) -> Phantoms {
 /// the JSON, for a false one) and each false detection's phantom point.
 /// (Its shape, a counting sort, indices and `Option`s, keeps the page's
 /// simulators' module within its budget, scripts/web.sh.)
-fn merge(mut s: Scans, mut f: Phantoms) -> (Vec<Value>, Vec<Option<usize>>, Vec<[f64; 2]>) {
+fn merge(mut s: Scans, mut f: Phantoms) -> (Vec<DetectionDoc>, Vec<Option<usize>>, Vec<[f64; 2]>) {
     // start[a]..start[a + 1]: the false detections of scan a in `order`.
     let mut start = vec![0usize; s.steps.len() + 1];
     for &a in &f.scans {
@@ -521,45 +522,41 @@ pub fn simulate_woods_with(o: &WoodsOptions, false_detections: usize) -> Value {
         meta["false_detections"] = json!(k);
         meta["false_points"] = json!(points);
     }
-    let mut m = json!({
-        "format": "nvector-mission/1",
-        "name": format!("{name}-{}", o.seed),
-        "model": "odometry2d",
-        "dt": DT,
-        "steps": n,
-        "initial_position": [[-INITIAL_ERROR, INITIAL_ERROR], [-INITIAL_ERROR, INITIAL_ERROR]],
-        "final_position": null,
-        "initial_heading": [d.th[0] - INITIAL_ERROR, d.th[0] + INITIAL_ERROR],
-        "inputs": {
-            "speed": {"value": d.speed, "error": SPEED_NOISE + MARGIN},
-            "turn_rate": {"value": d.turn, "error": 0.0},
-        },
-        "heading_error": HEADING_NOISE + MARGIN,
-        "motion_error": MOTION_NOISE + MARGIN,
-        "sensor_offset": [OFFSET, 0.0],
-        "detections": detections,
-        "landmark_count": count,
-        "meta": meta,
-        "truth": {
-            "positions": d.p,
-            "headings": d.th,
-            "landmarks": landmarks,
-            "matching": matching,
-        },
-    });
-    if let Some(declared) = declared {
-        m["landmark_min_separation"] = json!(declared);
-    }
-    if k > 0 {
-        m["max_outliers"] = json!(k);
-    }
-    m
+    let speed = ChannelDoc::measured(d.speed, SPEED_NOISE + MARGIN);
+    let turn_rate = ChannelDoc::measured(d.turn, 0.0);
+    let m = MissionDoc {
+        initial_position: Some(boxed(&[
+            [-INITIAL_ERROR, INITIAL_ERROR],
+            [-INITIAL_ERROR, INITIAL_ERROR],
+        ])),
+        initial_heading: Some(interval(d.th[0] - INITIAL_ERROR, d.th[0] + INITIAL_ERROR)),
+        inputs: Some(InputsDoc {
+            speed: Some(speed),
+            turn_rate: Some(turn_rate),
+            ..InputsDoc::default()
+        }),
+        heading_error: Some(PerStep::One(HEADING_NOISE + MARGIN)),
+        motion_error: Some(PerStep::One(MOTION_NOISE + MARGIN)),
+        sensor_offset: Some(List(vec![Finite(OFFSET), Finite(0.0)])),
+        detections: Some(List(detections)),
+        landmark_count: Some(int(count)),
+        landmark_min_separation: declared.map(Finite),
+        max_outliers: (k > 0).then(|| int(k)),
+        meta: Some(meta),
+        truth: Some(TruthDoc {
+            positions: Some(PointsIn::rows(2, d.p.as_flattened())),
+            headings: Some(List(d.th.into_iter().map(|h| Some(Finite(h))).collect())),
+            landmarks: Some(PointsIn::rows(2, landmarks.as_flattened())),
+            matching: Some(List(matching.into_iter().map(|j| j.map(int)).collect())),
+        }),
+        ..mission_head(format!("{name}-{}", o.seed), "odometry2d", DT, n)
+    };
+    crate::format::to_value(&m)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_rng::fnv;
 
     #[test]
     fn deterministic_and_sized() {
@@ -594,7 +591,11 @@ mod tests {
             };
             for s in [simulate_woods(&o), simulate_woods_with(&o, 0)] {
                 let s = s.to_string();
-                assert_eq!((s.len(), fnv(&s)), (len, hash), "{o:?}");
+                assert_eq!(
+                    (s.len(), crate::rng::fnv1a(s.bytes())),
+                    (len, hash),
+                    "{o:?}"
+                );
             }
         }
     }

@@ -3,11 +3,12 @@
 //! `random`), range-only regions and false detections.
 
 use super::scenario::{
-    channel, closest_approaches, interval_json, wrap, Layout, SimulateOptions, MARGIN, PAPER_STEPS,
+    boxed, closest_approaches, int, interval, mission_head, wrap, Layout, SimulateOptions, MARGIN,
+    PAPER_STEPS,
 };
-use crate::json::box_to_json;
+use crate::format::leaf::{BoxIn, Integer, IntervalIn, List, PerStep, PointsIn};
+use crate::format::mission_doc::{ChannelDoc, DetectionDoc, InputsDoc, MissionDoc, TruthDoc};
 use crate::rng::Rng;
-use crate::{Interval, IntervalBox};
 use serde_json::{json, Value};
 
 /// Seed salt of the second random stream: the options beyond today's
@@ -87,7 +88,7 @@ fn random_layout(rng: &mut Rng, n: usize, positions: &[[f64; 2]], threshold: f64
 
 /// The declared bearing of a point seen at angle `beta` (radians, relative
 /// to the heading): the side (±pi/2), widened to hold `beta`.
-fn bearing_interval(beta: f64, bearing_err: f64) -> Value {
+fn bearing_interval(beta: f64, bearing_err: f64) -> IntervalIn {
     // Side-scan sonar: only the side is known, as an angle near ±pi/2.
     let side = if beta >= 0.0 {
         std::f64::consts::FRAC_PI_2
@@ -99,7 +100,7 @@ fn bearing_interval(beta: f64, bearing_err: f64) -> Value {
     // not exactly abeam, e.g. at the start of the run).
     let off = wrap(beta - side).abs();
     let half = bearing_err.max(off + 0.02);
-    interval_json(side - half, side + half)
+    interval(side - half, side + half)
 }
 
 /// Half-width of a range-only detection's `region` (m).
@@ -112,15 +113,15 @@ const REGION_OFFSET: f64 = 5.0;
 /// axis, so the landmark is inside by at least 10 m but not at the centre
 /// (the box does not give the position away), and boxes of landmarks up to
 /// 20 m apart overlap (it does not give the matching away either).
-fn region(rng: &mut Rng, l: [f64; 2]) -> Value {
+fn region(rng: &mut Rng, l: [f64; 2]) -> BoxIn {
     let c = [l[0] + rng.sym(REGION_OFFSET), l[1] + rng.sym(REGION_OFFSET)];
-    box_to_json(&IntervalBox::new(&[
-        Interval::new(c[0] - REGION_HALF, c[0] + REGION_HALF),
-        Interval::new(c[1] - REGION_HALF, c[1] + REGION_HALF),
-    ]))
+    boxed(&[
+        [c[0] - REGION_HALF, c[0] + REGION_HALF],
+        [c[1] - REGION_HALF, c[1] + REGION_HALF],
+    ])
 }
 
-/// A detection of the paper scenario before it becomes JSON: the step, the
+/// A detection of the paper scenario before it becomes a document: the step, the
 /// landmark (None: a false detection) and the point seen (the landmark, or
 /// the phantom a false detection reports).
 struct Seen {
@@ -252,7 +253,7 @@ fn paper_seen(
         .collect()
 }
 
-/// The detections as JSON, and the true matching (`null` for a false
+/// The detections, and the true matching (`None` for a false
 /// detection). The main stream draws the noise of true detections only.
 fn paper_detections(
     o: &SimulateOptions,
@@ -260,7 +261,7 @@ fn paper_detections(
     seen: &[Seen],
     drive: &Drive,
     range_err: f64,
-) -> (Vec<Value>, Vec<Value>) {
+) -> (Vec<DetectionDoc>, Vec<Option<Integer>>) {
     let bearing_err: f64 = 0.1;
     let steps = drive.headings.len();
     let mut det_json = Vec::new();
@@ -274,24 +275,26 @@ fn paper_detections(
         } else {
             extra.sym(range_err)
         };
-        let mut dj = json!({
-            "step": s,
-            "range": interval_json((r_meas - range_err - MARGIN).max(0.0), r_meas + range_err + MARGIN),
-        });
+        let mut dj = DetectionDoc {
+            step: Some(int(s)),
+            range: Some(interval(
+                (r_meas - range_err - MARGIN).max(0.0),
+                r_meas + range_err + MARGIN,
+            )),
+            ..DetectionDoc::default()
+        };
         if o.range_only {
-            dj["region"] = region(extra, l);
+            dj.region = Some(region(extra, l));
         } else {
             let hd = drive.headings[s.min(steps - 1)];
             let beta = wrap(libm::atan2(l[1] - p[1], l[0] - p[0]) - hd);
-            dj["bearing"] = bearing_interval(beta, bearing_err);
+            dj.bearing = Some(bearing_interval(beta, bearing_err));
         }
         if o.operator {
-            if let Some(j) = d.landmark {
-                dj["landmark"] = json!(j);
-            }
+            dj.landmark = d.landmark.map(int);
         }
         det_json.push(dj);
-        matching.push(d.landmark.map_or(Value::Null, |j| json!(j)));
+        matching.push(d.landmark.map(int));
     }
     (det_json, matching)
 }
@@ -348,32 +351,29 @@ pub(super) fn paper(o: &SimulateOptions) -> Value {
         paper_detections(o, (&mut rng, &mut extra), &seen, &drive, err.range);
     let e0 = 0.01;
     let (name, meta) = paper_name_meta(o);
-    let mut mission = json!({
-        "format": "nvector-mission/1",
-        "name": format!("{name}-seed-{}", o.seed),
-        "model": "unicycle2d",
-        "dt": dt,
-        "steps": steps,
-        "initial_position": box_to_json(&IntervalBox::new(&[Interval::new(-e0, e0), Interval::new(-e0, e0)])),
-        "final_position": null,
-        "inputs": {
-            "speed": channel(&drive.speed_meas, err.speed + MARGIN),
-            "heading": channel(&drive.heading_meas, err.heading + MARGIN),
-        },
-        "motion_error": MARGIN,
-        "detections": det_json,
-        "landmark_count": n_landmarks,
-        "meta": meta,
-        "truth": {
-            "positions": drive.positions,
-            "landmarks": landmarks,
-            "matching": matching,
-        }
-    });
-    if o.false_detections > 0 {
-        mission["max_outliers"] = json!(o.false_detections);
-    }
-    mission
+    let speed = ChannelDoc::measured(drive.speed_meas, err.speed + MARGIN);
+    let heading = ChannelDoc::measured(drive.heading_meas, err.heading + MARGIN);
+    let mission = MissionDoc {
+        initial_position: Some(boxed(&[[-e0, e0], [-e0, e0]])),
+        inputs: Some(InputsDoc {
+            speed: Some(speed),
+            heading: Some(heading),
+            ..InputsDoc::default()
+        }),
+        motion_error: Some(PerStep::One(MARGIN)),
+        detections: Some(List(det_json)),
+        landmark_count: Some(int(n_landmarks)),
+        max_outliers: (o.false_detections > 0).then(|| int(o.false_detections)),
+        meta: Some(meta),
+        truth: Some(TruthDoc {
+            positions: Some(PointsIn::rows(2, drive.positions.as_flattened())),
+            landmarks: Some(PointsIn::rows(2, landmarks.as_flattened())),
+            matching: Some(List(matching)),
+            headings: None,
+        }),
+        ..mission_head(format!("{name}-seed-{}", o.seed), "unicycle2d", dt, steps)
+    };
+    crate::format::to_value(&mission)
 }
 
 /// `k` false detections: each at a step drawn uniformly in 1..steps, of a

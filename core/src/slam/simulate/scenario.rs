@@ -2,9 +2,9 @@
 //! and the writing helpers (the margin over the noise drawn, angles,
 //! channels and intervals as JSON, closest approaches).
 
-use crate::json::interval_to_json;
+use crate::format::leaf::{BoxIn, Finite, Integer, IntervalIn};
+use crate::format::mission_doc::MissionDoc;
 use crate::Interval;
-use serde_json::{json, Value};
 
 /// Which scenario.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -138,12 +138,32 @@ pub(super) fn wrap(a: f64) -> f64 {
     a - two_pi * libm::floor((a + std::f64::consts::PI) / two_pi)
 }
 
-pub(super) fn channel(values: &[f64], error: f64) -> Value {
-    json!({"value": values, "error": error})
+/// `[lo, hi]` as a document's interval.
+pub(super) fn interval(lo: f64, hi: f64) -> IntervalIn {
+    IntervalIn(Interval::new(lo, hi))
 }
 
-pub(super) fn interval_json(lo: f64, hi: f64) -> Value {
-    interval_to_json(Interval::new(lo, hi))
+/// `[[lo, hi], ...]` as a document's box.
+pub(super) fn boxed(axes: &[[f64; 2]]) -> BoxIn {
+    BoxIn(axes.iter().map(|&[lo, hi]| Interval::new(lo, hi)).collect())
+}
+
+/// The head of a simulated mission: its format, name, model, time step and
+/// number of steps (the caller fills in the rest).
+pub(super) fn mission_head(name: String, model: &str, dt: f64, steps: usize) -> MissionDoc {
+    MissionDoc {
+        format: Some(crate::slam::mission::FORMAT.into()),
+        name: Some(name),
+        model: Some(model.into()),
+        dt: Some(Finite(dt)),
+        steps: Some(Integer::Value(steps as u64)),
+        ..MissionDoc::default()
+    }
+}
+
+/// A count or an index as a document's integer.
+pub(super) fn int(n: usize) -> Integer {
+    Integer::Value(n as u64)
 }
 
 /// Steps where the distance series has a local minimum below `threshold`.
