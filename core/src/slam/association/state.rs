@@ -49,6 +49,10 @@ pub struct ShapesOptions {
     pub register_slack: f64,
     /// Tuning of each registration.
     pub register: RegisterOptions,
+    /// Threads for the independent work of a round ([`crate::par::map`]:
+    /// the registrations, the local frames' pieces and their tests); the
+    /// same bits for any count.
+    pub threads: usize,
 }
 
 impl Default for ShapesOptions {
@@ -68,6 +72,7 @@ impl Default for ShapesOptions {
             register_groups: 8,
             register_slack: 0.02,
             register: RegisterOptions::default(),
+            threads: 1,
         }
     }
 }
