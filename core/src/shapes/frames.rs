@@ -220,6 +220,9 @@ impl Frames {
         }
         let mut work = 0u64;
         let groups = uf.groups();
+        // Natively, the stale groups' pieces are built first, on the
+        // threads; the browser's build makes them in the loop below.
+        #[cfg(not(target_arch = "wasm32"))]
         let cached = |g: &[usize]| {
             g.iter().any(|&j| {
                 self.cache[j]
@@ -227,7 +230,9 @@ impl Frames {
                     .is_some_and(|(len, _)| *len == g.len())
             })
         };
+        #[cfg(not(target_arch = "wasm32"))]
         let stale: Vec<&Vec<usize>> = groups.iter().filter(|g| !cached(g)).collect();
+        #[cfg(not(target_arch = "wasm32"))]
         let mut built =
             crate::par::map(opts.threads, &stale, |g| group_pieces(v, g, opts)).into_iter();
         let mut fresh: Vec<Option<(usize, Vec<Piece>)>> = vec![None; k];
@@ -239,7 +244,10 @@ impl Frames {
             let pieces = match cached {
                 Some((_, p)) => p,
                 None => {
+                    #[cfg(not(target_arch = "wasm32"))]
                     let (pieces, w) = built.next().expect("one build per stale group");
+                    #[cfg(target_arch = "wasm32")]
+                    let (pieces, w) = group_pieces(v, g, opts);
                     work += w;
                     let mut pieces = pieces?;
                     for p in &mut pieces {
@@ -270,6 +278,10 @@ impl Frames {
         out: &mut Vec<(u32, u32)>,
     ) -> u64 {
         let roots: Vec<usize> = order.iter().map(|&x| uf.find(x)).collect();
+        // One run with one thread, and always in the browser's build.
+        if cfg!(target_arch = "wasm32") || opts.threads <= 1 {
+            return self.detections_run(v, (order, &roots), all, opts, out);
+        }
         let runs = runs(order.len(), opts.threads);
         let parts = crate::par::map(opts.threads, &runs, |&(a, b)| {
             let mut pairs = Vec::new();
@@ -331,6 +343,9 @@ impl Frames {
         opts: &FrameOptions,
         out: &mut Vec<(u32, u32)>,
     ) -> u64 {
+        if cfg!(target_arch = "wasm32") || opts.threads <= 1 {
+            return self.pieces_run(v, all, (0, all.len()), opts, out);
+        }
         let runs = runs(all.len(), opts.threads);
         let parts = crate::par::map(opts.threads, &runs, |&(a, b)| {
             let mut pairs = Vec::new();

@@ -280,6 +280,7 @@ impl ShapesState {
         let (gap, every) = (regs.options.register_gap, regs.options.register_every);
         let mut last_anchor: Option<usize> = None;
         let mut lo = 0;
+        #[cfg(not(target_arch = "wasm32"))]
         let mut jobs: Vec<Job> = Vec::new();
         for a in 0..pieces.len() {
             let s = pieces[a].0;
@@ -293,17 +294,28 @@ impl ShapesState {
             let hi = lo + pieces[lo..].iter().take_while(|e| e.0 <= s + gap).count();
             let window = &pieces[lo..hi];
             let local = regs.local_groups(round, window, &w.slot_root);
-            jobs.extend(regs.prepare_at(round, s, (window, sums), local, w));
+            let job = regs.prepare_at(round, s, (window, sums), local, w);
+            #[cfg(not(target_arch = "wasm32"))]
+            jobs.extend(job);
+            // The browser's build registers at once, one after the other.
+            #[cfg(target_arch = "wasm32")]
+            if let Some(job) = job {
+                let reg = regs.register_job(&job);
+                regs.finish(round, (job, reg), w.regions.len())?;
+            }
         }
         // The registrations are independent (each reads and shrinks only
         // p(s) of its own step, reads the pieces, the witnesses and the
         // graph, none of which they change, and the masks are gathered by
         // `&`): computed on any threads, applied in step order, as one
         // after the other would be.
-        let threads = regs.options.threads;
-        let done = crate::par::map(threads, &jobs, |job| regs.register_job(job));
-        for answer in jobs.into_iter().zip(done) {
-            regs.finish(round, answer, w.regions.len())?;
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let threads = regs.options.threads;
+            let done = crate::par::map(threads, &jobs, |job| regs.register_job(job));
+            for answer in jobs.into_iter().zip(done) {
+                regs.finish(round, answer, w.regions.len())?;
+            }
         }
         let reach = regs.reach;
         self.coarse_pieces = regs.new_pieces;
