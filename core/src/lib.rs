@@ -2,8 +2,10 @@
 //! global constraint (Chabert, Jaulin, Lorca, CP 2009) for set-membership
 //! localization and mapping.
 //!
-//! The crate is pure: no I/O, no clock, no threads, no platform maths
-//! (`libm` only), so native and wasm32 builds give the same bits.
+//! The crate is pure: no I/O, no clock, no platform maths (`libm` only),
+//! so native and wasm32 builds give the same bits; threads only in
+//! [`par`], behind the `threads` feature, natively, with results merged
+//! in a fixed order (the same bits for any thread count).
 #![warn(missing_docs)]
 
 pub mod contractors;
@@ -16,6 +18,7 @@ pub mod json;
 pub mod nvector;
 pub mod odometry;
 pub mod outline;
+pub mod par;
 pub mod radix;
 pub mod rng;
 pub mod shapes;

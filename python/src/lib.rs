@@ -351,6 +351,7 @@ fn run<'py>(
         association,
         max_rounds,
         tolerance,
+        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
     let cancel = AtomicBool::new(false);
     let mut failure: Option<PyErr> = None;

@@ -67,6 +67,10 @@ enum Command {
         /// Only the measures whose name contains this.
         #[arg(long)]
         only: Option<String>,
+        /// Threads of the real-data `best` lines (default: the machine's
+        /// available parallelism).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+        threads: Option<u32>,
         /// Instead of the table: the load run against a real `nvector
         /// serve` started on loopback (one JSON line).
         #[arg(long)]
@@ -129,7 +133,16 @@ fn main() -> ExitCode {
             writeln!(std::io::stdout(), "{v}")
                 .map_err(|e| CliError(format!("writing standard output: {e}")))
         }),
-        Command::Bench { quick, only, .. } => cli::bench::run(quick, only.as_deref()),
+        Command::Bench {
+            quick,
+            only,
+            threads,
+            ..
+        } => cli::bench::run(
+            quick,
+            only.as_deref(),
+            threads.map_or_else(cli::machine_threads, |t| t as usize),
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

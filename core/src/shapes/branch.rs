@@ -88,7 +88,10 @@ pub fn branch_pieces<S: DetectionShape>(
 }
 
 /// [`branch_pieces`] contracting every box, in the regions' order.
-fn every_box<S: DetectionShape>(shape: &S, regions: &[&Paving]) -> (Option<S::Piece>, Vec<usize>) {
+pub(super) fn every_box<S: DetectionShape>(
+    shape: &S,
+    regions: &[&Paving],
+) -> (Option<S::Piece>, Vec<usize>) {
     let mut hull: Option<S::Piece> = None;
     let mut surviving = Vec::new();
     for (i, r) in regions.iter().enumerate() {
@@ -114,7 +117,7 @@ fn every_box<S: DetectionShape>(shape: &S, regions: &[&Paving]) -> (Option<S::Pi
 /// with the least lower bound and with the greatest upper bound, on each
 /// axis), then the others in order, those the hull absorbs skipped once
 /// the region survives.
-fn extremes_first<S: DetectionShape>(
+pub(super) fn extremes_first<S: DetectionShape>(
     shape: &S,
     regions: &[&Paving],
 ) -> (Option<S::Piece>, Vec<usize>) {

@@ -60,6 +60,9 @@ pub struct FrameOptions {
     pub refine_shapes: usize,
     /// Least steps between the frames of two pieces of one chunk.
     pub anchor_gap: usize,
+    /// Threads for the pieces' building and tests ([`crate::par::map`]);
+    /// the same answers for any count.
+    pub threads: usize,
 }
 
 impl Default for FrameOptions {
@@ -70,6 +73,7 @@ impl Default for FrameOptions {
             max_boxes: 48,
             refine_shapes: 12,
             anchor_gap: 150,
+            threads: 1,
         }
     }
 }
@@ -205,7 +209,10 @@ impl Frames {
     }
 
     /// The pieces of every group, (re)built when the group changed (its
-    /// size); the work done.
+    /// size); the work done. The groups to rebuild are built on
+    /// `opts.threads` threads (each reads only the detections, the sums
+    /// and the headings), then taken in the groups' order: the same ids,
+    /// the same first error, as one after the other.
     fn rebuild(&mut self, v: &View, uf: &mut Uf, opts: &FrameOptions) -> Result<u64, String> {
         let k = v.dets.len();
         if self.cache.len() != k {
@@ -213,6 +220,21 @@ impl Frames {
         }
         let mut work = 0u64;
         let groups = uf.groups();
+        // Natively, the stale groups' pieces are built first, on the
+        // threads; the browser's build makes them in the loop below.
+        #[cfg(not(target_arch = "wasm32"))]
+        let cached = |g: &[usize]| {
+            g.iter().any(|&j| {
+                self.cache[j]
+                    .as_ref()
+                    .is_some_and(|(len, _)| *len == g.len())
+            })
+        };
+        #[cfg(not(target_arch = "wasm32"))]
+        let stale: Vec<&Vec<usize>> = groups.iter().filter(|g| !cached(g)).collect();
+        #[cfg(not(target_arch = "wasm32"))]
+        let mut built =
+            crate::par::map(opts.threads, &stale, |g| group_pieces(v, g, opts)).into_iter();
         let mut fresh: Vec<Option<(usize, Vec<Piece>)>> = vec![None; k];
         for g in &groups {
             let root = g[0];
@@ -222,25 +244,12 @@ impl Frames {
             let pieces = match cached {
                 Some((_, p)) => p,
                 None => {
-                    let dets = v.dets;
-                    let mut members = g.clone();
-                    crate::sort::sort_indices_by(&mut members, |a, b| {
-                        dets[a].step.cmp(&dets[b].step)
-                    });
-                    let mut pieces: Vec<Piece> = Vec::new();
-                    for chunk in
-                        members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps)
-                    {
-                        pieces.extend(build_pieces(
-                            dets,
-                            v.sums,
-                            v.heading_at,
-                            v.dim,
-                            chunk,
-                            opts,
-                            &mut work,
-                        )?);
-                    }
+                    #[cfg(not(target_arch = "wasm32"))]
+                    let (pieces, w) = built.next().expect("one build per stale group");
+                    #[cfg(target_arch = "wasm32")]
+                    let (pieces, w) = group_pieces(v, g, opts);
+                    work += w;
+                    let mut pieces = pieces?;
                     for p in &mut pieces {
                         p.id = self.next_id;
                         self.next_id += 1;
@@ -255,7 +264,10 @@ impl Frames {
     }
 
     /// Detections (by step, `order`) against the untested pieces of other
-    /// groups within `max_gap` steps; the work done.
+    /// groups within `max_gap` steps; the work done. The detections are
+    /// cut into runs tested on `opts.threads` threads (each test reads
+    /// only the pieces and the detection), their pairs appended in the
+    /// runs' order: the pairs of one pass over `order`.
     fn detections_against_pieces(
         &self,
         v: &View,
@@ -265,14 +277,42 @@ impl Frames {
         opts: &FrameOptions,
         out: &mut Vec<(u32, u32)>,
     ) -> u64 {
+        let roots: Vec<usize> = order.iter().map(|&x| uf.find(x)).collect();
+        // One run with one thread, and always in the browser's build.
+        if cfg!(target_arch = "wasm32") || opts.threads <= 1 {
+            return self.detections_run(v, (order, &roots), all, opts, out);
+        }
+        let runs = runs(order.len(), opts.threads);
+        let parts = crate::par::map(opts.threads, &runs, |&(a, b)| {
+            let mut pairs = Vec::new();
+            let work = self.detections_run(v, (&order[a..b], &roots[a..b]), all, opts, &mut pairs);
+            (work, pairs)
+        });
+        let mut work = 0u64;
+        for (w, pairs) in parts {
+            work += w;
+            out.extend(pairs);
+        }
+        work
+    }
+
+    /// [`Frames::detections_against_pieces`] for a run of `order` with the
+    /// roots of its detections.
+    fn detections_run(
+        &self,
+        v: &View,
+        (order, roots): (&[usize], &[usize]),
+        all: &[(usize, usize, usize)],
+        opts: &FrameOptions,
+        out: &mut Vec<(u32, u32)>,
+    ) -> u64 {
         let mut work = 0u64;
         let mut lo = 0;
-        for &x in order {
+        for (&x, &rx) in order.iter().zip(roots) {
             let t = v.dets[x].step;
             while lo < all.len() && all[lo].0 + opts.max_gap < t {
                 lo += 1;
             }
-            let rx = uf.find(x);
             for &(s, root, i) in all[lo..].iter().take_while(|e| e.0 <= t + opts.max_gap) {
                 if root == rx {
                     continue;
@@ -294,7 +334,8 @@ impl Frames {
     }
 
     /// Pieces against the nearby pieces of other groups (one of the two
-    /// untested); the work done.
+    /// untested); the work done. Runs of `all` are tested on
+    /// `opts.threads` threads, their pairs appended in the runs' order.
     fn pieces_against_pieces(
         &self,
         v: &View,
@@ -302,8 +343,35 @@ impl Frames {
         opts: &FrameOptions,
         out: &mut Vec<(u32, u32)>,
     ) -> u64 {
+        if cfg!(target_arch = "wasm32") || opts.threads <= 1 {
+            return self.pieces_run(v, all, (0, all.len()), opts, out);
+        }
+        let runs = runs(all.len(), opts.threads);
+        let parts = crate::par::map(opts.threads, &runs, |&(a, b)| {
+            let mut pairs = Vec::new();
+            let work = self.pieces_run(v, all, (a, b), opts, &mut pairs);
+            (work, pairs)
+        });
         let mut work = 0u64;
-        for (a, &(s, ra, ia)) in all.iter().enumerate() {
+        for (w, pairs) in parts {
+            work += w;
+            out.extend(pairs);
+        }
+        work
+    }
+
+    /// [`Frames::pieces_against_pieces`] for the pieces `all[a..b]`, each
+    /// against those after it in `all`.
+    fn pieces_run(
+        &self,
+        v: &View,
+        all: &[(usize, usize, usize)],
+        (from, to): (usize, usize),
+        opts: &FrameOptions,
+        out: &mut Vec<(u32, u32)>,
+    ) -> u64 {
+        let mut work = 0u64;
+        for (a, &(s, ra, ia)) in all.iter().enumerate().take(to).skip(from) {
             for &(s2, rb, ib) in all[a + 1..].iter().take_while(|e| e.0 <= s + opts.max_gap) {
                 if ra == rb {
                     continue;
@@ -324,6 +392,18 @@ impl Frames {
     }
 }
 
+/// `0..len` cut into runs of about equal length, in order: one with one
+/// thread, four per thread with more (the tests' costs vary along a
+/// mission).
+fn runs(len: usize, threads: usize) -> Vec<(usize, usize)> {
+    let parts = if threads > 1 { threads * 4 } else { 1 };
+    let size = len.div_ceil(parts).max(1);
+    (0..len)
+        .step_by(size)
+        .map(|a| (a, (a + size).min(len)))
+        .collect()
+}
+
 /// What the pieces are built and tested from: the detections, the chain's
 /// sums, the headings at the detections, the dimension.
 struct View<'a> {
@@ -331,6 +411,23 @@ struct View<'a> {
     sums: &'a ChainSums<'a>,
     heading_at: &'a [Interval],
     dim: usize,
+}
+
+/// The pieces of group `g`, its members sorted by step and cut into
+/// chunks of at most `piece_steps` steps, with the work done (ids left 0).
+fn group_pieces(v: &View, g: &[usize], opts: &FrameOptions) -> (Result<Vec<Piece>, String>, u64) {
+    let dets = v.dets;
+    let mut members = g.to_vec();
+    crate::sort::sort_indices_by(&mut members, |a, b| dets[a].step.cmp(&dets[b].step));
+    let mut work = 0u64;
+    let mut pieces: Vec<Piece> = Vec::new();
+    for chunk in members.chunk_by(|&a, &b| dets[b].step - dets[a].step <= opts.piece_steps) {
+        match build_pieces(dets, v.sums, v.heading_at, v.dim, chunk, opts, &mut work) {
+            Ok(p) => pieces.extend(p),
+            Err(e) => return (Err(e), work),
+        }
+    }
+    (Ok(pieces), work)
 }
 
 /// The pieces of one chunk of a group's members (sorted by step).

@@ -10,7 +10,9 @@
 //!   members' shapes, as a paving;
 //! - [`branch`]: a detection whose landmark is one of n regions, contracted
 //!   once per region (the hull of the survivors kept; one survivor proves
-//!   the matching);
+//!   the matching); [`branch_memo`] (natively) reuses each region's part
+//!   of a detection's last branch while the shape and that region stay
+//!   the same;
 //! - [`registration`]: the landmarks seen around one step, in its frame,
 //!   placed on the n witness regions (the robot position where they fit);
 //! - [`chain_sums`], [`frames`], [`relative_pairs`]: displacements summed along
@@ -23,6 +25,8 @@
 //! is [`crate::slam::association`].
 
 pub mod branch;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod branch_memo;
 pub mod chain_sums;
 pub mod distinct;
 pub mod frames;

@@ -78,6 +78,12 @@ pub struct SolveOptions {
     pub max_rounds: u32,
     /// A bound moving by at most this much counts as no change.
     pub tolerance: f64,
+    /// Threads the solve may use for independent work ([`crate::par`]):
+    /// the same result bits for any count. 1 by default (core reads
+    /// nothing of the machine); the CLI, the service and Python pass the
+    /// machine's available parallelism. Without the `threads` feature and
+    /// in the browser's build every count works on one thread.
+    pub threads: usize,
 }
 
 impl Default for SolveOptions {
@@ -86,6 +92,7 @@ impl Default for SolveOptions {
             association: Association::NVector(Contractor::Best),
             max_rounds: 10_000,
             tolerance: 1e-9,
+            threads: 1,
         }
     }
 }

@@ -44,6 +44,9 @@ fn check_frames(pm: &PlantedMission, rng: &mut Rng) -> Result<usize, String> {
         max_boxes: 2 + rng.below(40),
         refine_shapes: 1 + rng.below(12),
         anchor_gap: 1 + rng.below(20),
+        // The pieces built and tested on 1 to 3 threads: the pairs must
+        // hold the same.
+        threads: 1 + rng.below(3),
     };
     let mut uf = Uf::new(k);
     let mut frames = Frames::default();

@@ -263,8 +263,8 @@ fn exact_max_k_1s(b: &mut Bench) {
     b.emit(v);
 }
 
-/// Runs the benchmarks.
-pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
+/// Runs the benchmarks; `threads`: those of the real-data lines.
+pub fn run(quick: bool, only: Option<&str>, threads: usize) -> Result<(), CliError> {
     let suffix = if quick { "_quick" } else { "" };
     check_only(only, suffix);
     let mut print = |v: Value| {
@@ -276,6 +276,7 @@ pub fn run(quick: bool, only: Option<&str>) -> Result<(), CliError> {
         quick,
         suffix,
         only,
+        threads,
         emit: &mut print,
     };
     let runs = if quick { 3 } else { 7 };

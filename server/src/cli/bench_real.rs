@@ -19,7 +19,7 @@ use nvector_core::slam::mission::Mission;
 use nvector_core::slam::result::{score, SolveStatus};
 use nvector_core::slam::simulate::{simulate, Scenario, SimulateOptions};
 use nvector_core::slam::solve::solve_model;
-use nvector_core::slam::types::Association;
+use nvector_core::slam::types::{Association, SolveOptions};
 use nvector_import::{DataSet, DataSetImport};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -117,23 +117,32 @@ pub fn run(b: &mut Bench) {
         let line = match (real.mission)().and_then(|v| {
             Mission::from_value(&v).map_err(|e| format!("the mission is invalid: {e}"))
         }) {
-            Ok(m) => measure(&m, &name, real.goal, (&baseline, base)),
+            Ok(m) => measure(&m, &name, (real.goal, b.threads), (&baseline, base)),
             Err(e) => json!({"name": name, "skipped": e}),
         };
         b.emit(line);
     }
 }
 
-/// `best` on `m`, timed once, against the baseline `(name, ms)`.
-fn measure(m: &Mission, name: &str, goal: f64, (baseline, base): (&str, f64)) -> Value {
-    let options = solve_options(Association::NVector(Contractor::Best));
+/// `best` on `m` with `threads`, timed once, against the baseline `(name,
+/// ms)`.
+fn measure(
+    m: &Mission,
+    name: &str,
+    (goal, threads): (f64, usize),
+    (baseline, base): (&str, f64),
+) -> Value {
+    let options = SolveOptions {
+        threads,
+        ..solve_options(Association::NVector(Contractor::Best))
+    };
     let t = Instant::now();
     let s = solve_model(m, &options, &mut |_| {}, &AtomicBool::new(false));
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let scored = score(m, &s);
     json!({
         "name": name, "ms": ms, "baseline": baseline, "baseline_ms": base,
-        "ratio": ms / base, "goal": goal, "steps": m.steps,
+        "ratio": ms / base, "goal": goal, "threads": threads, "steps": m.steps,
         "detections": m.detections.len(), "rounds": s.rounds,
         "consistent": s.status == SolveStatus::Consistent,
         "truth_inside": scored.map(|x| x.0), "matching_errors": scored.map(|x| x.1),

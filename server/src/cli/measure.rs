@@ -71,6 +71,8 @@ pub struct Bench<'e> {
     pub suffix: &'static str,
     /// The `--only` filter.
     pub only: Option<&'e str>,
+    /// Threads of the real-data `best` lines (`--threads`).
+    pub threads: usize,
     /// Where each measure's line goes.
     pub emit: &'e mut dyn FnMut(Value),
 }

@@ -17,3 +17,5 @@ pub mod tdoa;
 pub mod worker;
 
 pub(crate) use crate::service::formats::wrong_kind;
+
+pub(crate) use crate::service::config::machine_threads;

@@ -29,6 +29,10 @@ pub struct Args {
     /// Bounds moving by less than this count as fixed.
     #[arg(long, default_value_t = 1e-9, allow_negative_numbers = true)]
     tolerance: f64,
+    /// Threads for the solve's independent work (default: the machine's
+    /// available parallelism); the same result for any count.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
     /// Output file for the result (default: standard output).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -76,6 +80,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         association,
         max_rounds: a.max_rounds,
         tolerance: a.tolerance,
+        threads: a
+            .threads
+            .map_or_else(super::machine_threads, |t| t as usize),
     };
     // A progress bar on a terminal, nothing otherwise.
     let bar = if std::io::stderr().is_terminal() {

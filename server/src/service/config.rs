@@ -141,6 +141,14 @@ pub fn default_job_memory(worker_processes: usize) -> Option<u64> {
     Some((share >> 20 << 20).max(MIN_JOB_MEMORY))
 }
 
+/// The threads a solve may use when none is asked for: the machine's
+/// available parallelism (1 when it cannot be read). Core reads nothing
+/// of the machine; its `SolveOptions::threads` comes from here (`nvector
+/// run`, `bench`, the service's jobs).
+pub fn machine_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -206,6 +206,7 @@ fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<()
         association: Association::parse(&order.contractor).unwrap_or(Association::None),
         max_rounds: order.max_rounds.max(1),
         tolerance: 1e-9,
+        threads: super::config::machine_threads(),
     };
     let cancel = AtomicBool::new(false);
     let start = Instant::now();

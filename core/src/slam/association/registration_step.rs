@@ -22,7 +22,9 @@ use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 use crate::shapes::chain_sums::ChainSums;
 use crate::shapes::region::Paving;
-use crate::shapes::registration::{coarsen_piece, register_on, CoarseWitnesses, LocalGroup};
+use crate::shapes::registration::{
+    coarsen_piece, register_on, CoarseWitnesses, LocalGroup, Registration,
+};
 
 /// What a round's registrations read (the tuning, the distinct graph, the
 /// coarsened witness regions), the cache of earlier answers by step, and what they
@@ -123,19 +125,18 @@ impl Registrations<'_> {
     }
 
     /// The registration at step `s` of the local groups (roots, pieces
-    /// and slots `local`, pieces in `window`) on the witness regions: from
-    /// the cache when its inputs are close, else computed, p(s) shrunk and
-    /// the cache updated.
-    fn register_at(
+    /// and slots `local`, pieces in `window`) on the witness regions, up to
+    /// [`register_on`]: `None` when the cache holds an answer whose inputs
+    /// are close (its masks are then taken), else what to register.
+    fn prepare_at(
         &mut self,
         round: &mut Round,
         s: usize,
         (window, sums): (&[Piece], &ChainSums),
         (roots, members, fixed): Local,
         w: &Witnesses,
-    ) -> Result<(), String> {
+    ) -> Option<Job> {
         let dim = round.dom.dim;
-        let n = w.regions.len();
         let p = round.position(s);
         let key = RegKey {
             p: p.clone(),
@@ -151,7 +152,7 @@ impl Registrations<'_> {
                 for (&root, &r) in roots.iter().zip(old_reach) {
                     self.reach[root] &= r;
                 }
-                return Ok(());
+                return None;
             }
         }
         let groups: Vec<LocalGroup> = members
@@ -165,20 +166,45 @@ impl Registrations<'_> {
                 fixed,
             })
             .collect();
-        let graph = &self.graph;
+        Some(Job {
+            s,
+            p,
+            roots,
+            groups,
+            key,
+        })
+    }
+
+    /// [`register_on`] for `job`: reads only the job, the witnesses, the
+    /// distinct graph and the tuning (so jobs may run on any thread).
+    fn register_job(&self, job: &Job) -> Registration {
+        let (graph, roots) = (&self.graph, &job.roots);
         let distinct =
             |g: usize, h: usize| graph[roots[g]].binary_search(&(roots[h] as u32)).is_ok();
-        let reg = register_on(
-            &p,
+        register_on(
+            &job.p,
             &self.witnesses,
-            &groups,
+            &job.groups,
             &distinct,
             &self.options.register,
-        );
+        )
+    }
+
+    /// A registration's answer applied: p(s) shrunk, the masks taken, the
+    /// cache updated. Err: no placement on the `n` witness regions
+    /// (infeasible).
+    fn finish(
+        &mut self,
+        round: &mut Round,
+        (job, reg): (Job, Registration),
+        n: usize,
+    ) -> Result<(), String> {
+        let (dim, s) = (round.dom.dim, job.s);
         round.out.contractions += reg.work;
         if reg.p.is_empty() {
             return Err(format!(
-                "step {s}: the landmarks of groups {roots:?}, seen from p({s}), fit no placement on the {n} landmark regions"
+                "step {s}: the landmarks of groups {:?}, seen from p({s}), fit no placement on the {n} landmark regions",
+                job.roots
             ));
         }
         let mut moved = 0.0f64;
@@ -192,19 +218,29 @@ impl Registrations<'_> {
             round.out.moved = true;
             round.chain.changed(s);
         }
-        for (&root, &r) in roots.iter().zip(&reg.reach) {
+        for (&root, &r) in job.roots.iter().zip(&reg.reach) {
             self.reach[root] &= r;
         }
         let key = RegKey {
             p: round.position(s),
-            ..key
+            ..job.key
         };
-        match slot {
+        match self.cache.binary_search_by_key(&s, |e| e.0) {
             Ok(i) => self.cache[i] = (s, key, reg.reach),
             Err(i) => self.cache.insert(i, (s, key, reg.reach)),
         }
         Ok(())
     }
+}
+
+/// One registration to do: its step, p(s), the roots of its groups, their
+/// pieces and slots, and the cache key of its inputs.
+struct Job {
+    s: usize,
+    p: IntervalBox,
+    roots: Vec<usize>,
+    groups: Vec<LocalGroup>,
+    key: RegKey,
 }
 
 impl ShapesState {
@@ -244,6 +280,8 @@ impl ShapesState {
         let (gap, every) = (regs.options.register_gap, regs.options.register_every);
         let mut last_anchor: Option<usize> = None;
         let mut lo = 0;
+        #[cfg(not(target_arch = "wasm32"))]
+        let mut jobs: Vec<Job> = Vec::new();
         for a in 0..pieces.len() {
             let s = pieces[a].0;
             if last_anchor.is_some_and(|l| s < l + every) {
@@ -256,7 +294,28 @@ impl ShapesState {
             let hi = lo + pieces[lo..].iter().take_while(|e| e.0 <= s + gap).count();
             let window = &pieces[lo..hi];
             let local = regs.local_groups(round, window, &w.slot_root);
-            regs.register_at(round, s, (window, sums), local, w)?;
+            let job = regs.prepare_at(round, s, (window, sums), local, w);
+            #[cfg(not(target_arch = "wasm32"))]
+            jobs.extend(job);
+            // The browser's build registers at once, one after the other.
+            #[cfg(target_arch = "wasm32")]
+            if let Some(job) = job {
+                let reg = regs.register_job(&job);
+                regs.finish(round, (job, reg), w.regions.len())?;
+            }
+        }
+        // The registrations are independent (each reads and shrinks only
+        // p(s) of its own step, reads the pieces, the witnesses and the
+        // graph, none of which they change, and the masks are gathered by
+        // `&`): computed on any threads, applied in step order, as one
+        // after the other would be.
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let threads = regs.options.threads;
+            let done = crate::par::map(threads, &jobs, |job| regs.register_job(job));
+            for answer in jobs.into_iter().zip(done) {
+                regs.finish(round, answer, w.regions.len())?;
+            }
         }
         let reach = regs.reach;
         self.coarse_pieces = regs.new_pieces;

@@ -7,6 +7,8 @@
 
 use crate::ibox::IntervalBox;
 use crate::interval::Interval;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::shapes::branch_memo::BranchMemo;
 use crate::shapes::chain_sums::StoredSums;
 use crate::shapes::distinct::Distinct;
 use crate::shapes::frames::{FrameOptions, Frames};
@@ -49,6 +51,10 @@ pub struct ShapesOptions {
     pub register_slack: f64,
     /// Tuning of each registration.
     pub register: RegisterOptions,
+    /// Threads for the independent work of a round ([`crate::par::map`]:
+    /// the registrations, the local frames' pieces and their tests); the
+    /// same bits for any count.
+    pub threads: usize,
 }
 
 impl Default for ShapesOptions {
@@ -68,6 +74,7 @@ impl Default for ShapesOptions {
             register_groups: 8,
             register_slack: 0.02,
             register: RegisterOptions::default(),
+            threads: 1,
         }
     }
 }
@@ -182,6 +189,13 @@ pub struct ShapesState {
     /// alone ([`ShapesState::distinct_pairs`]); it looks for them when it
     /// finds fewer than n witnesses without them.
     pub(super) cross_deferred: CrossDeferred,
+    /// Natively: per detection, what its last branch against the witness
+    /// regions read and found ([`crate::shapes::branch_memo`]).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub(super) branch_memos: Vec<BranchMemo>,
+    /// Natively: the witness regions' versions between rounds.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub(super) region_versions: RegionVersions,
 }
 
 /// What the distinct pairs between different groups left undone in a
@@ -263,11 +277,75 @@ impl ShapesState {
             full_work: false,
             group_seen: vec![None; k],
             cross_deferred: CrossDeferred::default(),
+            #[cfg(not(target_arch = "wasm32"))]
+            branch_memos: vec![BranchMemo::default(); k],
+            #[cfg(not(target_arch = "wasm32"))]
+            region_versions: RegionVersions::default(),
         }
     }
 
     /// The region of a group (any member may hold it), when one was built.
     pub fn region_of(&self, group: &[usize]) -> Option<&Paving> {
         group.iter().find_map(|&j| self.regions.get(j)?.as_ref())
+    }
+}
+
+/// The versions of the witness regions' contents, for the branches' memos
+/// ([`crate::shapes::branch_memo`]): a version names one content of a
+/// region (its boxes, bit for bit). A slot's region changes only through
+/// `Witnesses::region_mut`, which gives it a new version first; at the
+/// round's start a region whose boxes have the bits of a region at the
+/// last round's end takes that region's version, any other a new one.
+/// Versions are never given twice to different contents (the counter only
+/// grows), so a memo can only be reused on the very boxes it read.
+#[cfg(not(target_arch = "wasm32"))]
+#[derive(Debug, Clone, Default)]
+pub(super) struct RegionVersions {
+    /// Per slot, the version of its region's boxes.
+    pub slot: Vec<u64>,
+    /// The last version given.
+    pub(super) last: u64,
+    /// The bits of the regions at the last round's end, with their
+    /// versions.
+    seen: Vec<(Vec<u64>, u64)>,
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl RegionVersions {
+    fn bits(p: &Paving) -> Vec<u64> {
+        let mut out = vec![p.boxes().len() as u64];
+        for b in p.boxes() {
+            for x in b.axes() {
+                out.push(x.lo().to_bits());
+                out.push(x.hi().to_bits());
+            }
+        }
+        out
+    }
+
+    /// The versions of a round's witness regions, as they are taken.
+    pub(super) fn start(&mut self, regions: &[Paving]) {
+        self.slot = regions
+            .iter()
+            .map(|p| {
+                let b = Self::bits(p);
+                match self.seen.iter().find(|e| e.0 == b) {
+                    Some(e) => e.1,
+                    None => {
+                        self.last += 1;
+                        self.last
+                    }
+                }
+            })
+            .collect();
+    }
+
+    /// The regions as the round leaves them.
+    pub(super) fn end(&mut self, regions: &[Paving]) {
+        self.seen = regions
+            .iter()
+            .zip(&self.slot)
+            .map(|(p, &v)| (Self::bits(p), v))
+            .collect();
     }
 }

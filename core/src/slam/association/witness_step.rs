@@ -13,8 +13,13 @@
 
 use super::pairs::roots;
 use super::round::Round;
+#[cfg(not(target_arch = "wasm32"))]
+use super::state::RegionVersions;
 use super::state::{CrossDeferred, ShapesState};
+#[cfg(target_arch = "wasm32")]
 use crate::shapes::branch::branch;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::shapes::branch_memo::branch_memo;
 use crate::shapes::chain_sums::ChainSums;
 use crate::shapes::region::Paving;
 use crate::shapes::shape::Shape;
@@ -30,9 +35,25 @@ pub(super) struct Witnesses {
     pub slot_root: Vec<usize>,
     /// Pairs (detection or group root, slot root) proved distinct.
     pub pairs: Vec<(u32, u32)>,
+    /// Natively: the version of each slot's region, for the branches'
+    /// memos ([`RegionVersions`]).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub versions: RegionVersions,
 }
 
 impl Witnesses {
+    /// The region of slot `i`, to be changed (natively, it takes a new
+    /// version first: [`RegionVersions`]).
+    pub fn region_mut(&mut self, i: usize) -> &mut Paving {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let v = &mut self.versions;
+            v.last += 1;
+            v.slot[i] = v.last;
+        }
+        &mut self.regions[i]
+    }
+
     /// Group `r` (with its region, when it has one) sees the landmark of
     /// witness `i`: the groups are united and the witness region
     /// intersected with the group's. Err: the two regions have no common
@@ -46,7 +67,7 @@ impl Witnesses {
         max_boxes: usize,
     ) -> Result<(), String> {
         if let Some(region) = region {
-            self.regions[i].intersect(&region, max_boxes);
+            self.region_mut(i).intersect(&region, max_boxes);
         }
         round.out.unions.push((self.slot_root[i], r));
         round.out.moved = true;
@@ -104,6 +125,12 @@ impl ShapesState {
     /// Puts the witness regions back at their groups' roots and keeps the
     /// distinct pairs found.
     pub(super) fn restore(&mut self, w: Witnesses) {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let mut versions = w.versions;
+            versions.end(&w.regions);
+            self.region_versions = versions;
+        }
         for (p, r) in w.regions.into_iter().zip(w.slot_root) {
             self.regions[r] = Some(p);
         }
@@ -179,10 +206,18 @@ impl ShapesState {
             };
             regions.push(p);
         }
+        #[cfg(not(target_arch = "wasm32"))]
+        let versions = {
+            let mut v = std::mem::take(&mut self.region_versions);
+            v.start(&regions);
+            v
+        };
         Witnesses {
             regions,
             slot_root: chosen,
             pairs: Vec::new(),
+            #[cfg(not(target_arch = "wasm32"))]
+            versions,
         }
     }
 
@@ -285,7 +320,14 @@ impl ShapesState {
         let s = round.shape_of(j);
         let br = {
             let refs: Vec<&Paving> = w.regions.iter().collect();
-            branch(&s, &refs)
+            // Natively, each region's part of j's last branch is reused
+            // while j's shape and that region are the same (the same
+            // bits as `branch`: crate::shapes::branch_memo).
+            #[cfg(not(target_arch = "wasm32"))]
+            let br = branch_memo(&s, &refs, &w.versions.slot, &mut self.branch_memos[j]);
+            #[cfg(target_arch = "wasm32")]
+            let br = branch(&s, &refs);
+            br
         };
         round.out.contractions += w
             .regions
@@ -310,10 +352,10 @@ impl ShapesState {
             round.out.moved = true;
             round.out.moved_detections.push(j);
             if let Some(p) = self.regions[rj].take() {
-                w.regions[i].intersect(&p, self.options.max_boxes);
+                w.region_mut(i).intersect(&p, self.options.max_boxes);
             }
             w.slot_root[i] = round.uf.union(w.slot_root[i], j);
-            w.regions[i].cut(&s);
+            w.region_mut(i).cut(&s);
             self.cut_with[j] = Some(s.centre.clone());
             round.out.contractions += w.regions[i].boxes().len() as u64;
             if w.regions[i].is_empty() {

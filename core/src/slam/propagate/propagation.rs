@@ -139,6 +139,8 @@ impl<'a> Propagation<'a> {
             .then(|| {
                 let mut state = ShapesState::new(k);
                 state.fixed_displacements = fixed_displacements;
+                state.options.threads = options.threads;
+                state.options.frames.threads = options.threads;
                 state
             }),
             shapes_mission: match mission.seen_from_p() {

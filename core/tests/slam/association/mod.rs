@@ -4,3 +4,4 @@
 mod odometry2d;
 mod shapes_schedule;
 mod shapes_slam;
+mod threads;
