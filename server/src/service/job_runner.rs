@@ -206,7 +206,10 @@ fn run_job(order: &JobOrder, mission: String, out: &mut impl Write) -> Result<()
         association: Association::parse(&order.contractor).unwrap_or(Association::None),
         max_rounds: order.max_rounds.max(1),
         tolerance: 1e-9,
-        threads: super::config::machine_threads(),
+        // One thread a job: the service already runs its jobs side by side
+        // (`--workers`), so the cores go to the jobs; measured under load,
+        // a job's own threads lengthened its wall time.
+        threads: 1,
     };
     let cancel = AtomicBool::new(false);
     let start = Instant::now();
