@@ -18,16 +18,12 @@ run: setup web
 # the repository lint (scripts/lint_repo.py: nothing names a folder outside
 # the repository, no source cites an issue number, every Markdown link
 # resolves), after its self-test shows each rule catching a planted case.
-# Native clippy in the test profile: its build scripts and proc macros
-# (SQLite's C among them) are then the ones the test build uses, built
-# once. (wasm32 stays in dev: the test profile checks the dev-dependencies
-# too, and proptest's getrandom does not build for wasm32.)
 lint:
 	cargo fmt --all -- --check
 	python3 scripts/long_fns.py --check
 	python3 scripts/lint_repo.py --self-test > /dev/null
 	python3 scripts/lint_repo.py
-	cargo clippy --workspace --all-targets --profile test -- -D warnings
+	cargo clippy --workspace --all-targets -- -D warnings
 	cargo clippy -p nvector-core -p nvector-web -p nvector-web-radar --target wasm32-unknown-unknown -- -D warnings
 
 # `cargo test --workspace`, with the test executables run two at a time
