@@ -47,4 +47,10 @@ test-python: setup
 test-fuzz: setup
 	scripts/fuzz.sh 60
 
-test: setup lint test-rust test-web test-inari test-python test-fuzz
+# After the Rust step, its four other steps two at a time (GNU make's -j2,
+# each step's output kept together): the fuzzer waits on a live service
+# for 60 s and the browser and Python steps mostly wait on processes, so
+# one core sat idle while they ran one after the other. Each step has its
+# own target directory or only reads the Rust step's build.
+test: setup lint test-rust
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-web test-inari test-python test-fuzz
