@@ -10,8 +10,15 @@
 
 use crate::calibrate::data::{Model, Run};
 use crate::calibrate::residuals::{speed_interval, step_turn, true_reading};
+use crate::doc::{boxed, finite_interval, int, interval, points};
 use crate::sensor_model::SensorModel;
 use crate::ImportError;
+use nvector_core::format::leaf::{BoxIn, Finite, Integer, List, PerStep};
+use nvector_core::format::mission_doc::{
+    ChannelDoc, DetectionDoc, DriftWindowDoc, InputsDoc, MissionDoc, TruthDoc,
+};
+use nvector_core::format::to_value;
+use nvector_core::slam::mission::FORMAT;
 use serde_json::{json, Value};
 
 /// Half-width of the initial position box around the truth's first
@@ -51,8 +58,14 @@ struct Extrapolated {
     bearing: usize,
 }
 
-/// The mission of `run` under `model`.
+/// The mission of `run` under `model`, written.
 pub fn mission(run: &Run, model: &SensorModel, o: &Options) -> Result<Value, ImportError> {
+    mission_doc(run, model, o).map(|m| to_value(&m))
+}
+
+/// The mission of `run` under `model` as a document (the data sets'
+/// importers add their figures to its `meta` before writing it).
+pub fn mission_doc(run: &Run, model: &SensorModel, o: &Options) -> Result<MissionDoc, ImportError> {
     if model.model != run.model.name() {
         return Err(ImportError::setting(
             "sensor_model",
@@ -73,51 +86,62 @@ pub fn mission(run: &Run, model: &SensorModel, o: &Options) -> Result<Value, Imp
             ),
         ));
     }
+    check_initial(o)?;
     let mut ex = Extrapolated::default();
-    let mut m = json!({
-        "format": "nvector-mission/1",
-        "name": o.name,
-        "model": model.model,
-        "dt": run.dt,
-        "steps": run.steps(),
-        "initial_position": initial_position(run, o),
-        "final_position": null,
-        "inputs": inputs(run, model),
-        "sensor_offset": model.sensor_offset,
-        "detections": detections(run, model, o, &mut ex)?,
-    });
+    let landmark_count = o.landmark_count.or(run.landmarks.as_ref().map(Vec::len));
+    let mut m = MissionDoc {
+        format: Some(FORMAT.into()),
+        name: Some(o.name.clone()),
+        model: Some(model.model.clone().into()),
+        dt: Some(Finite(run.dt)),
+        steps: Some(int(run.steps())),
+        initial_position: Some(initial_position(run, o)),
+        inputs: Some(inputs(run, model)),
+        sensor_offset: Some(List(model.sensor_offset.map(Finite).to_vec())),
+        detections: Some(List(detections(run, model, o, &mut ex)?)),
+        landmark_count: landmark_count.map(int),
+        landmark_min_separation: o.landmark_min_separation.map(Finite),
+        max_outliers: o.max_outliers.map(Integer::Value),
+        ..MissionDoc::default()
+    };
     motion_fields(&mut m, run, model, o, &mut ex);
-    if let Some(n) = o.landmark_count.or(run.landmarks.as_ref().map(Vec::len)) {
-        m["landmark_count"] = json!(n);
-    }
-    if let Some(s) = o.landmark_min_separation {
-        m["landmark_min_separation"] = json!(s);
-    }
-    if let Some(q) = o.max_outliers {
-        m["max_outliers"] = json!(q);
-    }
-    m["meta"] = meta(run, model, o, &ex);
-    if let Some(t) = truth(run) {
-        m["truth"] = t;
-    }
+    m.meta = Some(meta(run, model, o, &ex));
+    m.truth = truth(run);
     Ok(m)
 }
 
-fn initial_position(run: &Run, o: &Options) -> Value {
+/// The user's initial box and heading: finite bounds, lo <= hi.
+fn check_initial(o: &Options) -> Result<(), ImportError> {
+    if let Some(b) = o.initial.filter(|b| !b.iter().all(|&x| finite_interval(x))) {
+        return Err(ImportError::setting(
+            "initial",
+            format!("--initial {b:?}: expected finite LO <= HI on each axis"),
+        ));
+    }
+    if let Some(h) = o.initial_heading.filter(|&h| !finite_interval(h)) {
+        return Err(ImportError::setting(
+            "initial_heading",
+            format!("--initial-heading {h:?}: expected finite LO <= HI"),
+        ));
+    }
+    Ok(())
+}
+
+fn initial_position(run: &Run, o: &Options) -> BoxIn {
     if let Some(b) = o.initial {
-        return json!(b);
+        return boxed(&b);
     }
     let e = FRAME_POSITION;
     match run.truth.as_ref().and_then(|t| t.positions[0]) {
-        Some(p) => json!([[p[0] - e, p[0] + e], [p[1] - e, p[1] + e]]),
-        None => json!([[0.0, 0.0], [0.0, 0.0]]),
+        Some(p) => boxed(&[[p[0] - e, p[0] + e], [p[1] - e, p[1] + e]]),
+        None => boxed(&[[0.0, 0.0], [0.0, 0.0]]),
     }
 }
 
 /// The input channels: the speed as intervals (its error, and the sign
 /// rule), the turn rate exact (odometry2d) or the heading within its bound
 /// (unicycle2d).
-fn inputs(run: &Run, model: &SensorModel) -> Value {
+fn inputs(run: &Run, model: &SensorModel) -> InputsDoc {
     let (mut lo, mut hi) = (
         Vec::with_capacity(run.steps()),
         Vec::with_capacity(run.steps()),
@@ -132,17 +156,17 @@ fn inputs(run: &Run, model: &SensorModel) -> Value {
     // intervals in half the bytes.
     let exact = lo.iter().zip(&hi).all(|(a, b)| a == b);
     let speed = match exact {
-        true => json!({"value": run.speed, "error": 0.0}),
-        false => json!({"lo": lo, "hi": hi}),
+        true => ChannelDoc::measured(run.speed.clone(), 0.0),
+        false => ChannelDoc::bounds(lo, hi),
     };
-    match run.model {
-        Model::Odometry2d => {
-            json!({"speed": speed, "turn_rate": {"value": run.rotation, "error": 0.0}})
-        }
-        Model::Unicycle2d => {
-            json!({"speed": speed, "heading": {"value": run.rotation, "error": model.heading.at(0.0)}})
-        }
-    }
+    let rotation = match run.model {
+        Model::Odometry2d => ("turn_rate", ChannelDoc::measured(run.rotation.clone(), 0.0)),
+        Model::Unicycle2d => (
+            "heading",
+            ChannelDoc::measured(run.rotation.clone(), model.heading.at(0.0)),
+        ),
+    };
+    InputsDoc::of([("speed", speed), rotation])
 }
 
 /// Whether x lies outside a fitted span (a constant bound has none).
@@ -153,7 +177,7 @@ fn beyond(span: [f64; 2], x: f64) -> bool {
 /// `motion_error`, and for odometry2d `initial_heading`, `heading_error`
 /// and the drift windows.
 fn motion_fields(
-    m: &mut Value,
+    m: &mut MissionDoc,
     run: &Run,
     model: &SensorModel,
     o: &Options,
@@ -161,47 +185,51 @@ fn motion_fields(
 ) {
     let me = &model.motion_error;
     let same = model.calibration.fingerprint == run.fingerprint();
-    m["motion_error"] = (0..run.steps())
+    let motion = (0..run.steps())
         .map(|i| {
             let x = (run.speed[i] * run.dt).abs();
             let still = me.still.as_ref().is_some_and(|s| x < s.below);
             ex.motion += usize::from(!still && beyond(me.fit.span, x));
-            json!(model.motion_error_at(i, x, step_turn(run, i), same))
+            model.motion_error_at(i, x, step_turn(run, i), same)
         })
         .collect();
+    m.motion_error = Some(PerStep::Each(motion));
     if run.model != Model::Odometry2d {
         return;
     }
     let h = &model.heading;
-    m["heading_error"] = run
+    let heading = run
         .rotation
         .iter()
         .enumerate()
         .map(|(i, w)| {
             let x = (w * run.dt).abs();
             ex.heading += usize::from(beyond(h.fit.span, x));
-            json!(model.heading_error_at(i, x, same))
+            model.heading_error_at(i, x, same)
         })
         .collect();
+    m.heading_error = Some(PerStep::Each(heading));
     let e = FRAME_HEADING;
-    m["initial_heading"] = match (
-        o.initial_heading,
-        run.truth.as_ref().and_then(|t| t.headings[0]),
-    ) {
-        (Some(b), _) => json!(b),
-        (None, Some(h0)) => json!([h0 - e, h0 + e]),
-        (None, None) => json!([0.0, 0.0]),
-    };
+    m.initial_heading = Some(interval(
+        match (
+            o.initial_heading,
+            run.truth.as_ref().and_then(|t| t.headings[0]),
+        ) {
+            (Some(b), _) => b,
+            (None, Some(h0)) => [h0 - e, h0 + e],
+            (None, None) => [0.0, 0.0],
+        },
+    ));
     let windows = |ws: &[crate::sensor_model::Window]| {
-        ws.iter()
-            .map(|w| match w.exempt_above {
-                Some(t) => json!({"steps": w.steps, "error": w.error, "exempt_above": t}),
-                None => json!({"steps": w.steps, "error": w.error}),
-            })
-            .collect::<Vec<_>>()
+        let ws = ws.iter().map(|w| DriftWindowDoc {
+            steps: Some(int(w.steps)),
+            error: Some(Finite(w.error)),
+            exempt_above: w.exempt_above.map(Finite),
+        });
+        Some(List(ws.collect()))
     };
-    m["heading_drift"] = json!(windows(&model.heading_drift));
-    m["motion_drift"] = json!(windows(&model.motion_drift));
+    m.heading_drift = windows(&model.heading_drift);
+    m.motion_drift = windows(&model.motion_drift);
 }
 
 /// The detections: each reading's interval from the model's bands.
@@ -210,17 +238,22 @@ fn detections(
     model: &SensorModel,
     o: &Options,
     ex: &mut Extrapolated,
-) -> Result<Vec<Value>, ImportError> {
+) -> Result<Vec<DetectionDoc>, ImportError> {
     let mut out = Vec::with_capacity(run.detections.len());
     for (j, d) in run.detections.iter().enumerate() {
         let (range, outside) = model.range.interval(d.range, d.range);
         ex.range += usize::from(outside);
-        let mut v = json!({"step": d.step, "range": [range[0].max(0.0), range[1].max(0.0)]});
+        let mut v = DetectionDoc {
+            step: Some(int(d.step)),
+            range: Some(interval([range[0].max(0.0), range[1].max(0.0)])),
+            scan: d.scan.map(Integer::Value),
+            ..DetectionDoc::default()
+        };
         match (&model.bearing, d.bearing) {
             (Some(b), Some(m)) => {
                 let (bearing, outside) = b.interval(m, d.range);
                 ex.bearing += usize::from(outside);
-                v["bearing"] = json!(bearing);
+                v.bearing = Some(interval(bearing));
             }
             (None, Some(_)) | (Some(_), None) => {
                 return Err(at_detection(
@@ -235,11 +268,8 @@ fn detections(
             }
             (None, None) => {}
         }
-        if let Some(s) = d.scan {
-            v["scan"] = json!(s);
-        }
         if o.operator {
-            v["landmark"] = json!(operator_id(run, j)?);
+            v.landmark = Some(Integer::Value(operator_id(run, j)?));
         }
         out.push(v);
     }
@@ -305,24 +335,24 @@ fn meta(run: &Run, model: &SensorModel, o: &Options, ex: &Extrapolated) -> Value
 /// The truth for scoring: positions (and headings for odometry2d), null in
 /// the gaps; the landmarks and the matching when the landmarks file and
 /// every detection's id are known.
-fn truth(run: &Run) -> Option<Value> {
+fn truth(run: &Run) -> Option<TruthDoc> {
     let t = run.truth.as_ref()?;
-    let opt = |x: Option<f64>| x.map_or(Value::Null, |v| json!(v));
-    let mut v = json!({
-        "positions": t.positions.iter().map(|p| p.map_or(Value::Null, |p| json!(p))).collect::<Vec<_>>(),
-    });
+    let mut v = TruthDoc {
+        positions: Some(points(t.positions.iter().copied())),
+        ..TruthDoc::default()
+    };
     if run.model == Model::Odometry2d && t.has_heading {
-        v["headings"] = t.headings.iter().map(|&h| opt(h)).collect();
+        v.headings = Some(List(t.headings.iter().map(|h| h.map(Finite)).collect()));
     }
     if let Some(l) = &run.landmarks {
-        v["landmarks"] = l.iter().map(|x| json!(x.1)).collect();
+        v.landmarks = Some(points(l.iter().map(|x| Some(x.1))));
         let matching: Option<Vec<usize>> = run
             .detections
             .iter()
             .map(|d| run.landmark_index(d.landmark?))
             .collect();
         if let Some(mt) = matching {
-            v["matching"] = json!(mt);
+            v.matching = Some(List(mt.into_iter().map(|i| Some(int(i))).collect()));
         }
     }
     Some(v)

@@ -7,8 +7,14 @@
 //! the notes.
 
 use crate::csv::{column, read_csv, Csv};
+use crate::doc::{boxed, finite_interval, int, interval};
 use crate::ImportError;
-use serde_json::{json, Map, Value};
+use nvector_core::format::leaf::{BoxIn, Finite, Integer, List, PerStep};
+use nvector_core::format::mission_doc::{ChannelDoc, DetectionDoc, InputsDoc, MissionDoc};
+use nvector_core::format::to_value;
+use nvector_core::slam::mission::FORMAT;
+use serde_json::{json, Value};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// What a generic CSV import reads and the bounds it states. Every
@@ -94,8 +100,8 @@ fn time_step(dt: Option<f64>, t: &[f64], log_path: &Path) -> Result<f64, ImportE
 }
 
 /// The channel bounds, by channel.
-fn channel_errors(a: &CsvImport, chans: &[&str]) -> Result<Map<String, Value>, ImportError> {
-    let mut errors: Map<String, Value> = Map::new();
+fn channel_errors(a: &CsvImport, chans: &[&str]) -> Result<BTreeMap<String, f64>, ImportError> {
+    let mut errors = BTreeMap::new();
     for (k, v) in &a.errors {
         if !(v.is_finite() && *v >= 0.0) {
             return Err(ImportError::setting(
@@ -109,7 +115,7 @@ fn channel_errors(a: &CsvImport, chans: &[&str]) -> Result<Map<String, Value>, I
                 format!("--error {k}={v}: unknown channel '{k}' for {}", a.model),
             ));
         }
-        errors.insert(k.clone(), json!(v));
+        errors.insert(k.clone(), *v);
     }
     Ok(errors)
 }
@@ -118,22 +124,22 @@ fn channel_errors(a: &CsvImport, chans: &[&str]) -> Result<Map<String, Value>, I
 fn channel_inputs(
     log: &Csv,
     log_path: &Path,
-    chans: &[&str],
-    errors: &Map<String, Value>,
-) -> Result<Map<String, Value>, ImportError> {
-    let mut inputs = Map::new();
-    for ch in chans {
+    chans: &[&'static str],
+    errors: &BTreeMap<String, f64>,
+) -> Result<InputsDoc, ImportError> {
+    let mut inputs = Vec::with_capacity(chans.len());
+    for &ch in chans {
         let c = column(log, log_path, ch)?;
-        let err = errors.get(*ch).cloned().ok_or_else(|| {
+        let err = errors.get(ch).copied().ok_or_else(|| {
             ImportError::setting(
                 "errors",
                 format!("--error {ch}=E is required (the bound of channel {ch})"),
             )
         })?;
         let values: Vec<f64> = log.rows.iter().map(|r| r[c]).collect();
-        inputs.insert((*ch).into(), json!({"value": values, "error": err}));
+        inputs.push((ch, ChannelDoc::measured(values, err)));
     }
-    Ok(inputs)
+    Ok(InputsDoc::of(inputs))
 }
 
 /// The columns a detections CSV may have.
@@ -208,7 +214,7 @@ fn csv_detections(
     dt: f64,
     steps: usize,
     notes: &mut Vec<String>,
-) -> Result<Vec<Value>, ImportError> {
+) -> Result<Vec<DetectionDoc>, ImportError> {
     let det = read_csv(det_path, true)?;
     check_columns(&det, det_path, &DETECTION_COLUMNS, notes)?;
     let dcol = |name: &str| column(&det, det_path, name);
@@ -244,7 +250,11 @@ fn csv_detections(
                 ),
             ));
         }
-        let mut d = json!({"step": step as u64, "range": [r[lc], r[hc]]});
+        let mut d = DetectionDoc {
+            step: Some(Integer::Value(step as u64)),
+            range: Some(interval([r[lc], r[hc]])),
+            ..DetectionDoc::default()
+        };
         if let Some((bl, bh)) = bc {
             if r[bl] > r[bh] {
                 return Err(ImportError::line(
@@ -256,13 +266,14 @@ fn csv_detections(
                     ),
                 ));
             }
-            d["bearing"] = json!([r[bl], r[bh]]);
+            d.bearing = Some(interval([r[bl], r[bh]]));
         }
         if let Some(c) = sc {
-            d["scan"] = json!(integer_cell(r[c], det_path, line, "scan")?);
+            d.scan = Some(Integer::Value(integer_cell(r[c], det_path, line, "scan")?));
         }
         if let Some(m) = mc {
-            d["landmark"] = json!(integer_cell(r[m], det_path, line, "landmark")?);
+            let id = integer_cell(r[m], det_path, line, "landmark")?;
+            d.landmark = Some(Integer::Value(id));
         }
         dets.push(d);
     }
@@ -272,7 +283,7 @@ fn csv_detections(
 /// The heading fields of the settings: `initial_heading` (required for
 /// odometry2d, refused for the other models) and `heading_error`
 /// (odometry2d only).
-fn heading_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
+fn heading_fields(a: &CsvImport, m: &mut MissionDoc) -> Result<(), ImportError> {
     let (model, odometry) = (a.model.as_str(), a.model == "odometry2d");
     match (a.initial_heading, odometry) {
         (Some([lo, hi]), true) => {
@@ -282,7 +293,13 @@ fn heading_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
                     format!("--initial-heading {lo},{hi}: LO is above HI"),
                 ));
             }
-            m["initial_heading"] = json!([lo, hi]);
+            if !finite_interval([lo, hi]) {
+                return Err(ImportError::setting(
+                    "initial_heading",
+                    format!("--initial-heading {lo},{hi}: expected two finite numbers"),
+                ));
+            }
+            m.initial_heading = Some(interval([lo, hi]));
         }
         (None, true) => {
             return Err(ImportError::setting(
@@ -311,7 +328,7 @@ fn heading_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
                 format!("--heading-error must be a number >= 0, found {e}"),
             ));
         }
-        m["heading_error"] = json!(e);
+        m.heading_error = Some(PerStep::One(e));
     }
     Ok(())
 }
@@ -320,7 +337,7 @@ fn heading_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
 /// (odometry2d), `sensor_offset` (unicycle2d, odometry2d), and
 /// `landmark_count`, `landmark_min_separation`, `max_outliers`; a setting
 /// the model has no field for is refused.
-fn model_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
+fn model_fields(a: &CsvImport, m: &mut MissionDoc) -> Result<(), ImportError> {
     heading_fields(a, m)?;
     if let Some(o) = a.sensor_offset {
         if a.model == "auv3d" {
@@ -338,10 +355,10 @@ fn model_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
                 ),
             ));
         }
-        m["sensor_offset"] = json!(o);
+        m.sensor_offset = Some(List(o.map(Finite).to_vec()));
     }
     if let Some(n) = a.landmark_count {
-        m["landmark_count"] = json!(n);
+        m.landmark_count = Some(int(n));
     }
     if let Some(d) = a.landmark_min_separation {
         if !(d.is_finite() && d >= 0.0) {
@@ -350,18 +367,19 @@ fn model_fields(a: &CsvImport, m: &mut Value) -> Result<(), ImportError> {
                 format!("--landmark-min-separation must be a number >= 0, found {d}"),
             ));
         }
-        m["landmark_min_separation"] = json!(d);
+        m.landmark_min_separation = Some(Finite(d));
     }
     if let Some(q) = a.max_outliers {
-        m["max_outliers"] = json!(q);
+        m.max_outliers = Some(Integer::Value(q));
     }
     Ok(())
 }
 
-/// The initial box (lo,hi per axis), the origin when absent.
-fn initial_box(a: &CsvImport, dim: usize) -> Result<Value, ImportError> {
+/// The initial box (lo,hi per axis, finite, lo <= hi), the origin when
+/// absent.
+fn initial_box(a: &CsvImport, dim: usize) -> Result<BoxIn, ImportError> {
     let Some(axes) = &a.initial else {
-        return Ok(json!(vec![json!([0.0, 0.0]); dim]));
+        return Ok(boxed(&vec![[0.0, 0.0]; dim]));
     };
     if axes.len() != dim {
         return Err(ImportError::setting(
@@ -373,7 +391,13 @@ fn initial_box(a: &CsvImport, dim: usize) -> Result<Value, ImportError> {
             ),
         ));
     }
-    Ok(json!(axes))
+    if let Some((k, [lo, hi])) = axes.iter().enumerate().find(|x| !finite_interval(*x.1)) {
+        return Err(ImportError::setting(
+            "initial",
+            format!("--initial: axis {k}: [{lo}, {hi}] is not finite with lo <= hi"),
+        ));
+    }
+    Ok(boxed(axes))
 }
 
 /// The log's rows (at least 2) and its column `t`.
@@ -399,8 +423,8 @@ fn read_log(
 pub fn import_csv(a: &CsvImport) -> Result<Imported, ImportError> {
     let chans = channels(&a.model)?;
     // The model's settings are checked before the files are read.
-    let mut fields = json!({});
-    model_fields(a, &mut fields)?;
+    let mut m = MissionDoc::default();
+    model_fields(a, &mut m)?;
     let dim = if a.model == "auv3d" { 3 } else { 2 };
     let initial = initial_box(a, dim)?;
     let mut notes = Vec::new();
@@ -417,20 +441,24 @@ pub fn import_csv(a: &CsvImport) -> Result<Imported, ImportError> {
             .unwrap_or("import")
             .to_string()
     });
-    let mut m = json!({
-        "format": "nvector-mission/1",
-        "name": name,
-        "model": a.model,
-        "dt": dt,
-        "steps": steps,
-        "initial_position": initial,
-        "inputs": Value::Object(inputs),
-        "motion_error": a.motion_error,
-        "detections": dets,
-        "meta": {"imported_from": a.log.display().to_string()},
-    });
-    if let (Some(m), Value::Object(fields)) = (m.as_object_mut(), fields) {
-        m.extend(fields);
+    let m = MissionDoc {
+        format: Some(FORMAT.into()),
+        name: Some(name),
+        model: Some(a.model.clone().into()),
+        dt: Some(Finite(dt)),
+        steps: Some(int(steps)),
+        initial_position: Some(initial),
+        inputs: Some(inputs),
+        motion_error: Some(PerStep::One(a.motion_error)),
+        detections: Some(List(dets)),
+        meta: Some(json!({"imported_from": a.log.display().to_string()})),
+        ..m
+    };
+    let mut m = to_value(&m);
+    // The generic import leaves an unknown final position out (the
+    // document writes it `null`).
+    if let Some(o) = m.as_object_mut() {
+        o.remove("final_position");
     }
     Ok(Imported {
         mission: crate::validated(m)?,

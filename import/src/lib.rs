@@ -27,6 +27,7 @@
 pub mod apply;
 pub mod calibrate;
 pub mod csv;
+mod doc;
 mod error;
 pub mod generic;
 pub mod locards;
@@ -37,6 +38,9 @@ pub mod woods;
 pub use error::ImportError;
 pub use generic::{import_csv, CsvImport, Imported};
 
+use nvector_core::format::leaf::{IntervalIn, List, ToJson};
+use nvector_core::format::mission_doc::DetectionDoc;
+use nvector_core::format::to_value;
 use nvector_core::slam::mission::Mission;
 use serde_json::{json, Value};
 use std::path::Path;
@@ -181,7 +185,11 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) -> Resul
                 new_index[*i] = new;
                 real[*i].clone()
             }
-            None => json!({"step": d.step, "range": [d.range.lo(), d.range.hi()]}),
+            None => to_value(&DetectionDoc {
+                step: Some(doc::int(d.step)),
+                range: Some(IntervalIn(d.range)),
+                ..DetectionDoc::default()
+            }),
         })
         .collect();
     let outside = mission
@@ -195,10 +203,11 @@ pub fn plant_false_ranges(mission: &mut Value, count: usize, seed: u64) -> Resul
     }
     mission["detections"] = Value::Array(detections);
     if let Some(t) = &typed.truth {
-        mission["truth"]["matching"] = json!(t.matching);
+        let matching: Vec<_> = t.matching.iter().map(|i| i.map(doc::int)).collect();
+        mission["truth"]["matching"] = List(matching).to_json();
     }
-    mission["max_outliers"] = json!(typed.max_outliers);
-    mission["name"] = json!(typed.name);
+    mission["max_outliers"] = doc::int(typed.max_outliers).to_json();
+    mission["name"] = typed.name.to_json();
     Ok(())
 }
 

@@ -10,6 +10,8 @@ use crate::calibrate::convert::{self, Csvs, Span};
 use crate::calibrate::{self, data, Flag};
 use crate::csv::read_table;
 use crate::ImportError;
+use nvector_core::format::leaf::Integer;
+use nvector_core::format::to_value;
 use serde_json::{json, Value};
 use std::path::Path;
 
@@ -149,9 +151,9 @@ pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value
         sensor_model: "same-run calibration (meta.sensor_model)".into(),
         ..crate::apply::Options::default()
     };
-    let mut mission = crate::apply::mission(&run, &model, &options)?;
+    let mut mission = crate::apply::mission_doc(&run, &model, &options)?;
     let m = &model.motion_error;
-    let meta = &mut mission["meta"];
+    let meta = mission.meta.get_or_insert(Value::Null);
     meta["source"] = json!("CMU Plaza 1 (Djugash and Singh), via GTSAM's examples");
     meta["calibration"]["method"] = json!(format!("oracle: {}", crate::SAME_RUN_METHOD));
     meta["ordinary_motion_error"] = json!(m.constant);
@@ -162,14 +164,14 @@ pub fn cmu_plaza(dir: &Path, operator: bool, outlier_share: f64) -> Result<Value
     meta["range_error_model"] = json!({"upper": model.range.upper, "lower": model.range.lower, "margin": model.range.fit.margin});
     if outlier_share > 0.0 {
         let outside = crate::apply::readings_outside(&run, &model);
-        mission["meta"]["outlier_share"] = json!({
+        mission.max_outliers = Some(Integer::Value(outside.len() as u64));
+        meta["outlier_share"] = json!({
             "share": outlier_share,
             "method": "the range band holds the central (1 - share) of the residuals: floor(share k / 2) lowest and the rest of floor(share k) highest left out of each line and of the constant band; `outside` lists the ranges (by index) whose true distance is outside their interval, margin included, and max_outliers is their count",
             "outside": outside,
         });
-        mission["max_outliers"] = json!(outside.len());
     }
-    crate::validated(mission)
+    crate::validated(to_value(&mission))
 }
 
 /// Plaza 1 in `dir` over `span` (of the poses' times) as the

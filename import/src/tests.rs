@@ -238,10 +238,30 @@ fn csv_errors_name_the_file_the_line_and_the_setting() {
         ),
         "{e}"
     );
+    // An unbounded, reversed or NaN axis is refused, naming the setting.
+    for axis in [[1.0, 0.0], [f64::NEG_INFINITY, 0.0], [0.0, f64::NAN]] {
+        let mut a = small_csv(&dir, "t,range_lo,range_hi\n1.0,4.0,4.5\n");
+        a.initial = Some(vec![[0.0, 0.0], axis]);
+        let e = import_csv(&a).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ImportError::Setting {
+                    option: "initial",
+                    ..
+                }
+            ),
+            "{axis:?}: {e}"
+        );
+    }
     let mut a = small_csv(&dir, "t,range_lo,range_hi\n1.0,4.0,4.5\n");
     a.model = "odometry2d".into();
     let e = import_csv(&a).unwrap_err().to_string();
     assert_eq!(e, "--initial-heading LO,HI is required for odometry2d");
+    a.initial_heading = Some([0.0, f64::INFINITY]);
+    let e = import_csv(&a).unwrap_err().to_string();
+    assert_eq!(e, "--initial-heading 0,inf: expected two finite numbers");
+    a.initial_heading = None;
     a.model = "boat".into();
     let e = import_csv(&a).unwrap_err().to_string();
     assert!(e.starts_with("--model: unknown model 'boat'"), "{e}");

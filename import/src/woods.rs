@@ -20,6 +20,8 @@ use crate::calibrate::convert::{self, Csvs, Span};
 use crate::calibrate::{self, data, Flag};
 use crate::csv::{columns, read_csv, Csv};
 use crate::ImportError;
+use nvector_core::format::leaf::Integer;
+use nvector_core::format::to_value;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -324,18 +326,19 @@ pub fn utias_woods(dir: &Path, operator: bool, outlier_share: f64) -> Result<Val
         landmark_min_separation: Some(separation - bounds::SEPARATION_MARGIN),
         ..crate::apply::Options::default()
     };
-    let mut m = crate::apply::mission(&run, &model, &options)?;
-    woods_meta(&mut m["meta"], &model, &run, separation);
+    let mut m = crate::apply::mission_doc(&run, &model, &options)?;
+    let meta = m.meta.get_or_insert(Value::Null);
+    woods_meta(meta, &model, &run, separation);
     if outlier_share > 0.0 {
         let outside = crate::apply::readings_outside(&run, &model);
-        m["max_outliers"] = json!(outside.len());
-        m["meta"]["outlier_share"] = json!({
+        m.max_outliers = Some(Integer::Value(outside.len() as u64));
+        meta["outlier_share"] = json!({
             "share": outlier_share,
             "method": "each band (range, bearing) holds the central (1 - share) of the residuals at steps with a truth: floor(share k / 2) below and the rest of floor(share k) above left out of the lines and of the constant band; `outside` lists the detections (by index) whose truth is outside their range or bearing interval, margins included, and max_outliers is their count (detections at steps without a truth are taken inside, as with share 0)",
             "outside": outside,
         });
     }
-    crate::validated(m)
+    crate::validated(to_value(&m))
 }
 
 /// The data set's figures in `meta`, from the same-run model.

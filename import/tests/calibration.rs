@@ -19,6 +19,7 @@ use nvector_import::apply;
 use nvector_import::calibrate::data::{Detection, Model, Run, Truth};
 use nvector_import::calibrate::{calibrate, fit, verify, Options};
 use nvector_import::sensor_model::Measure;
+use nvector_import::ImportError;
 
 /// The planted bounds.
 #[derive(Clone, Copy)]
@@ -465,4 +466,38 @@ fn the_held_out_part_chooses_margins_it_is_covered_by() {
         }
     }
     assert!(holdout(&circling(5, 100, B), &options(), 1.5).is_err());
+}
+
+/// The user's initial box and heading are refused, naming the setting,
+/// unless finite with lo <= hi; a good one is the mission's.
+#[test]
+fn an_initial_box_or_heading_not_finite_with_lo_below_hi_is_refused() {
+    let run = circling(3, 3000, B);
+    let model = calibrate(&run, &options()).expect("calibration");
+    let with = |initial, initial_heading| apply::Options {
+        initial,
+        initial_heading,
+        ..apply::Options::default()
+    };
+    let good = with(Some([[-1.0, 1.0], [-2.0, 2.5]]), Some([-0.1, 0.1]));
+    let m = apply::mission(&run, &model, &good).expect("a good box");
+    assert_eq!(
+        m["initial_position"],
+        serde_json::json!([[-1.0, 1.0], [-2.0, 2.5]])
+    );
+    assert_eq!(m["initial_heading"], serde_json::json!([-0.1, 0.1]));
+    let box_of = |lo: f64, hi: f64| Some([[lo, hi], [0.0, 0.0]]);
+    for (initial, heading, setting) in [
+        (box_of(1.0, 0.0), None, "initial"),
+        (box_of(f64::NEG_INFINITY, 0.0), None, "initial"),
+        (box_of(0.0, f64::NAN), None, "initial"),
+        (None, Some([0.2, 0.1]), "initial_heading"),
+        (None, Some([0.0, f64::INFINITY]), "initial_heading"),
+    ] {
+        let e = apply::mission(&run, &model, &with(initial, heading)).unwrap_err();
+        assert!(
+            matches!(e, ImportError::Setting { option, .. } if option == setting),
+            "{initial:?} {heading:?}: {e}"
+        );
+    }
 }
