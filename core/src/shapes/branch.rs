@@ -30,7 +30,7 @@
 //! the shape meets (m_i boxes).
 
 use super::region::Paving;
-use super::shape::{DetectionShape, Shape, MAX_DIM};
+use super::shape::{DetectionShape, Piece, Shape, MAX_DIM};
 use crate::ibox::IntervalBox;
 
 /// What the branches left.
@@ -47,8 +47,14 @@ pub struct Branches {
 /// Contracts the detection of `shape` (its centre is p(t), its cut d(j))
 /// under "its landmark is in one of `regions`" (module doc).
 pub fn branch(shape: &Shape, regions: &[&Paving]) -> Branches {
-    let dim = shape.dim();
     let (hull, surviving) = branch_pieces(shape, regions);
+    branches(shape, hull, surviving)
+}
+
+/// The branch's boxes from its hull piece (empty boxes when no piece
+/// survived) and the surviving regions.
+pub(crate) fn branches(shape: &Shape, hull: Option<Piece>, surviving: Vec<usize>) -> Branches {
+    let dim = shape.dim();
     match hull {
         Some(piece) => Branches {
             p: IntervalBox::new(&piece.p[..dim]),

@@ -37,10 +37,9 @@
 //! work for the regions whose version changed only (without the skips
 //! across regions: each region's pass skips the boxes its own hull holds).
 
-use super::branch::{every_box, extremes_first, Branches};
+use super::branch::{branches, every_box, extremes_first, Branches};
 use super::region::Paving;
 use super::shape::{DetectionShape, Piece, Shape};
-use crate::ibox::IntervalBox;
 use crate::interval::Interval;
 
 /// What one detection's last branch read and found, per region (module
@@ -106,24 +105,13 @@ pub fn branch_memo(
     if hull.as_ref().is_some_and(|h| shape.zero_bound(h)) {
         (hull, surviving) = every_box(shape, regions);
     }
-    let dim = shape.dim();
-    match hull {
-        Some(piece) => Branches {
-            p: IntervalBox::new(&piece.p[..dim]),
-            d: IntervalBox::new(&piece.d[..dim]),
-            surviving,
-        },
-        None => Branches {
-            p: IntervalBox::empty(dim),
-            d: IntervalBox::empty(dim),
-            surviving,
-        },
-    }
+    branches(shape, hull, surviving)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ibox::IntervalBox;
     use crate::rng::Rng;
     use crate::shapes::branch::branch;
 

@@ -282,18 +282,9 @@ impl Frames {
         if cfg!(target_arch = "wasm32") || opts.threads <= 1 {
             return self.detections_run(v, (order, &roots), all, opts, out);
         }
-        let runs = runs(order.len(), opts.threads);
-        let parts = crate::par::map(opts.threads, &runs, |&(a, b)| {
-            let mut pairs = Vec::new();
-            let work = self.detections_run(v, (&order[a..b], &roots[a..b]), all, opts, &mut pairs);
-            (work, pairs)
-        });
-        let mut work = 0u64;
-        for (w, pairs) in parts {
-            work += w;
-            out.extend(pairs);
-        }
-        work
+        split_runs(order.len(), opts.threads, out, |(a, b), pairs| {
+            self.detections_run(v, (&order[a..b], &roots[a..b]), all, opts, pairs)
+        })
     }
 
     /// [`Frames::detections_against_pieces`] for a run of `order` with the
@@ -346,18 +337,9 @@ impl Frames {
         if cfg!(target_arch = "wasm32") || opts.threads <= 1 {
             return self.pieces_run(v, all, (0, all.len()), opts, out);
         }
-        let runs = runs(all.len(), opts.threads);
-        let parts = crate::par::map(opts.threads, &runs, |&(a, b)| {
-            let mut pairs = Vec::new();
-            let work = self.pieces_run(v, all, (a, b), opts, &mut pairs);
-            (work, pairs)
-        });
-        let mut work = 0u64;
-        for (w, pairs) in parts {
-            work += w;
-            out.extend(pairs);
-        }
-        work
+        split_runs(all.len(), opts.threads, out, |(a, b), pairs| {
+            self.pieces_run(v, all, (a, b), opts, pairs)
+        })
     }
 
     /// [`Frames::pieces_against_pieces`] for the pieces `all[a..b]`, each
@@ -402,6 +384,26 @@ fn runs(len: usize, threads: usize) -> Vec<(usize, usize)> {
         .step_by(size)
         .map(|a| (a, (a + size).min(len)))
         .collect()
+}
+
+/// `work` over the runs of `0..len` on `threads` threads: each run's pairs
+/// appended to `out` in run order (the order one thread gives), the work
+/// counts summed.
+fn split_runs<F>(len: usize, threads: usize, out: &mut Vec<(u32, u32)>, work: F) -> u64
+where
+    F: Fn((usize, usize), &mut Vec<(u32, u32)>) -> u64 + Sync,
+{
+    let parts = crate::par::map(threads, &runs(len, threads), |&run| {
+        let mut pairs = Vec::new();
+        let w = work(run, &mut pairs);
+        (w, pairs)
+    });
+    let mut total = 0u64;
+    for (w, pairs) in parts {
+        total += w;
+        out.extend(pairs);
+    }
+    total
 }
 
 /// What the pieces are built and tested from: the detections, the chain's
