@@ -563,23 +563,15 @@ pub fn put(o: &mut serde_json::Map<String, Value>, key: &str, value: Value) {
     o.insert(key.into(), value);
 }
 
-/// A bound: the number (a zero as `0.0`), or `"-inf"` / `"inf"`.
-fn bound_json(x: f64) -> Value {
-    if x.is_finite() {
-        Value::from(x + 0.0)
-    } else if x > 0.0 {
-        Value::from("inf")
-    } else {
-        Value::from("-inf")
-    }
-}
-
 /// An interval: `[lo, hi]`, or `"empty"`.
 fn interval_json(x: Interval) -> Value {
     if x.is_empty() {
         Value::from("empty")
     } else {
-        Value::Array(vec![bound_json(x.lo()), bound_json(x.hi())])
+        Value::Array(vec![
+            crate::json::bound_to_json(x.lo()),
+            crate::json::bound_to_json(x.hi()),
+        ])
     }
 }
 
@@ -631,7 +623,12 @@ impl ToJson for Numbers {
 
 impl ToJson for Bounds {
     fn to_json(&self) -> Value {
-        Value::Array(self.0.iter().map(|&x| bound_json(x)).collect())
+        Value::Array(
+            self.0
+                .iter()
+                .map(|&x| crate::json::bound_to_json(x))
+                .collect(),
+        )
     }
 }
 
