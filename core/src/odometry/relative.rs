@@ -255,17 +255,110 @@ pub fn gap_below(
     o: [f64; 2],
     s: f64,
 ) -> bool {
-    let a_body = body_point(ra, ba, o, Interval::ZERO);
-    let n = norm_above(&gap(&a_body, pose, rb, bb, o));
+    let mut a = GapSide::near(ra, ba, o);
+    let mut b = GapSide::far(rb, bb, o, pose.h);
+    gap_below_sides(&mut a, pose, &mut b, s)
+}
+
+/// One detection's side of [`gap_below`] with its body points made once,
+/// when first read, and kept for every pair it is in: the box point and
+/// the subdivision's pieces' points (and the rotated offsets once per
+/// heading piece). A *near* side is a detection of the earlier step
+/// (turn 0); a *far* side one of the later step seen under the heading
+/// change `h` of one relative pose (it is only valid with that pose's
+/// heading). The same operations on the same operands as [`gap_below`]
+/// makes for each pair: the same bits, whatever the pairs it is reused in.
+#[derive(Debug, Clone)]
+pub struct GapSide {
+    range: Interval,
+    bearing: Option<Interval>,
+    o: [f64; 2],
+    /// The turn: 0 for a near side, H for a far one.
+    turn: Interval,
+    near: bool,
+    body: Option<[Interval; 2]>,
+    offsets: [Option<[Interval; 2]>; PIECES],
+    pieces: [Option<[Interval; 2]>; PIECES * PIECES * PIECES],
+}
+
+impl GapSide {
+    /// The side of a detection (range `r`, bearing `beta`) of the earlier
+    /// step, the sensor at `o`.
+    pub fn near(r: Interval, beta: Option<Interval>, o: [f64; 2]) -> GapSide {
+        GapSide {
+            range: r,
+            bearing: beta,
+            o,
+            turn: Interval::ZERO,
+            near: true,
+            body: None,
+            offsets: [None; PIECES],
+            pieces: [None; PIECES * PIECES * PIECES],
+        }
+    }
+
+    /// The side of a detection of the later step seen under the heading
+    /// change `h` (the relative pose's `h`).
+    pub fn far(r: Interval, beta: Option<Interval>, o: [f64; 2], h: Interval) -> GapSide {
+        GapSide {
+            turn: h,
+            near: false,
+            ..GapSide::near(r, beta, o)
+        }
+    }
+
+    /// [`body_point`] of the whole measurement under the side's turn.
+    fn body(&mut self) -> [Interval; 2] {
+        let (r, beta, o, turn) = (self.range, self.bearing, self.o, self.turn);
+        *self
+            .body
+            .get_or_insert_with(|| body_point(r, beta, o, turn))
+    }
+
+    /// The range cut to [0, +inf), as the subdivision reads it.
+    fn cut_range(&self) -> Interval {
+        self.range.intersect(Interval::new(0.0, f64::INFINITY))
+    }
+
+    /// The body point of pieces (`kt` of the turn, far sides only; `kr` of
+    /// the range, `kb` of the bearing); the bearing is Some.
+    fn piece_point(&mut self, kt: usize, kr: usize, kb: usize, beta: Interval) -> [Interval; 2] {
+        let m = PIECES;
+        let kt = if self.near { 0 } else { kt };
+        let at = kt + m * kr + m * m * kb;
+        if let Some(p) = self.pieces[at] {
+            return p;
+        }
+        let (r, o) = (self.cut_range(), self.o);
+        let (h, oo) = if self.near {
+            let oo = *self.offsets[0]
+                .get_or_insert_with(|| crate::odometry::sensor::rotate_offset(Interval::ZERO, o));
+            (Interval::ZERO, oo)
+        } else {
+            let h = piece(self.turn, kt, m);
+            let oo = *self.offsets[kt]
+                .get_or_insert_with(|| crate::odometry::sensor::rotate_offset(h, o));
+            (h, oo)
+        };
+        let p = body_point_from(piece(r, kr, m), Some(piece(beta, kb, m)), oo, h);
+        self.pieces[at] = Some(p);
+        p
+    }
+}
+
+/// [`gap_below`] on two sides (`a` near, `b` far under `pose.h`), their
+/// body points reused from earlier pairs (the same bits).
+pub fn gap_below_sides(a: &mut GapSide, pose: &RelativePose, b: &mut GapSide, s: f64) -> bool {
+    debug_assert!(a.near && !b.near && b.turn == pose.h);
+    let (ab, bb0) = (a.body(), b.body());
+    let n = norm_above(&[ab[0] - pose.p[0] - bb0[0], ab[1] - pose.p[1] - bb0[1]]);
     if n < s {
         return true;
     }
-    let (Some(ba), Some(bb)) = (ba, bb) else {
+    let (Some(ba), Some(bb)) = (a.bearing, b.bearing) else {
         return false;
     };
-    let ra = ra.intersect(Interval::new(0.0, f64::INFINITY));
-    let rb = rb.intersect(Interval::new(0.0, f64::INFINITY));
-    let all = [ra, ba, pose.h, rb, bb];
+    let all = [a.cut_range(), ba, pose.h, b.cut_range(), bb];
     // NaN compares as not below: nothing is proved.
     let below = |x: f64, y: f64| x.partial_cmp(&y) == Some(std::cmp::Ordering::Less);
     if !below(n, SPLIT_LIMIT * s) || all.iter().any(|x| x.is_empty() || !x.is_bounded()) {
@@ -273,34 +366,16 @@ pub fn gap_below(
     }
     let m = PIECES;
     // Each combination's box is `gap` of a's body point over pieces
-    // (k0, k1) and b's over (k2, k3, k4): the 3^2 and 3^3 body points are
-    // made once each, when first read (and the rotated offsets once per
-    // heading piece), instead of twice per combination. The same
-    // operations on the same operands: the same bits as `gap` on each
-    // combination, the same answer, in the same order.
-    let a_offset = crate::odometry::sensor::rotate_offset(Interval::ZERO, o);
-    let mut b_offset: [Option<[Interval; 2]>; PIECES] = [None; PIECES];
-    let mut a_memo: [Option<[Interval; 2]>; PIECES * PIECES] = [None; PIECES * PIECES];
-    let mut b_memo: [Option<[Interval; 2]>; PIECES * PIECES * PIECES] =
-        [None; PIECES * PIECES * PIECES];
+    // (k0, k1) and b's over (k2, k3, k4), each point made once per side.
     for code in 0..m.pow(5) {
         let k = |d: u32| (code / m.pow(d)) % m;
-        let a_body = *a_memo[k(0) + m * k(1)].get_or_insert_with(|| {
-            body_point_from(
-                piece(ra, k(0), m),
-                Some(piece(ba, k(1), m)),
-                a_offset,
-                Interval::ZERO,
-            )
-        });
-        let b = *b_memo[k(2) + m * k(3) + m * m * k(4)].get_or_insert_with(|| {
-            let h = piece(pose.h, k(2), m);
-            let oo =
-                *b_offset[k(2)].get_or_insert_with(|| crate::odometry::sensor::rotate_offset(h, o));
-            body_point_from(piece(rb, k(3), m), Some(piece(bb, k(4), m)), oo, h)
-        });
+        let a_body = a.piece_point(0, k(0), k(1), ba);
+        let b_body = b.piece_point(k(2), k(3), k(4), bb);
         // `gap` of the combination: a's body point, minus P, minus b's.
-        let v = [a_body[0] - pose.p[0] - b[0], a_body[1] - pose.p[1] - b[1]];
+        let v = [
+            a_body[0] - pose.p[0] - b_body[0],
+            a_body[1] - pose.p[1] - b_body[1],
+        ];
         if !below(norm_above(&v), s) {
             return false;
         }
@@ -661,6 +736,71 @@ mod tests {
     /// (at least s apart, most just beyond s where the box test is
     /// borderline) are never proved one, and one landmark seen twice is
     /// proved one by the subdivision where the box alone does not.
+    /// Sides of the gap test reused over many pairs, in a random order
+    /// ([`GapSide`], as the track rule reuses them): each pair's answer is
+    /// the answer of a fresh [`gap_below`] on that pair, including where
+    /// the subdivision decides it (true by pieces only) and where it
+    /// fails (false).
+    #[test]
+    fn reused_gap_sides_answer_as_fresh_ones() {
+        let mut rng = Lcg::new(3838);
+        let (mut yes, mut no, mut by_pieces) = (0usize, 0usize, 0usize);
+        for case in 0..1500 {
+            let s = 0.5 + unit(&mut rng) * 2.0;
+            let o = [unit(&mut rng) * 0.4, (unit(&mut rng) - 0.5) * 0.2];
+            let tp = [unit(&mut rng) * 2.0, (unit(&mut rng) - 0.5) * 2.0];
+            let th = (unit(&mut rng) - 0.5) * 3.0;
+            let iv = |rng: &mut Lcg, v: f64, w: f64| {
+                let w = w * unit(rng) * (case % 7 != 0) as u8 as f64;
+                Interval::new(v - w, v + w)
+            };
+            let pose = RelativePose {
+                p: [iv(&mut rng, tp[0], 0.2 * s), iv(&mut rng, tp[1], 0.2 * s)],
+                h: iv(&mut rng, th, 0.15),
+                nominal: [Interval::ENTIRE; 2],
+                exempt: [0.0; MAX_EXEMPT_LEVELS],
+            };
+            let marks: Vec<[f64; 2]> = (0..3)
+                .map(|_| {
+                    let (d, a) = (1.0 + unit(&mut rng) * 5.0, unit(&mut rng) * 7.0);
+                    [d * libm::cos(a), d * libm::sin(a)]
+                })
+                .collect();
+            let meas = |rng: &mut Lcg, p: [f64; 2], h: f64| {
+                let l = marks[(rng.bits() % 3) as usize];
+                let (r, b) = measure(p, h, l, o);
+                let bearing = (!rng.bits().is_multiple_of(5)).then(|| iv(rng, b, 0.1));
+                (iv(rng, r, 0.15 * s), bearing)
+            };
+            let a: Vec<_> = (0..4).map(|_| meas(&mut rng, [0.0, 0.0], 0.0)).collect();
+            let b: Vec<_> = (0..4).map(|_| meas(&mut rng, tp, th)).collect();
+            let mut nears: Vec<GapSide> = a.iter().map(|m| GapSide::near(m.0, m.1, o)).collect();
+            let mut fars: Vec<GapSide> = b
+                .iter()
+                .map(|m| GapSide::far(m.0, m.1, o, pose.h))
+                .collect();
+            for _ in 0..24 {
+                let (i, j) = ((rng.bits() % 4) as usize, (rng.bits() % 4) as usize);
+                let got = gap_below_sides(&mut nears[i], &pose, &mut fars[j], s);
+                let want = gap_below(a[i], &pose, b[j], o, s);
+                assert_eq!(got, want, "case {case} pair {i} {j}");
+                let a_body = body_point(a[i].0, a[i].1, o, Interval::ZERO);
+                if got && norm_above(&gap(&a_body, &pose, b[j].0, b[j].1, o)) >= s {
+                    by_pieces += 1;
+                }
+                if got {
+                    yes += 1;
+                } else {
+                    no += 1;
+                }
+            }
+        }
+        assert!(
+            yes > 1000 && no > 1000 && by_pieces > 50,
+            "{yes} {no} {by_pieces}"
+        );
+    }
+
     #[test]
     fn planted_gap_below_never_joins_two_landmarks() {
         let mut rng = Lcg::new(2026);

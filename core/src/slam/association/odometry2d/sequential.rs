@@ -40,7 +40,8 @@
 //! O(log G) for the grid lookups and O(c) box tests per detection, c the
 //! groups entered in the 25 cells around it (bounded by the packing of
 //! boxes narrower than s, at most a few tens when the groups are distinct
-//! landmarks); memory O(G).
+//! landmarks; a cell's list holds one entry per group, [`compact`], so a
+//! landmark seen n times costs one test, not n); memory O(G).
 
 use super::separation::{diameter_above, farthest_above};
 use crate::ibox::IntervalBox;
@@ -54,6 +55,11 @@ pub struct SeparationGrid {
     cells: BTreeMap<(i64, i64), Vec<usize>>,
     /// Per detection: entered in the grid (as a representative).
     entered: Vec<bool>,
+    /// Scratch of [`compact`]: the roots of a list's entries kept so far.
+    roots: Vec<usize>,
+    /// Whether the lists are compacted ([`compact`]); always, but for the
+    /// test that compares the grid with and without it.
+    compacts: bool,
 }
 
 /// The cell of `x` (the centre of a bounded box) for a side `s`.
@@ -71,6 +77,8 @@ impl SeparationGrid {
             s,
             cells: BTreeMap::new(),
             entered: vec![false; k],
+            roots: Vec::new(),
+            compacts: true,
         })
     }
 
@@ -106,10 +114,13 @@ impl SeparationGrid {
         let mut seen: Vec<usize> = Vec::new();
         for x in cx.saturating_sub(2)..=cx.saturating_add(2) {
             for y in cy.saturating_sub(2)..=cy.saturating_add(2) {
-                let Some(list) = self.cells.get(&(x, y)) else {
+                let Some(list) = self.cells.get_mut(&(x, y)) else {
                     continue;
                 };
-                for &e in list {
+                if self.compacts {
+                    compact(list, uf, &mut self.roots);
+                }
+                for &e in list.iter() {
                     let r = uf.find(e);
                     if r == root || seen.contains(&r) {
                         continue;
@@ -137,11 +148,47 @@ impl SeparationGrid {
         if !self.entered[j] {
             if let Some(k) = self.key(&det[root]) {
                 self.entered[j] = true;
-                self.cells.entry(k).or_default().push(j);
+                // j is entered in cell k once (as before); when an entry
+                // of k already has j's root, j would be shadowed there for
+                // good (see [`compact`]), so it is not pushed.
+                let list = self.cells.entry(k).or_default();
+                if !self.compacts || !list.iter().any(|&e| uf.find(e) == root) {
+                    list.push(j);
+                }
             }
         }
         Ok(unions)
     }
+}
+
+/// Drops from a cell's list every entry whose group's root is already the
+/// root of an earlier entry of the list; the rest keep their order.
+///
+/// The same unions in the same order: [`SeparationGrid::merge`] reads a
+/// list in order and skips an entry whose root is the current group's or
+/// one it has already compared. Groups only merge, so two entries that
+/// share a root now share it for good; when the walk reaches the later one
+/// the earlier one was reached first and either compared (its root is in
+/// `seen`, or merged into the current group) or skipped for the same two
+/// reasons, so the later one is skipped too, whatever unions happen in
+/// between (a union merges only the current group with a compared one;
+/// roots are smallest members, untouched by path compression). The error
+/// and the unions name the entry compared, the earlier one, which stays.
+///
+/// O(n · c) for n entries and c distinct roots in the list; each entry is
+/// dropped at most once, so the lists stay at about the groups in a cell
+/// (without it a cell's list grows with every detection of its landmark:
+/// O(n) per read for a landmark seen n times).
+fn compact(list: &mut Vec<usize>, uf: &mut Uf, roots: &mut Vec<usize>) {
+    roots.clear();
+    list.retain(|&e| {
+        let r = uf.find(e);
+        let fresh = !roots.contains(&r);
+        if fresh {
+            roots.push(r);
+        }
+        fresh
+    });
 }
 
 #[cfg(test)]
@@ -174,6 +221,66 @@ mod tests {
         assert_eq!(det[r], square(0.1, 0.1, 0.3));
         assert!(g.merge(&mut det, &mut uf, 2).expect("no error").is_empty());
         assert_ne!(uf.find(2), uf.find(0));
+    }
+
+    /// The grid with and without the compaction of its lists, on random
+    /// detections of a few landmarks (boxes around them, some wider than
+    /// s, some misplaced so that a proved union meets disjoint boxes): the
+    /// same unions in the same order, the same errors, the same groups and
+    /// boxes after every merge.
+    #[test]
+    fn compacted_lists_give_the_same_unions() {
+        let mut rng = crate::rng::Rng::new(38);
+        let (mut unions, mut errors, mut shorter) = (0usize, 0usize, 0usize);
+        let len = |g: &SeparationGrid| g.cells.values().map(Vec::len).sum::<usize>();
+        for case in 0..400 {
+            let k = 20 + case % 80;
+            let s = 1.0;
+            let marks: Vec<(f64, f64)> = (0..1 + case % 9)
+                .map(|_| (rng.sym(6.0), rng.sym(6.0)))
+                .collect();
+            let mut det: Vec<IntervalBox> = (0..k)
+                .map(|_| {
+                    let (x, y) = marks[rng.next_u64() as usize % marks.len()];
+                    let w = [0.05, 0.3, 0.9, 1.6][rng.next_u64() as usize % 4];
+                    let off = if rng.next_u64().is_multiple_of(25) {
+                        0.6
+                    } else {
+                        0.0
+                    };
+                    let (dx, dy) = (rng.sym(w * 0.5), rng.sym(w * 0.5));
+                    square(x + dx - w * 0.5 + off, y + dy - w * 0.5, w)
+                })
+                .collect();
+            let mut det2 = det.clone();
+            let (mut uf, mut uf2) = (Uf::new(k), Uf::new(k));
+            let mut g = SeparationGrid::new(k, s).expect("a grid");
+            let mut plain = g.clone();
+            plain.compacts = false;
+            // Each detection reached by two passes, as the passes do.
+            for j in (0..k).chain(0..k) {
+                let a = g.merge(&mut det, &mut uf, j);
+                let b = plain.merge(&mut det2, &mut uf2, j);
+                assert_eq!(a, b, "case {case} detection {j}");
+                match a {
+                    Ok(u) => unions += u.len(),
+                    Err(_) => {
+                        errors += 1;
+                        break;
+                    }
+                }
+                assert_eq!(det, det2, "case {case} detection {j}");
+                for i in 0..k {
+                    assert_eq!(uf.find(i), uf2.find(i), "case {case}");
+                }
+            }
+            shorter += (len(&g) < len(&plain)) as usize;
+        }
+        // The compaction is exercised: lists it made shorter.
+        assert!(
+            unions > 1000 && errors > 10 && shorter > 100,
+            "{unions} unions, {errors} errors, {shorter} shorter"
+        );
     }
 
     /// A box wider than s is never merged, nor entered.

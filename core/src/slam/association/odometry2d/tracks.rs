@@ -16,7 +16,7 @@
 //! alone ([`crate::odometry::relative`]), which does not depend on the
 //! absolute heading, however wide it is. When the upper bound of its norm
 //! is below s (the box's far corner, or the largest over pieces of the
-//! measured intervals: [`gap_below`]), the two landmarks are less than s
+//! measured intervals: [`gap_below`](crate::odometry::relative::gap_below)), the two landmarks are less than s
 //! apart, so they are one:
 //! a union. Unions chain through the union-find, so a landmark seen in
 //! consecutive scans becomes one group (a track) as long as it is seen
@@ -68,7 +68,7 @@
 use crate::interval::Interval;
 use crate::odometry::chain::OdometryChain;
 use crate::odometry::pair_heading::{contract_pair_heading, Seen};
-use crate::odometry::relative::{advance_from, body_point, gap_below, RelativePose};
+use crate::odometry::relative::{advance_from, body_point, gap_below_sides, GapSide, RelativePose};
 use crate::slam::mission::Mission;
 use crate::union_find::Uf;
 
@@ -186,7 +186,7 @@ impl<'a> StepRuns<'a> {
     /// b (step j, i < j) that the track rule may compare (module doc: j
     /// within `window` steps and `max_steps` detection steps of i, the
     /// relative pose narrower than 2s), in order of i then j; `proved()`
-    /// runs the gap test ([`gap_below`]): true when the two landmarks are
+    /// runs the gap test ([`gap_below`](crate::odometry::relative::gap_below)): true when the two landmarks are
     /// proved less than s apart, hence one when both detections are real.
     pub fn for_each_pair(&self, chain: &OdometryChain, options: TrackOptions, f: &mut OnPair) {
         let (dets, order, runs, o, s) = (self.dets, &self.order, &self.runs, self.o, self.s);
@@ -194,6 +194,7 @@ impl<'a> StepRuns<'a> {
         for r in 0..runs.len() - 1 {
             let (i, from) = runs[r];
             let here = &order[from..runs[r + 1].1];
+            let mut nears = near_sides(dets, here, o);
             let mut pose = RelativePose::ORIGIN;
             let mut at = i;
             for (x, later) in runs.iter().enumerate().skip(r + 1).take(options.max_steps) {
@@ -211,16 +212,27 @@ impl<'a> StepRuns<'a> {
                 let next = runs.get(x + 1).map_or(k, |r| r.1);
                 for &b in &order[later.1..next] {
                     let d = &dets[b];
-                    for &a in here {
-                        let da = &dets[a];
-                        f(a, b, &mut || {
-                            gap_below((da.range, da.bearing), &pose, (d.range, d.bearing), o, s)
-                        });
+                    let mut far = GapSide::far(d.range, d.bearing, o, pose.h);
+                    for (&a, near) in here.iter().zip(nears.iter_mut()) {
+                        f(a, b, &mut || gap_below_sides(near, &pose, &mut far, s));
                     }
                 }
             }
         }
     }
+}
+
+/// The near sides of the gap tests ([`GapSide`]) of a step's detections
+/// `here`, reused over every later step they are compared with (the same
+/// bits as [`crate::odometry::relative::gap_below`] on each pair).
+fn near_sides(
+    dets: &[crate::slam::mission::Detection],
+    here: &[usize],
+    o: [f64; 2],
+) -> Vec<GapSide> {
+    here.iter()
+        .map(|&a| GapSide::near(dets[a].range, dets[a].bearing, o))
+        .collect()
 }
 
 /// What [`Bridge::bridge_unions`] reads: the detections in step order, their
@@ -299,6 +311,8 @@ impl Bridge<'_> {
         let k = self.order.len();
         for r in 0..self.runs.len() - 1 {
             let i = self.runs[r].0;
+            let here = &self.order[self.runs[r].1..self.runs[r + 1].1];
+            let mut nears = near_sides(self.dets, here, self.o);
             let mut odo = RelativePose::ORIGIN;
             let mut at = i;
             for r2 in r + 1..(r + 1 + options.bridge_steps).min(self.runs.len() - 1) {
@@ -319,13 +333,12 @@ impl Bridge<'_> {
                 let (from, to) = (self.runs[r2].1, self.runs[r2 + 1].1.min(k));
                 for &b in &self.order[from..to] {
                     let d = &self.dets[b];
-                    for &a in &self.order[self.runs[r].1..self.runs[r + 1].1] {
+                    let mut far = GapSide::far(d.range, d.bearing, self.o, pose.h);
+                    for (&a, near) in here.iter().zip(nears.iter_mut()) {
                         if uf.find(a) == uf.find(b) {
                             continue;
                         }
-                        let da = &self.dets[a];
-                        let (ma, mb) = ((da.range, da.bearing), (d.range, d.bearing));
-                        if gap_below(ma, &pose, mb, self.o, self.s) {
+                        if gap_below_sides(near, &pose, &mut far, self.s) {
                             uf.union(a, b);
                             unions.push((a, b));
                         }
