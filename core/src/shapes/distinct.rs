@@ -44,6 +44,9 @@ pub struct Distinct {
     /// (pairs, groups) when the last inference changed nothing: the same
     /// facts give the same (empty) answer, so it is not run again.
     settled: Option<(usize, usize)>,
+    /// The last group graph, with the pair count and the root of every
+    /// detection it was built from ([`Distinct::graph`]).
+    graph_memo: Option<(usize, Vec<u32>, Vec<Vec<u32>>)>,
 }
 
 /// Most passes of [`Distinct::infer`].
@@ -67,21 +70,61 @@ impl Distinct {
         self.len() == 0
     }
 
+    /// Sorts and deduplicates the pairs. `pairs[..sorted]` is kept sorted
+    /// and without repeats, so only the pairs added since are sorted, then
+    /// merged in: the same sorted set as sorting all. O(a log a + e) for a
+    /// added pairs.
     fn normalize(&mut self) {
-        if self.sorted != self.pairs.len() {
-            crate::sort::natural(&mut self.pairs);
-            self.pairs.dedup();
-            self.sorted = self.pairs.len();
+        if self.sorted == self.pairs.len() {
+            return;
         }
+        let mut tail = self.pairs.split_off(self.sorted);
+        crate::sort::natural(&mut tail);
+        tail.dedup();
+        let old = std::mem::take(&mut self.pairs);
+        let mut out = Vec::with_capacity(old.len() + tail.len());
+        let (mut i, mut j) = (0, 0);
+        while i < old.len() && j < tail.len() {
+            match old[i].cmp(&tail[j]) {
+                std::cmp::Ordering::Less => {
+                    out.push(old[i]);
+                    i += 1;
+                }
+                std::cmp::Ordering::Greater => {
+                    out.push(tail[j]);
+                    j += 1;
+                }
+                std::cmp::Ordering::Equal => {
+                    out.push(old[i]);
+                    i += 1;
+                    j += 1;
+                }
+            }
+        }
+        out.extend_from_slice(&old[i..]);
+        out.extend_from_slice(&tail[j..]);
+        self.pairs = out;
+        self.sorted = self.pairs.len();
     }
 
     /// The group graph: sorted neighbour roots per root (empty for
     /// non-roots). Err: a pair inside one group.
+    ///
+    /// The graph is a function of the pair set and of every detection's
+    /// root: the last one is given again while the pairs number the same
+    /// (pairs are only added, so the same count is the same set) and every
+    /// root is the same. O(k) then (plus the copy), else O(e log e).
     pub fn graph(&mut self, uf: &mut Uf) -> Result<Vec<Vec<u32>>, String> {
         self.normalize();
+        let roots: Vec<u32> = (0..uf.len()).map(|i| uf.find(i) as u32).collect();
+        if let Some((len, r, g)) = &self.graph_memo {
+            if *len == self.pairs.len() && *r == roots {
+                return Ok(g.clone());
+            }
+        }
         let mut adj: Vec<Vec<u32>> = vec![Vec::new(); uf.len()];
         for &(a, b) in &self.pairs {
-            let (ra, rb) = (uf.find(a as usize), uf.find(b as usize));
+            let (ra, rb) = (roots[a as usize] as usize, roots[b as usize] as usize);
             if ra == rb {
                 return Err(format!(
                     "detections {a} and {b} are proved to see distinct landmarks (their shapes are disjoint) but also the same one"
@@ -94,6 +137,7 @@ impl Distinct {
             crate::sort::natural(l);
             l.dedup();
         }
+        self.graph_memo = Some((self.pairs.len(), roots, adj.clone()));
         Ok(adj)
     }
 
@@ -405,6 +449,49 @@ impl Enum<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Pairs added in batches (with repeats) and groups merged between
+    /// them: the incrementally merged pairs and the memo of the graph give
+    /// what a fresh set of the same pairs gives, and the memo is used.
+    #[test]
+    fn the_graph_memo_and_the_merged_pairs_match_a_fresh_build() {
+        let mut rng = crate::rng::Rng::new(5);
+        for case in 0..60 {
+            let k = 8 + case * 3;
+            let mut d = Distinct::default();
+            let mut uf = Uf::new(k);
+            let mut all = Vec::new();
+            for _ in 0..12 {
+                for _ in 0..(rng.next_u64() % 20) {
+                    let (a, b) = (rng.next_u64() as usize % k, rng.next_u64() as usize % k);
+                    if a != b && uf.find(a) != uf.find(b) {
+                        all.push((a as u32, b as u32));
+                        d.add([(a as u32, b as u32)]);
+                    }
+                }
+                if rng.next_u64().is_multiple_of(3) {
+                    let (a, b) = (rng.next_u64() as usize % k, rng.next_u64() as usize % k);
+                    let mut fresh = Distinct::default();
+                    fresh.add(all.iter().copied());
+                    let mut u2 = uf.clone();
+                    u2.union(a, b);
+                    if fresh.graph(&mut u2).is_ok() {
+                        uf.union(a, b);
+                    }
+                }
+                let mut fresh = Distinct::default();
+                fresh.add(all.iter().copied());
+                fresh.normalize();
+                d.normalize();
+                assert_eq!(d.pairs, fresh.pairs, "case {case}");
+                let want = fresh.graph(&mut uf);
+                assert_eq!(d.graph(&mut uf), want, "case {case}");
+                // A second call: from the memo.
+                assert!(d.graph_memo.is_some());
+                assert_eq!(d.graph(&mut uf), want, "case {case}");
+            }
+        }
+    }
 
     #[test]
     fn closed_sets_are_found_exactly_when_stored() {

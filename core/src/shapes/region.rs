@@ -114,9 +114,19 @@ impl Paving {
     /// changed or was dropped. O(m d).
     pub fn cut<S: DetectionShape>(&mut self, shape: &S) -> bool {
         let dim = self.dim;
+        // Every point of the hull allowed: every box's contraction gives
+        // it back (equal bounds, so nothing is written below).
+        if !self.boxes.is_empty() && shape.keeps(self.hull.axes()) {
+            return false;
+        }
         let mut changed = false;
-        self.boxes
-            .retain_mut(|b| match shape.contract_piece(b.axes()) {
+        self.boxes.retain_mut(|b| {
+            // A box every point of which the shape allows is left as the
+            // contraction would leave it (`keeps`: the same bits).
+            if shape.keeps(b.axes()) {
+                return true;
+            }
+            match shape.contract_piece(b.axes()) {
                 None => {
                     changed = true;
                     false
@@ -131,7 +141,8 @@ impl Paving {
                     }
                     true
                 }
-            });
+            }
+        });
         if changed {
             self.rehull();
         }
@@ -273,6 +284,10 @@ impl Paving {
 fn cut_all<S: DetectionShape>(b: &mut IntervalBox, shapes: &[&S]) -> bool {
     let dim = b.dim();
     for s in shapes {
+        // `keeps`: the contraction would leave `b` as it is, bit for bit.
+        if s.keeps(b.axes()) {
+            continue;
+        }
         match s.contract_piece(b.axes()) {
             None => return false,
             Some(piece) => {
