@@ -506,6 +506,33 @@ impl Interval {
         trig(self, libm::cos, 0.0)
     }
 
+    /// `(self.cos(), self.sin())`, the same bits, each bound's cosine and
+    /// sine made by one `libm::sincos` (one argument reduction for both).
+    /// `sincos` runs the kernels of `sin` and `cos` on the same reduced
+    /// argument, so it gives their bits, except below 2^-26 in magnitude,
+    /// where `sin` returns x and `sincos` its kernel: such bounds take
+    /// `sin` and `cos` themselves.
+    pub fn cos_sin(self) -> (Interval, Interval) {
+        if self.is_empty() {
+            return (self, self);
+        }
+        if !trig_in_range(self) {
+            return (TRIG_FULL, TRIG_FULL);
+        }
+        let both = |x: f64| {
+            if libm::fabs(x) < 1e-7 {
+                (libm::sin(x), libm::cos(x))
+            } else {
+                libm::sincos(x)
+            }
+        };
+        let ((s_lo, c_lo), (s_hi, c_hi)) = (both(self.lo), both(self.hi));
+        (
+            trig_bounds(self, c_lo, c_hi, 0.0),
+            trig_bounds(self, s_lo, s_hi, 0.5),
+        )
+    }
+
     /// Sine. Tightness: within three ulps per bound, or `[-1, 1]`.
     pub fn sin(self) -> Interval {
         if self.is_empty() {
@@ -583,14 +610,25 @@ impl Interval {
 /// Sound enclosure of `f(x)` for `f` = sin or cos; `phase` = 0 for cos
 /// (maxima at 2k*pi), 0.5 for sin (maxima at (2k + 1/2)*pi).
 fn trig(x: Interval, f: fn(f64) -> f64, phase: f64) -> Interval {
-    const FULL: Interval = Interval { lo: -1.0, hi: 1.0 };
-    // Beyond this, libm's argument reduction is still exact, but we keep
-    // the extremum search in a range where k*pi is well separated in f64.
-    if !(x.lo.is_finite() && x.hi.is_finite()) || x.hi - x.lo >= 6.0 || x.mag() > 1e8 {
-        return FULL;
+    if !trig_in_range(x) {
+        return TRIG_FULL;
     }
-    let a = f(x.lo);
-    let b = f(x.hi);
+    trig_bounds(x, f(x.lo), f(x.hi), phase)
+}
+
+/// [-1, 1].
+const TRIG_FULL: Interval = Interval { lo: -1.0, hi: 1.0 };
+
+/// Whether [`trig`] searches the extrema of `x` (else it answers [-1, 1]).
+/// Beyond this, libm's argument reduction is still exact, but we keep the
+/// extremum search in a range where k*pi is well separated in f64.
+fn trig_in_range(x: Interval) -> bool {
+    x.lo.is_finite() && x.hi.is_finite() && x.hi - x.lo < 6.0 && x.mag() <= 1e8
+}
+
+/// [`trig`] given `a = f(x.lo)` and `b = f(x.hi)`, for `x` in range
+/// ([`trig_in_range`]).
+fn trig_bounds(x: Interval, a: f64, b: f64, phase: f64) -> Interval {
     let mut lo = down(down(down(a.min(b))));
     let mut hi = up(up(up(a.max(b))));
     // Extrema: f = +1 at (2k + phase)*pi, f = -1 at (2k + 1 + phase)*pi.
@@ -686,6 +724,53 @@ impl std::ops::Neg for Interval {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `cos_sin` gives the bits of `cos` and `sin` on narrow and wide
+    /// intervals, bounds near 0 (on both sides of 2^-26 and 2^-27·√2), near
+    /// the kernels' limit π/4, around multiples of π/2, large, unbounded
+    /// and empty.
+    #[test]
+    fn cos_sin_is_cos_and_sin_bit_for_bit() {
+        let bits = |x: Interval| (x.lo().to_bits(), x.hi().to_bits());
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut points = vec![
+            0.0,
+            -0.0,
+            1e-300,
+            1.4e-8,
+            1.5e-8,
+            1.05e-8,
+            1e-7,
+            std::f64::consts::FRAC_PI_4,
+            0.79,
+        ];
+        for k in -8..=8 {
+            points.push(k as f64 * std::f64::consts::FRAC_PI_2);
+        }
+        for _ in 0..200_000 {
+            let scale = [1e-9, 1e-7, 1.0, 10.0, 1e6][(next() * 5.0) as usize % 5];
+            points.push((next() * 2.0 - 1.0) * scale);
+        }
+        let mut cases = vec![Interval::ENTIRE, Interval::EMPTY, Interval::new(0.0, 1e9)];
+        for w in points.windows(2) {
+            let x = w[0];
+            cases.push(Interval::point(x));
+            cases.push(Interval::new(x, x + 0.2 * next()));
+            cases.push(Interval::new(x.min(w[1]), x.max(w[1])));
+            cases.push(Interval::new(-x.abs(), x.abs()));
+        }
+        for x in cases {
+            let (c, s) = x.cos_sin();
+            assert_eq!(bits(c), bits(x.cos()), "cos {x:?}");
+            assert_eq!(bits(s), bits(x.sin()), "sin {x:?}");
+        }
+    }
 
     /// Messages name intervals: huge and tiny bounds with an exponent (1e308
     /// was written with all its 309 digits), others as before.

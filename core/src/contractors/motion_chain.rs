@@ -33,7 +33,8 @@ pub fn unicycle_displacement(
 ) -> [Interval; 2] {
     let v = speed.scale(dt);
     let e = Interval::new(-error, error);
-    [v * heading.cos() + e, v * heading.sin() + e]
+    let (c, s) = heading.cos_sin();
+    [v * c + e, v * s + e]
 }
 
 /// The displacement of one auv3d step: `dt · R(roll, pitch, yaw) · v + e`.
