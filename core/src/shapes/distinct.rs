@@ -35,6 +35,11 @@
 //! triangles, O(Σ deg^2) with sorted-list intersections); a few passes.
 
 pub use crate::union_find::Uf;
+use std::sync::Arc;
+
+/// The group graph: per detection, the sorted roots of the groups proved
+/// distinct from its group (empty for non-roots); shared, not copied.
+pub type Graph = Arc<Vec<Vec<u32>>>;
 
 /// Detection pairs proved distinct, accumulated over rounds.
 #[derive(Debug, Clone, Default)]
@@ -46,7 +51,7 @@ pub struct Distinct {
     settled: Option<(usize, usize)>,
     /// The last group graph, with the pair count and the root of every
     /// detection it was built from ([`Distinct::graph`]).
-    graph_memo: Option<(usize, Vec<u32>, Vec<Vec<u32>>)>,
+    graph_memo: Option<(usize, Vec<u32>, Graph)>,
 }
 
 /// Most passes of [`Distinct::infer`].
@@ -72,38 +77,32 @@ impl Distinct {
 
     /// Sorts and deduplicates the pairs. `pairs[..sorted]` is kept sorted
     /// and without repeats, so only the pairs added since are sorted, then
-    /// merged in: the same sorted set as sorting all. O(a log a + e) for a
-    /// added pairs.
+    /// merged in place from the back (the buffer is the added pairs only):
+    /// the same sorted set as sorting all. O(a log a + e) for a added
+    /// pairs, e in all.
     fn normalize(&mut self) {
         if self.sorted == self.pairs.len() {
             return;
         }
-        let mut tail = self.pairs.split_off(self.sorted);
+        let n = self.sorted;
+        let mut tail = self.pairs[n..].to_vec();
         crate::sort::natural(&mut tail);
         tail.dedup();
-        let old = std::mem::take(&mut self.pairs);
-        let mut out = Vec::with_capacity(old.len() + tail.len());
-        let (mut i, mut j) = (0, 0);
-        while i < old.len() && j < tail.len() {
-            match old[i].cmp(&tail[j]) {
-                std::cmp::Ordering::Less => {
-                    out.push(old[i]);
-                    i += 1;
-                }
-                std::cmp::Ordering::Greater => {
-                    out.push(tail[j]);
-                    j += 1;
-                }
-                std::cmp::Ordering::Equal => {
-                    out.push(old[i]);
-                    i += 1;
-                    j += 1;
-                }
+        self.pairs.truncate(n + tail.len());
+        // Back merge: the largest remaining of the two runs goes to the
+        // last free place; equal pairs are both kept, then dropped below.
+        let (mut i, mut j, mut w) = (n, tail.len(), n + tail.len());
+        while j > 0 {
+            if i > 0 && self.pairs[i - 1] > tail[j - 1] {
+                self.pairs[w - 1] = self.pairs[i - 1];
+                i -= 1;
+            } else {
+                self.pairs[w - 1] = tail[j - 1];
+                j -= 1;
             }
+            w -= 1;
         }
-        out.extend_from_slice(&old[i..]);
-        out.extend_from_slice(&tail[j..]);
-        self.pairs = out;
+        self.pairs.dedup();
         self.sorted = self.pairs.len();
     }
 
@@ -113,16 +112,20 @@ impl Distinct {
     /// The graph is a function of the pair set and of every detection's
     /// root: the last one is given again while the pairs number the same
     /// (pairs are only added, so the same count is the same set) and every
-    /// root is the same. O(k) then (plus the copy), else O(e log e).
-    pub fn graph(&mut self, uf: &mut Uf) -> Result<Vec<Vec<u32>>, String> {
+    /// root is the same. O(k) then (the graph shared, not copied), else O(e log e).
+    pub fn graph(&mut self, uf: &mut Uf) -> Result<Graph, String> {
         self.normalize();
         let roots: Vec<u32> = (0..uf.len()).map(|i| uf.find(i) as u32).collect();
         if let Some((len, r, g)) = &self.graph_memo {
             if *len == self.pairs.len() && *r == roots {
-                return Ok(g.clone());
+                return Ok(Arc::clone(g));
             }
         }
-        let mut adj: Vec<Vec<u32>> = vec![Vec::new(); uf.len()];
+        // The old graph is let go first: one graph held at a time.
+        self.graph_memo = None;
+        // Each list made at its exact size (the degrees counted first):
+        // the graph is kept, so no list carries the slack of growing.
+        let mut degree = vec![0u32; uf.len()];
         for &(a, b) in &self.pairs {
             let (ra, rb) = (roots[a as usize] as usize, roots[b as usize] as usize);
             if ra == rb {
@@ -130,14 +133,28 @@ impl Distinct {
                     "detections {a} and {b} are proved to see distinct landmarks (their shapes are disjoint) but also the same one"
                 ));
             }
+            degree[ra] += 1;
+            degree[rb] += 1;
+        }
+        let mut adj: Vec<Vec<u32>> = degree
+            .iter()
+            .map(|&d| Vec::with_capacity(d as usize))
+            .collect();
+        drop(degree);
+        for &(a, b) in &self.pairs {
+            let (ra, rb) = (roots[a as usize] as usize, roots[b as usize] as usize);
             adj[ra].push(rb as u32);
             adj[rb].push(ra as u32);
         }
         for l in adj.iter_mut() {
             crate::sort::natural(l);
             l.dedup();
+            if l.capacity() > l.len() + l.len() / 4 {
+                l.shrink_to_fit();
+            }
         }
-        self.graph_memo = Some((self.pairs.len(), roots, adj.clone()));
+        let adj = Arc::new(adj);
+        self.graph_memo = Some((self.pairs.len(), roots, Arc::clone(&adj)));
         Ok(adj)
     }
 

@@ -31,7 +31,7 @@ use crate::shapes::registration::{
 /// gather: per group root, the mask of the witnesses it may see.
 struct Registrations<'a> {
     options: &'a ShapesOptions,
-    graph: Vec<Vec<u32>>,
+    graph: crate::shapes::distinct::Graph,
     /// The witness regions, coarsened once for the round's registrations.
     witnesses: CoarseWitnesses,
     cache: &'a mut Vec<(usize, RegKey, Vec<u64>)>,
