@@ -511,8 +511,12 @@ impl Interval {
     /// `sincos` runs the kernels of `sin` and `cos` on the same reduced
     /// argument, so it gives their bits, except below 2^-26 in magnitude,
     /// where `sin` returns x and `sincos` its kernel: such bounds take
-    /// `sin` and `cos` themselves.
+    /// `sin` and `cos` themselves. The browser's build takes `cos` and
+    /// `sin` (the same bits, without `sincos`'s code in its transfer).
     pub fn cos_sin(self) -> (Interval, Interval) {
+        if cfg!(target_arch = "wasm32") {
+            return (self.cos(), self.sin());
+        }
         if self.is_empty() {
             return (self, self);
         }

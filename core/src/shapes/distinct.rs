@@ -84,6 +84,14 @@ impl Distinct {
         if self.sorted == self.pairs.len() {
             return;
         }
+        if cfg!(target_arch = "wasm32") {
+            // The browser's build sorts them all (the same set, less code
+            // in its transfer).
+            crate::sort::natural(&mut self.pairs);
+            self.pairs.dedup();
+            self.sorted = self.pairs.len();
+            return;
+        }
         let n = self.sorted;
         let mut tail = self.pairs[n..].to_vec();
         crate::sort::natural(&mut tail);
@@ -115,46 +123,64 @@ impl Distinct {
     /// root is the same. O(k) then (the graph shared, not copied), else O(e log e).
     pub fn graph(&mut self, uf: &mut Uf) -> Result<Graph, String> {
         self.normalize();
-        let roots: Vec<u32> = (0..uf.len()).map(|i| uf.find(i) as u32).collect();
-        if let Some((len, r, g)) = &self.graph_memo {
+        // Natively only (the browser's build makes it each time: the same
+        // graph, less code in its transfer).
+        let memo = cfg!(not(target_arch = "wasm32"));
+        let k = if memo { uf.len() } else { 0 };
+        let roots: Vec<u32> = (0..k).map(|i| uf.find(i) as u32).collect();
+        if let Some((len, r, g)) = self.graph_memo.as_ref().filter(|_| memo) {
             if *len == self.pairs.len() && *r == roots {
                 return Ok(Arc::clone(g));
             }
         }
         // The old graph is let go first: one graph held at a time.
         self.graph_memo = None;
-        // Each list made at its exact size (the degrees counted first):
-        // the graph is kept, so no list carries the slack of growing.
-        let mut degree = vec![0u32; uf.len()];
-        for &(a, b) in &self.pairs {
-            let (ra, rb) = (roots[a as usize] as usize, roots[b as usize] as usize);
+        let n = uf.len();
+        let mut root_pair = |&(a, b): &(u32, u32)| {
+            let (ra, rb) = if memo {
+                (roots[a as usize] as usize, roots[b as usize] as usize)
+            } else {
+                (uf.find(a as usize), uf.find(b as usize))
+            };
             if ra == rb {
                 return Err(format!(
                     "detections {a} and {b} are proved to see distinct landmarks (their shapes are disjoint) but also the same one"
                 ));
             }
-            degree[ra] += 1;
-            degree[rb] += 1;
+            Ok((ra, rb))
+        };
+        // Natively each list is made at its exact size (the degrees counted
+        // first): the graph is kept, so no list carries the slack of
+        // growing. The browser's build lets them grow (less code).
+        let mut adj: Vec<Vec<u32>> = vec![Vec::new(); n];
+        if memo {
+            let mut degree = vec![0u32; n];
+            for p in &self.pairs {
+                let (ra, rb) = root_pair(p)?;
+                degree[ra] += 1;
+                degree[rb] += 1;
+            }
+            for (l, &d) in adj.iter_mut().zip(&degree) {
+                l.reserve_exact(d as usize);
+            }
         }
-        let mut adj: Vec<Vec<u32>> = degree
-            .iter()
-            .map(|&d| Vec::with_capacity(d as usize))
-            .collect();
-        drop(degree);
-        for &(a, b) in &self.pairs {
-            let (ra, rb) = (roots[a as usize] as usize, roots[b as usize] as usize);
+        for p in &self.pairs {
+            let (ra, rb) = root_pair(p)?;
             adj[ra].push(rb as u32);
             adj[rb].push(ra as u32);
         }
         for l in adj.iter_mut() {
             crate::sort::natural(l);
             l.dedup();
-            if l.capacity() > l.len() + l.len() / 4 {
+            // Kept natively only (the memo): the browser's build drops it.
+            if memo && l.capacity() > l.len() + l.len() / 4 {
                 l.shrink_to_fit();
             }
         }
         let adj = Arc::new(adj);
-        self.graph_memo = Some((self.pairs.len(), roots, Arc::clone(&adj)));
+        if memo {
+            self.graph_memo = Some((self.pairs.len(), roots, Arc::clone(&adj)));
+        }
         Ok(adj)
     }
 

@@ -46,19 +46,23 @@
 use super::separation::{diameter_above, farthest_above};
 use crate::ibox::IntervalBox;
 use crate::union_find::Uf;
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 
 /// Groups narrower than s, by the grid cell of their box's centre.
 #[derive(Debug, Clone, Default)]
 pub struct SeparationGrid {
     s: f64,
-    cells: BTreeMap<(i64, i64), Vec<usize>>,
+    /// Per cell ([`cell_key`]), the index of its list in `lists` (a map
+    /// of the key type the clique rule's memo uses: no second map's code
+    /// in the browser's build; it is only looked up, never walked).
+    cells: HashMap<u64, usize>,
+    /// The cells' lists of entered detections, in their order of entry.
+    lists: Vec<Vec<usize>>,
     /// Per detection: entered in the grid (as a representative).
     entered: Vec<bool>,
-    /// Scratch of [`compact`]: the roots of a list's entries kept so far.
-    roots: Vec<usize>,
-    /// Whether the lists are compacted ([`compact`]); always, but for the
+    /// Whether the lists are compacted ([`compact`]): always, but for the
     /// test that compares the grid with and without it.
+    #[cfg(test)]
     compacts: bool,
 }
 
@@ -69,17 +73,35 @@ fn cell(x: f64, s: f64) -> i64 {
     libm::floor(x / s) as i64
 }
 
+/// The key of cell (x, y): both indices clamped to 32 bits, side by side.
+/// One key per cell within 2^31 cells of the origin; the cells beyond
+/// share keys, which only adds groups to compare (every union is still
+/// proved by its box test).
+fn cell_key(x: i64, y: i64) -> u64 {
+    let c = |v: i64| v.clamp(i32::MIN as i64, i32::MAX as i64) as i32 as u32 as u64;
+    (c(x) << 32) | c(y)
+}
+
 impl SeparationGrid {
     /// An empty grid for `k` detections and separation `s` (None: the
     /// rule does not apply, s <= 0 or NaN).
     pub fn new(k: usize, s: f64) -> Option<SeparationGrid> {
         (s > 0.0 && s.is_finite()).then(|| SeparationGrid {
             s,
-            cells: BTreeMap::new(),
+            cells: HashMap::new(),
+            lists: Vec::new(),
             entered: vec![false; k],
-            roots: Vec::new(),
+            #[cfg(test)]
             compacts: true,
         })
+    }
+
+    /// Whether the lists are compacted (always outside the tests).
+    fn compacts(&self) -> bool {
+        #[cfg(test)]
+        return self.compacts;
+        #[cfg(not(test))]
+        true
     }
 
     /// The cell of the centre of `b` (None: not a 2-D box narrower than s).
@@ -112,13 +134,15 @@ impl SeparationGrid {
             return Ok(unions);
         };
         let mut seen: Vec<usize> = Vec::new();
+        let compacts = self.compacts();
         for x in cx.saturating_sub(2)..=cx.saturating_add(2) {
             for y in cy.saturating_sub(2)..=cy.saturating_add(2) {
-                let Some(list) = self.cells.get_mut(&(x, y)) else {
+                let Some(&at) = self.cells.get(&cell_key(x, y)) else {
                     continue;
                 };
-                if self.compacts {
-                    compact(list, uf, &mut self.roots);
+                let list = &mut self.lists[at];
+                if compacts {
+                    compact(list, uf);
                 }
                 for &e in list.iter() {
                     let r = uf.find(e);
@@ -151,8 +175,13 @@ impl SeparationGrid {
                 // j is entered in cell k once (as before); when an entry
                 // of k already has j's root, j would be shadowed there for
                 // good (see [`compact`]), so it is not pushed.
-                let list = self.cells.entry(k).or_default();
-                if !self.compacts || !list.iter().any(|&e| uf.find(e) == root) {
+                let next = self.lists.len();
+                let at = *self.cells.entry(cell_key(k.0, k.1)).or_insert(next);
+                if at == next {
+                    self.lists.push(Vec::new());
+                }
+                let list = &mut self.lists[at];
+                if !compacts || !list.iter().any(|&e| uf.find(e) == root) {
                     list.push(j);
                 }
             }
@@ -179,16 +208,16 @@ impl SeparationGrid {
 /// dropped at most once, so the lists stay at about the groups in a cell
 /// (without it a cell's list grows with every detection of its landmark:
 /// O(n) per read for a landmark seen n times).
-fn compact(list: &mut Vec<usize>, uf: &mut Uf, roots: &mut Vec<usize>) {
-    roots.clear();
-    list.retain(|&e| {
-        let r = uf.find(e);
-        let fresh = !roots.contains(&r);
-        if fresh {
-            roots.push(r);
+fn compact(list: &mut Vec<usize>, uf: &mut Uf) {
+    let mut kept = 0;
+    for i in 0..list.len() {
+        let (e, r) = (list[i], uf.find(list[i]));
+        if !list[..kept].iter().any(|&x| uf.find(x) == r) {
+            list[kept] = e;
+            kept += 1;
         }
-        fresh
-    });
+    }
+    list.truncate(kept);
 }
 
 #[cfg(test)]
@@ -232,7 +261,7 @@ mod tests {
     fn compacted_lists_give_the_same_unions() {
         let mut rng = crate::rng::Rng::new(38);
         let (mut unions, mut errors, mut shorter) = (0usize, 0usize, 0usize);
-        let len = |g: &SeparationGrid| g.cells.values().map(Vec::len).sum::<usize>();
+        let len = |g: &SeparationGrid| g.lists.iter().map(Vec::len).sum::<usize>();
         for case in 0..400 {
             let k = 20 + case % 80;
             let s = 1.0;
