@@ -9,7 +9,7 @@
 //! with units ("50 km", not "50000 m"), the radar tab's too. Screenshots
 //! at 1400x900 go to target/screenshots/slam-*.png and radar-scale.png.
 
-use nvector_tests::chromium::{page_server, Driver};
+use nvector_tests::chromium::{canvas_data, page_server, painted, Driver};
 use serde_json::{json, Value};
 use std::time::Duration;
 
@@ -28,6 +28,15 @@ fn open_slam(d: &Driver, base: &str) {
         "return document.getElementById('wasm-status').dataset.ready === 'true'",
         Duration::from_secs(30),
     );
+}
+
+/// A browser on the SLAM tab of the page served on loopback (None: no
+/// browser here, outside CI); the server lives as long as the pair.
+fn slam_page() -> Option<(Driver, nvector_tests::Server)> {
+    let d = Driver::start()?;
+    let s = page_server();
+    open_slam(&d, &format!("http://{}", s.addr));
+    Some((d, s))
 }
 
 /// Waits until the demo's run ends (`done`, `error`) and returns the
@@ -50,10 +59,7 @@ const BUSY: &str = "const t = document.getElementById('slam'); \
 
 #[test]
 fn the_slam_demo_solves_in_a_worker_and_cancels() {
-    let Some(d) = Driver::start() else { return };
-    let s = page_server();
-    let base = format!("http://{}", s.addr);
-    open_slam(&d, &base);
+    let Some((d, _s)) = slam_page() else { return };
     // A long job: the paper scenario at its most steps and landmarks with
     // `best` (tens of seconds; it is cancelled long before it ends).
     d.js(
@@ -116,6 +122,119 @@ fn the_slam_demo_solves_in_a_worker_and_cancels() {
     assert_eq!(d.js(BUSY), json!(["false", "false", true, false, "done"]));
 }
 
+/// Watches the woods preset from the page's own scripts: a MutationObserver
+/// keeps every text and state of the summary (the progress lines
+/// included) and when it went done; the preset is clicked; then timers tick
+/// every 10 ms while the tab is busy, the first two clicking the legend's
+/// boxes (off, then on again) and noting whether the click was handled
+/// while the solve went on; the longest gap between ticks is kept.
+const WATCH_WOODS: &str = "const s = document.getElementById('sl-summary'), tab = document.getElementById('slam'); \
+    const box = document.querySelector(\"#sl-legend input[data-layer='boxes']\"); \
+    const r = window.woodsWatch = {texts: [], clicks: [], ticks: 0, maxGap: 0, ms: null}; \
+    const t0 = performance.now(); \
+    new MutationObserver(() => { r.texts.push([s.dataset.state || '', s.textContent]); \
+      if (r.ms === null && (s.dataset.state === 'done' || s.dataset.state === 'error')) r.ms = performance.now() - t0; }) \
+      .observe(s, {childList: true, characterData: true, subtree: true, attributes: true}); \
+    document.getElementById('sl-preset-woods').click(); \
+    r.afterClick = [tab.dataset.busy, s.dataset.state]; \
+    let last = performance.now(); \
+    const tick = () => { const now = performance.now(); r.maxGap = Math.max(r.maxGap, now - last); last = now; \
+      if (tab.dataset.busy !== 'true') return; r.ticks++; \
+      if (r.clicks.length < 2) { const before = box.checked; box.click(); r.clicks.push([before, box.checked, tab.dataset.busy]); } \
+      setTimeout(tick, 10); }; \
+    setTimeout(tick, 10); return 1;";
+
+/// The woods preset runs `best` in the worker, as a person sees it: the
+/// page answers while it solves (its timers fire, a click on the legend is
+/// handled, a real click too, and the progress line names `best`), then
+/// the result is drawn and the summary reads consistent, truth inside, no
+/// matching error, with the proved groups drawn; the result is the native
+/// binary's on the same mission, bit for bit. The time from the click to
+/// the drawn result is printed (`BROWSER woods best`), not asserted.
+#[test]
+fn the_woods_preset_solves_best_in_the_worker() {
+    let Some((d, _s)) = slam_page() else { return };
+    d.js(WATCH_WOODS);
+    // A real click (through the browser's input), handled while it solves.
+    d.click("#sl-legend input[data-layer='regions']");
+    let during = d.js("return [document.querySelector(\"#sl-legend input[data-layer='regions']\").checked, document.getElementById('slam').dataset.busy]");
+    d.click("#sl-legend input[data-layer='regions']");
+    assert_eq!(during, json!([false, "true"]), "a click during the solve");
+    let data = finished(&d, Duration::from_secs(300));
+    let watch = d.js("return window.woodsWatch");
+    assert_eq!(watch["afterClick"], json!(["true", "solving"]), "{watch}");
+    assert_eq!(
+        watch["clicks"],
+        json!([[true, false, "true"], [false, true, "true"]]),
+        "clicks handled while solving: {watch}"
+    );
+    assert!(
+        watch["ticks"].as_u64().unwrap() >= 2,
+        "timers while solving: {watch}"
+    );
+    let texts = watch["texts"].as_array().unwrap();
+    assert!(
+        texts
+            .iter()
+            .any(|t| t[0] == "solving" && t[1].as_str().unwrap().contains("(best, run 2 of 2)")),
+        "no progress of best shown: {watch}"
+    );
+    for (key, want) in [
+        ("scenario", "woods"),
+        ("contractor", "best"),
+        ("status", "consistent"),
+        ("truthInside", "true"),
+        ("errors", "0"),
+        ("error", ""),
+    ] {
+        assert_eq!(data[key], want, "{key}: {data}");
+    }
+    let groups: f64 = data["groups"].as_str().unwrap().parse().unwrap();
+    assert!((1.0..=17.0).contains(&groups), "{data}");
+    let text = data["text"].as_str().unwrap();
+    assert!(
+        text.contains(": consistent;")
+            && text.contains(&format!("{groups} proved groups of at most 17 landmarks")),
+        "{text}"
+    );
+    assert_eq!(canvas_data(&d, "sl-nv", "groups"), groups, "groups drawn");
+    assert!(painted(&d, "sl-nv") > 0.0);
+    d.screenshot("slam-woods-best");
+    let ms =
+        d.js("return [window.woodsWatch.ms, document.getElementById('sl-summary').dataset.ms]");
+    eprintln!(
+        "BROWSER woods best: {:.0} ms from the click to the drawn result ({} ms the worker's best run), longest gap between the page's timers {:.0} ms, {} ticks",
+        ms[0].as_f64().unwrap(),
+        ms[1].as_str().unwrap(),
+        watch["maxGap"].as_f64().unwrap(),
+        watch["ticks"]
+    );
+    // The native binary on the page's mission: the same result.
+    let dir = nvector_tests::temp_dir("woods-best");
+    let mission = d.js("return JSON.stringify(window.nvectorPage.sl.mission)");
+    std::fs::write(dir.join("m.json"), mission.as_str().unwrap()).unwrap();
+    let st = nvector_tests::nvector()
+        .arg("run")
+        .arg(dir.join("m.json"))
+        .args(["--contractor", "best", "--threads", "1", "--out"])
+        .arg(dir.join("r.json"))
+        .status()
+        .unwrap();
+    assert!(st.success());
+    // Compared in the page (both read by JavaScript's JSON.parse: the
+    // same doubles, the same keys in the same order), the time aside.
+    let native = std::fs::read_to_string(dir.join("r.json")).unwrap();
+    let same = d.js(&format!(
+        "const n = JSON.parse({}), p = structuredClone(window.nvectorPage.sl.shown[1].result); \
+         n.metrics.elapsed_ms = 0; p.metrics.elapsed_ms = 0; return JSON.stringify(n) === JSON.stringify(p);",
+        serde_json::to_string(&native).unwrap()
+    ));
+    assert_eq!(
+        same, true,
+        "the page's best result differs from the native binary's"
+    );
+}
+
 /// What the page's controls say, read from the elements.
 const CONTROLS: &str = "const v = (id) => document.getElementById(id); \
     return {scenario: v('sl-scenario')?.value ?? 'paper', steps: Number(v('sl-steps').value), noise: Number(v('sl-noise').value), \
@@ -164,10 +283,7 @@ fn one_scale(d: &Driver) -> Value {
 
 #[test]
 fn presets_set_every_control_and_both_panels_share_one_scale() {
-    let Some(d) = Driver::start() else { return };
-    let s = page_server();
-    let base = format!("http://{}", s.addr);
-    open_slam(&d, &base);
+    let Some((d, _s)) = slam_page() else { return };
     for (preset, name) in [
         ("#sl-preset-bearing", "bearing"),
         ("#sl-preset-range", "range-only"),
@@ -234,10 +350,7 @@ fn presets_set_every_control_and_both_panels_share_one_scale() {
 
 #[test]
 fn scale_bars_read_round_numbers_with_units() {
-    let Some(d) = Driver::start() else { return };
-    let s = page_server();
-    let base = format!("http://{}", s.addr);
-    open_slam(&d, &base);
+    let Some((d, _s)) = slam_page() else { return };
     // The rounding and the text, from the page's own module: the bar's
     // length is 1, 2 or 5 times a power of ten, at least the span over
     // the target and at most 2.5 times it; the text in km from 1000 m.

@@ -26,15 +26,16 @@ function redraw(moving = false) {
  * bearing (the paper's experiment) against `best`; range only (the
  * paper's P'') against `shapes`; the woods scenario (an odometry2d robot
  * among 17 identical landmarks, with scans; 400 steps, small enough for
- * the browser, core/src/slam/simulate/odometry_scenario.rs) against `projection` (`best` takes
- * tens of seconds there). Noise, layout and range only are the paper
+ * the browser, core/src/slam/simulate/odometry_scenario.rs) against `best`
+ * too (seconds in the worker: the page stays usable, Cancel stops it).
+ * Noise, layout and range only are the paper
  * scenario's: the woods preset sets them to their defaults and they are
  * disabled while the scenario is woods.
  */
 export const PRESETS = {
   bearing: { scenario: 'paper', steps: 6000, noise: 1, landmarks: 4, layout: 'line', range_only: false, seed: 1, contractor: 'best' },
   range: { scenario: 'paper', steps: 6000, noise: 1, landmarks: 4, layout: 'line', range_only: true, seed: 1, contractor: 'shapes' },
-  woods: { scenario: 'woods', steps: 400, noise: 1, landmarks: 17, layout: 'line', range_only: false, seed: 1, contractor: 'projection' },
+  woods: { scenario: 'woods', steps: 400, noise: 1, landmarks: 17, layout: 'line', range_only: false, seed: 1, contractor: 'best' },
 };
 
 /** The controls' values, as a preset names them. */
@@ -224,9 +225,9 @@ function shown(options, mission, basic, withNv, ms, modules) {
     recall: withNv.score.matching_recall, errors: withNv.score.matching_errors, ms: ms[1].toFixed(1),
     truthInside: String(basic.score.truth_inside && withNv.score.truth_inside), contractor: withNv.options.contractor,
     rangeOnly: String(!woods && options.range_only), layout: woods ? '' : options.layout, detections: mission.detections.length, groups, error: '',
-    scenario: options.scenario, model: mission.model, maxHeadingWidth: withNv.metrics.max_heading_width ?? '', state: 'done',
+    scenario: options.scenario, model: mission.model, maxHeadingWidth: withNv.metrics.max_heading_width ?? '', status: withNv.status, state: 'done',
   });
-  $('sl-summary').textContent = `${kind}: detections ${mission.detections.length}; basic ${ms[0].toFixed(1)} ms, ${mode} ${ms[1].toFixed(1)} ms (in a worker); ratio ${(basic.metrics.max_trajectory_diameter / withNv.metrics.max_trajectory_diameter).toFixed(1)}x; ${groups} proved groups of at most ${n} landmarks; recall ${withNv.score.matching_recall.toFixed(2)}; truth inside ${basic.score.truth_inside && withNv.score.truth_inside}; errors ${withNv.score.matching_errors}`;
+  $('sl-summary').textContent = `${kind}: ${withNv.status}; detections ${mission.detections.length}; basic ${ms[0].toFixed(1)} ms, ${mode} ${ms[1].toFixed(1)} ms (in a worker); ratio ${(basic.metrics.max_trajectory_diameter / withNv.metrics.max_trajectory_diameter).toFixed(1)}x; ${groups} proved groups of at most ${n} landmarks; recall ${withNv.score.matching_recall.toFixed(2)}; truth inside ${basic.score.truth_inside && withNv.score.truth_inside}; errors ${withNv.score.matching_errors}`;
 }
 
 /** Sets every control to a preset (`bearing`, `range`, `woods`) and runs it. */
