@@ -38,8 +38,52 @@ pub use crate::union_find::Uf;
 use std::sync::Arc;
 
 /// The group graph: per detection, the sorted roots of the groups proved
-/// distinct from its group (empty for non-roots); shared, not copied.
-pub type Graph = Arc<Vec<Vec<u32>>>;
+/// distinct from its group (empty for non-roots), `graph[r]`; shared, not
+/// copied.
+pub type Graph = Arc<GroupGraph>;
+
+/// The lists of a [`Graph`] end to end (compressed rows): detection r's
+/// list is `nbrs[start[r]..start[r + 1]]`. One u32 per detection and one
+/// per neighbour, whatever the lists' history (a graph of 2^32 entries or
+/// more is refused: [`Distinct::graph`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GroupGraph {
+    start: Vec<u32>,
+    nbrs: Vec<u32>,
+}
+
+impl GroupGraph {
+    /// The graph of the given lists (each sorted, without repeats).
+    pub fn from_lists(lists: &[Vec<u32>]) -> GroupGraph {
+        let mut g = GroupGraph {
+            start: Vec::with_capacity(lists.len() + 1),
+            nbrs: Vec::with_capacity(lists.iter().map(Vec::len).sum()),
+        };
+        g.start.push(0);
+        for l in lists {
+            g.nbrs.extend_from_slice(l);
+            g.start.push(g.nbrs.len() as u32);
+        }
+        g
+    }
+
+    /// Number of detections.
+    pub fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    /// Whether there are no detections.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl std::ops::Index<usize> for GroupGraph {
+    type Output = [u32];
+    fn index(&self, r: usize) -> &[u32] {
+        &self.nbrs[self.start[r] as usize..self.start[r + 1] as usize]
+    }
+}
 
 /// Detection pairs proved distinct, accumulated over rounds.
 #[derive(Debug, Clone, Default)]
@@ -49,9 +93,6 @@ pub struct Distinct {
     /// (pairs, groups) when the last inference changed nothing: the same
     /// facts give the same (empty) answer, so it is not run again.
     settled: Option<(usize, usize)>,
-    /// The last group graph, with the pair count and the root of every
-    /// detection it was built from ([`Distinct::graph`]).
-    graph_memo: Option<(usize, Vec<u32>, Graph)>,
 }
 
 /// Most passes of [`Distinct::infer`].
@@ -115,33 +156,17 @@ impl Distinct {
     }
 
     /// The group graph: sorted neighbour roots per root (empty for
-    /// non-roots). Err: a pair inside one group.
+    /// non-roots), in compressed rows ([`GroupGraph`]: made at its exact
+    /// size). Err: a pair inside one group. O(e log e + k).
     ///
-    /// The graph is a function of the pair set and of every detection's
-    /// root: the last one is given again while the pairs number the same
-    /// (pairs are only added, so the same count is the same set) and every
-    /// root is the same. O(k) then (the graph shared, not copied), else O(e log e).
+    /// (A memo of the last graph, reused while the pairs and the roots are
+    /// the same, saved 8 % of CMU Plaza 1's time but held the graph through
+    /// the shapes step: 0.4 MB more at the woods scenario's peak.)
     pub fn graph(&mut self, uf: &mut Uf) -> Result<Graph, String> {
         self.normalize();
-        // Natively only (the browser's build makes it each time: the same
-        // graph, less code in its transfer).
-        let memo = cfg!(not(target_arch = "wasm32"));
-        let k = if memo { uf.len() } else { 0 };
-        let roots: Vec<u32> = (0..k).map(|i| uf.find(i) as u32).collect();
-        if let Some((len, r, g)) = self.graph_memo.as_ref().filter(|_| memo) {
-            if *len == self.pairs.len() && *r == roots {
-                return Ok(Arc::clone(g));
-            }
-        }
-        // The old graph is let go first: one graph held at a time.
-        self.graph_memo = None;
         let n = uf.len();
         let mut root_pair = |&(a, b): &(u32, u32)| {
-            let (ra, rb) = if memo {
-                (roots[a as usize] as usize, roots[b as usize] as usize)
-            } else {
-                (uf.find(a as usize), uf.find(b as usize))
-            };
+            let (ra, rb) = (uf.find(a as usize), uf.find(b as usize));
             if ra == rb {
                 return Err(format!(
                     "detections {a} and {b} are proved to see distinct landmarks (their shapes are disjoint) but also the same one"
@@ -149,38 +174,50 @@ impl Distinct {
             }
             Ok((ra, rb))
         };
-        // Natively each list is made at its exact size (the degrees counted
-        // first): the graph is kept, so no list carries the slack of
-        // growing. The browser's build lets them grow (less code).
-        let mut adj: Vec<Vec<u32>> = vec![Vec::new(); n];
-        if memo {
-            let mut degree = vec![0u32; n];
-            for p in &self.pairs {
-                let (ra, rb) = root_pair(p)?;
-                degree[ra] += 1;
-                degree[rb] += 1;
-            }
-            for (l, &d) in adj.iter_mut().zip(&degree) {
-                l.reserve_exact(d as usize);
-            }
+        // Compressed rows: the degrees, their prefix sums, the lists
+        // filled, each sorted and deduplicated, then moved up end to end.
+        if self.pairs.len() > (u32::MAX / 2) as usize {
+            return Err(format!(
+                "{} detection pairs proved distinct: more than the group graph holds ({})",
+                self.pairs.len(),
+                u32::MAX / 2
+            ));
         }
+        let mut start = vec![0u32; n + 1];
         for p in &self.pairs {
             let (ra, rb) = root_pair(p)?;
-            adj[ra].push(rb as u32);
-            adj[rb].push(ra as u32);
+            start[ra + 1] += 1;
+            start[rb + 1] += 1;
         }
-        for l in adj.iter_mut() {
-            crate::sort::natural(l);
-            l.dedup();
-            // Kept natively only (the memo): the browser's build drops it.
-            if memo && l.capacity() > l.len() + l.len() / 4 {
-                l.shrink_to_fit();
+        for r in 0..n {
+            start[r + 1] += start[r];
+        }
+        let mut fill = start.clone();
+        let mut nbrs = vec![0u32; start[n] as usize];
+        for p in &self.pairs {
+            let (ra, rb) = root_pair(p)?;
+            nbrs[fill[ra] as usize] = rb as u32;
+            nbrs[fill[rb] as usize] = ra as u32;
+            fill[ra] += 1;
+            fill[rb] += 1;
+        }
+        drop(fill);
+        let mut end = 0usize;
+        for r in 0..n {
+            let (from, to) = (start[r] as usize, start[r + 1] as usize);
+            crate::sort::natural(&mut nbrs[from..to]);
+            start[r] = end as u32;
+            for i in from..to {
+                if i == from || nbrs[i] != nbrs[i - 1] {
+                    nbrs[end] = nbrs[i];
+                    end += 1;
+                }
             }
         }
-        let adj = Arc::new(adj);
-        if memo {
-            self.graph_memo = Some((self.pairs.len(), roots, Arc::clone(&adj)));
-        }
+        start[n] = end as u32;
+        nbrs.truncate(end);
+        nbrs.shrink_to_fit();
+        let adj = Arc::new(GroupGraph { start, nbrs });
         Ok(adj)
     }
 
@@ -249,7 +286,7 @@ impl Distinct {
 
 /// One pass of the clique rule: the (`depth` = n-1)-cliques of the group
 /// graph `adj` over `roots`, enumerated within `budget` nodes.
-fn clique_pass<'a>(adj: &'a [Vec<u32>], depth: usize, budget: usize, roots: &[u32]) -> Enum<'a> {
+fn clique_pass<'a>(adj: &'a GroupGraph, depth: usize, budget: usize, roots: &[u32]) -> Enum<'a> {
     let k = adj.len();
     let mut e = Enum {
         adj,
@@ -274,7 +311,7 @@ fn clique_pass<'a>(adj: &'a [Vec<u32>], depth: usize, budget: usize, roots: &[u3
 
 /// Enumeration of the (n-1)-cliques of the group graph.
 struct Enum<'a> {
-    adj: &'a [Vec<u32>],
+    adj: &'a GroupGraph,
     depth: usize,
     nodes: usize,
     budget: usize,
@@ -494,10 +531,11 @@ mod tests {
     use super::*;
 
     /// Pairs added in batches (with repeats) and groups merged between
-    /// them: the incrementally merged pairs and the memo of the graph give
-    /// what a fresh set of the same pairs gives, and the memo is used.
+    /// them: the incrementally merged pairs give what a fresh set of the
+    /// same pairs gives, and the compressed rows of the graph the plain
+    /// lists of the groups' roots.
     #[test]
-    fn the_graph_memo_and_the_merged_pairs_match_a_fresh_build() {
+    fn the_merged_pairs_and_the_graph_match_a_fresh_build() {
         let mut rng = crate::rng::Rng::new(5);
         for case in 0..60 {
             let k = 8 + case * 3;
@@ -528,9 +566,22 @@ mod tests {
                 d.normalize();
                 assert_eq!(d.pairs, fresh.pairs, "case {case}");
                 let want = fresh.graph(&mut uf);
+                // The compressed rows against plain lists of the roots.
+                let mut lists = vec![Vec::new(); k];
+                for &(a, b) in &all {
+                    let (ra, rb) = (uf.find(a as usize), uf.find(b as usize));
+                    lists[ra].push(rb as u32);
+                    lists[rb].push(ra as u32);
+                }
+                for l in &mut lists {
+                    l.sort_unstable();
+                    l.dedup();
+                }
+                let plain = GroupGraph::from_lists(&lists);
+                assert_eq!(want.as_deref(), Ok(&plain), "case {case}");
+                assert_eq!(plain.len(), k);
                 assert_eq!(d.graph(&mut uf), want, "case {case}");
-                // A second call: from the memo.
-                assert!(d.graph_memo.is_some());
+                // A second call: the same graph.
                 assert_eq!(d.graph(&mut uf), want, "case {case}");
             }
         }
@@ -666,7 +717,8 @@ mod tests {
                 .collect();
             let depth = 1 + (rng.next_u64() % 5) as usize;
             let budget = [10, 200, 100_000][case % 3];
-            let mut e = clique_pass(&adj, depth, budget, &roots);
+            let g = GroupGraph::from_lists(&adj);
+            let mut e = clique_pass(&g, depth, budget, &roots);
             let mut p = Plain {
                 adj: &adj,
                 depth,
