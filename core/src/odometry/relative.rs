@@ -731,11 +731,7 @@ mod tests {
         );
         assert!(norm_above(&v) < 1e-100, "{v:?}");
     }
-    /// `gap_below` on planted pairs: a true relative pose inside its
-    /// enclosure, measurements around the truth; two distinct landmarks
-    /// (at least s apart, most just beyond s where the box test is
-    /// borderline) are never proved one, and one landmark seen twice is
-    /// proved one by the subdivision where the box alone does not.
+
     /// Sides of the gap test reused over many pairs, in a random order
     /// ([`GapSide`], as the track rule reuses them): each pair's answer is
     /// the answer of a fresh [`gap_below`] on that pair, including where
@@ -801,6 +797,11 @@ mod tests {
         );
     }
 
+    /// `gap_below` on planted pairs: a true relative pose inside its
+    /// enclosure, measurements around the truth; two distinct landmarks
+    /// (at least s apart, most just beyond s where the box test is
+    /// borderline) are never proved one, and one landmark seen twice is
+    /// proved one by the subdivision where the box alone does not.
     #[test]
     fn planted_gap_below_never_joins_two_landmarks() {
         let mut rng = Lcg::new(2026);

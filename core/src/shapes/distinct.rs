@@ -174,8 +174,6 @@ impl Distinct {
             }
             Ok((ra, rb))
         };
-        // Compressed rows: the degrees, their prefix sums, the lists
-        // filled, each sorted and deduplicated, then moved up end to end.
         if self.pairs.len() > (u32::MAX / 2) as usize {
             return Err(format!(
                 "{} detection pairs proved distinct: more than the group graph holds ({})",
@@ -183,6 +181,8 @@ impl Distinct {
                 u32::MAX / 2
             ));
         }
+        // Compressed rows: the degrees, their prefix sums, the lists
+        // filled, each sorted and deduplicated, then moved up end to end.
         let mut start = vec![0u32; n + 1];
         for p in &self.pairs {
             let (ra, rb) = root_pair(p)?;
@@ -217,8 +217,7 @@ impl Distinct {
         start[n] = end as u32;
         nbrs.truncate(end);
         nbrs.shrink_to_fit();
-        let adj = Arc::new(GroupGraph { start, nbrs });
-        Ok(adj)
+        Ok(Arc::new(GroupGraph { start, nbrs }))
     }
 
     /// Applies the rules of the module doc to a fixpoint; merges groups in

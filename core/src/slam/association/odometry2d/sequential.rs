@@ -37,8 +37,9 @@
 //!
 //! # Complexity
 //!
-//! O(log G) for the grid lookups and O(c) box tests per detection, c the
-//! groups entered in the 25 cells around it (bounded by the packing of
+//! O(1) expected per grid lookup (25 per detection) and O(c) box tests
+//! per detection, c the groups entered in the 25 cells around it (bounded
+//! by the packing of
 //! boxes narrower than s, at most a few tens when the groups are distinct
 //! landmarks; a cell's list holds one entry per group, [`compact`], so a
 //! landmark seen n times costs one test, not n); memory O(G).
